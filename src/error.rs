@@ -1,0 +1,93 @@
+//! The one error type of the library.
+//!
+//! Every variant carries what a user needs to act: the file and line of a scene mistake, the
+//! entity of a mesh defect, PETSc's code and message with the call that failed, or what a
+//! solver tried before it gave up. The library never prints or exits; the CLI renders these.
+use std::fmt;
+use std::path::PathBuf;
+
+/// Where in a text file something is (1-based line and column).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Location {
+    pub file: PathBuf,
+    pub line: usize,
+    pub column: usize,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Reading or writing a file failed at the operating-system level.
+    #[error("{path}: {action} failed: {source}")]
+    Io { path: PathBuf, action: &'static str, source: std::io::Error },
+
+    /// A mistake in a scene file: where it is, what is wrong, what to do.
+    #[error("{location}: {message}\n  hint: {hint}")]
+    Scene { location: Location, message: String, hint: String },
+
+    /// A mesh file that cannot be parsed (wrong format, truncated, unsupported version...).
+    #[error("{file}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    MeshFile { file: PathBuf, line: Option<usize>, message: String },
+
+    /// A mesh that parses but is unusable: names the entity (e.g. "triangle 12", "node 7",
+    /// "physical group 'top'").
+    #[error("{}invalid mesh: {entity}: {message}", source_file.as_ref().map(|f| format!("{}: ", f.display())).unwrap_or_default())]
+    Mesh { source_file: Option<PathBuf>, entity: String, message: String },
+
+    /// The Gmsh binary is missing or failed.
+    #[error("gmsh failed: {message}")]
+    Gmsh { message: String, stderr: String },
+
+    /// A PETSc call returned an error code.
+    #[error("PETSc error {code} in {call} (at {rust_file}:{rust_line}): {message}")]
+    Petsc { code: i32, call: &'static str, message: String, rust_file: &'static str, rust_line: u32 },
+
+    /// A misuse of the PETSc layer caught before it reached PETSc (which does no checks in
+    /// Debian's build): out-of-range index, size mismatch, second session...
+    #[error("PETSc layer: {0}")]
+    PetscUsage(String),
+
+    /// An iterative or nonlinear solver stopped without converging, or converged to an answer
+    /// that fails our independent check.
+    #[error("{solver} did not converge: {reason} after {iterations} iterations (residual {residual:.3e}); tried: {tried}")]
+    SolverDiverged { solver: String, reason: String, iterations: usize, residual: f64, tried: String },
+
+    /// The problem has no unique solution: the boundary conditions leave a rigid motion free.
+    #[error("the problem is singular: {0}")]
+    Unconstrained(String),
+
+    /// Writing results failed; nothing half-written was left behind.
+    #[error("{path}: cannot write output: {message}")]
+    Output { path: PathBuf, message: String },
+
+    /// Bad command-line usage.
+    #[error("{0}")]
+    Usage(String),
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    pub fn io(path: impl Into<PathBuf>, action: &'static str, source: std::io::Error) -> Self {
+        Error::Io { path: path.into(), action, source }
+    }
+
+    pub fn mesh(entity: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::Mesh { source_file: None, entity: entity.into(), message: message.into() }
+    }
+
+    /// Attach the mesh file a mesh error came from, if not already set.
+    pub fn in_mesh_file(self, file: impl Into<PathBuf>) -> Self {
+        match self {
+            Error::Mesh { source_file: None, entity, message } => {
+                Error::Mesh { source_file: Some(file.into()), entity, message }
+            }
+            other => other,
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! # signorini
+//!
+//! 2D frictional contact in linear elasticity with certified error control, on PETSc.
+//!
+//! Layers, bottom up:
+//! - [`petsc`]: the only module that touches the PETSc FFI crate (`signorini-sys`); all `unsafe`
+//!   code lives there.
+//! - [`mesh`]: triangle meshes (P1/P2), Gmsh MSH 4.1 input, Gmsh-driven and structured generation.
+//! - [`fem`]: Lagrange elements, quadrature, Hooke's law, assembly, post-processing.
+//! - [`scene`]: the TOML scene format.
+//! - [`output`]: `.vtu` for ParaView and meshio, `report.json`.
+//! - [`problem`]: the driver, whose methods read like the algorithm.
+//!
+//! The library never prints or exits; the `signorini` binary does.
+#![deny(unsafe_code)]
+
+pub mod bench;
+pub mod error;
+pub mod fem;
+pub mod mesh;
+pub mod output;
+#[allow(unsafe_code)]
+pub mod petsc;
+pub mod problem;
+pub mod resources;
+pub mod scene;
+
+pub use error::{Error, Result};

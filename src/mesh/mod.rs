@@ -1,0 +1,142 @@
+//! Triangle meshes: nodes, P1/P2 triangles, boundary edges carrying physical group names.
+//!
+//! Node numbering follows Gmsh and VTK (both use the same order for these cells):
+//!
+//! ```text
+//!   P1 triangle          P2 triangle            P1 / P2 edge
+//!
+//!   2                    2
+//!   |\                   |\                     0 ----- 1        0 --- 2 --- 1
+//!   | \                  5  4
+//!   |  \                 |    \
+//!   0---1                0--3--1
+//! ```
+//!
+//! Conventions every constructor guarantees (through [`Mesh::validate`]):
+//! - triangles are counter-clockwise (positive area);
+//! - boundary edges run with the domain on their left, so the outward normal of edge
+//!   `v0 -> v1` is `(dy, -dx) / len`;
+//! - every node is used by some triangle.
+pub mod gmsh;
+pub mod msh;
+pub mod structured;
+
+use crate::error::{Error, Result};
+
+/// Polynomial order of the cells' geometry (and of the Lagrange space built on them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+pub enum Order {
+    P1,
+    P2,
+}
+
+impl Order {
+    pub fn nodes_per_cell(self) -> usize {
+        match self {
+            Order::P1 => 3,
+            Order::P2 => 6,
+        }
+    }
+    pub fn nodes_per_edge(self) -> usize {
+        match self {
+            Order::P1 => 2,
+            Order::P2 => 3,
+        }
+    }
+    pub fn degree(self) -> usize {
+        match self {
+            Order::P1 => 1,
+            Order::P2 => 2,
+        }
+    }
+}
+
+/// A named physical group (Gmsh's `$PhysicalNames`): a region (dim 2) or a boundary part (dim 1).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PhysicalGroup {
+    pub name: String,
+    pub tag: i32,
+    pub dim: u8,
+}
+
+/// Marker for a cell or edge that belongs to no physical group.
+pub const NO_GROUP: usize = usize::MAX;
+
+#[derive(Debug, Clone)]
+pub struct Mesh {
+    pub order: Order,
+    pub nodes: Vec<[f64; 2]>,
+    /// Flat connectivity, `order.nodes_per_cell()` node indices per triangle.
+    pub cells: Vec<usize>,
+    /// Index into `groups` of each triangle's region, or [`NO_GROUP`].
+    pub cell_group: Vec<usize>,
+    /// Flat connectivity of the boundary edges, `order.nodes_per_edge()` nodes each (v0, v1, [mid]).
+    pub edges: Vec<usize>,
+    /// Index into `groups` of each boundary edge's part (always set: edges come from groups).
+    pub edge_group: Vec<usize>,
+    pub groups: Vec<PhysicalGroup>,
+}
+
+impl Mesh {
+    pub fn num_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+    pub fn num_cells(&self) -> usize {
+        self.cells.len() / self.order.nodes_per_cell()
+    }
+    pub fn num_edges(&self) -> usize {
+        self.edges.len() / self.order.nodes_per_edge()
+    }
+    pub fn cell(&self, c: usize) -> &[usize] {
+        let n = self.order.nodes_per_cell();
+        &self.cells[c * n..(c + 1) * n]
+    }
+    pub fn edge(&self, e: usize) -> &[usize] {
+        let n = self.order.nodes_per_edge();
+        &self.edges[e * n..(e + 1) * n]
+    }
+    /// Index of the physical group with this name and dimension.
+    pub fn group_index(&self, name: &str, dim: u8) -> Option<usize> {
+        self.groups.iter().position(|g| g.name == name && g.dim == dim)
+    }
+    /// Like [`Mesh::group_index`], but an error naming the known groups when absent.
+    pub fn require_group(&self, name: &str, dim: u8) -> Result<usize> {
+        self.group_index(name, dim).ok_or_else(|| {
+            let known: Vec<&str> = self.groups.iter().filter(|g| g.dim == dim).map(|g| g.name.as_str()).collect();
+            Error::mesh(
+                format!("physical group '{name}'"),
+                format!(
+                    "no {} group of that name; the mesh has: {}",
+                    if dim == 1 { "boundary (curve)" } else { "region (surface)" },
+                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                ),
+            )
+        })
+    }
+    /// Boundary edge indices belonging to a group.
+    pub fn edges_in_group(&self, group: usize) -> impl Iterator<Item = usize> + '_ {
+        (0..self.num_edges()).filter(move |&e| self.edge_group[e] == group)
+    }
+    /// Unit outward normal and length of boundary edge `e` (chord of its end vertices).
+    pub fn edge_normal(&self, e: usize) -> ([f64; 2], f64) {
+        let ed = self.edge(e);
+        let (a, b) = (self.nodes[ed[0]], self.nodes[ed[1]]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = (dx * dx + dy * dy).sqrt();
+        ([dy / len, -dx / len], len)
+    }
+    /// Smallest and largest edge length over all triangles (vertex chords).
+    pub fn size_range(&self) -> (f64, f64) {
+        let (mut hmin, mut hmax) = (f64::INFINITY, 0.0f64);
+        for c in 0..self.num_cells() {
+            let v = self.cell(c);
+            for k in 0..3 {
+                let (a, b) = (self.nodes[v[k]], self.nodes[v[(k + 1) % 3]]);
+                let l = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+                hmin = hmin.min(l);
+                hmax = hmax.max(l);
+            }
+        }
+        (hmin, hmax)
+    }
+}

@@ -1,0 +1,27 @@
+#include "shim.h"
+
+MPI_Comm signorini_comm_world(void) { return PETSC_COMM_WORLD; }
+MPI_Comm signorini_comm_self(void) { return PETSC_COMM_SELF; }
+int signorini_comm_rank(MPI_Comm comm, int *rank) { return MPI_Comm_rank(comm, rank); }
+int signorini_comm_size(MPI_Comm comm, int *size) { return MPI_Comm_size(comm, size); }
+
+static MPI_Op op_of(int op) { return op == 1 ? MPI_MAX : (op == 2 ? MPI_MIN : MPI_SUM); }
+
+int signorini_allreduce_f64(MPI_Comm comm, const double *in, double *out, int n, int op)
+{
+  return MPI_Allreduce(in, out, n, MPI_DOUBLE, op_of(op), comm);
+}
+
+int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, int n, int op)
+{
+  return MPI_Allreduce(in, out, n, MPI_LONG_LONG, op_of(op), comm);
+}
+
+PetscReal signorini_petsc_infinity(void) { return PETSC_INFINITY; }
+
+PetscBool signorini_mpi_initialized(void)
+{
+  int flag = 0;
+  MPI_Initialized(&flag);
+  return flag ? PETSC_TRUE : PETSC_FALSE;
+}
