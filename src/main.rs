@@ -1,1 +1,237 @@
-fn main() {}
+//! The `signorini` command-line program. The library never prints; this file does.
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use signorini::petsc::Session;
+use signorini::problem::{ElasticityProblem, Report};
+use signorini::scene::Scene;
+use signorini::{bench, Error};
+
+const USAGE: &str = "\
+signorini — 2D frictional contact in linear elasticity, on PETSc
+
+usage:
+  signorini run [SCENE] [--out DIR] [--quiet] [PETSc options...]
+      Solve the scene (a TOML file; without one, the embedded default scene) and write
+      DIR/solution.vtu and DIR/report.json (DIR: --out, else the scene's [output] dir, else ./out).
+      SCENE must come before the PETSc options. Examples:
+        signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
+        mpirun -n 2 signorini run examples/scenes/cantilever.toml
+  signorini bench elasticity [--max-dofs N] [--out DIR] [PETSc options...]
+      Assembly and solve times, peak memory and overhead ratios from 1e4 up to N dofs
+      (default 1e6); writes DIR/bench_elasticity.md and DIR/bench_elasticity.svg (DIR default ./bench).
+  signorini --help | --version
+
+PETSc options: any option PETSc knows (-ksp_type, -pc_type, -pc_factor_levels, -ksp_monitor,
+-ksp_view, -log_view, ...) applies to the main linear solver; scene [solver] petsc_options are
+defaults that the command line overrides.";
+
+struct RunArgs {
+    scene: Option<PathBuf>,
+    out: Option<PathBuf>,
+    quiet: bool,
+    max_dofs: usize,
+    petsc: Vec<String>,
+}
+
+fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
+    let mut r = RunArgs { scene: None, out: None, quiet: false, max_dofs: 1_000_000, petsc: Vec::new() };
+    let mut i = 0;
+    while i < args.len() {
+        let a = &args[i];
+        match a.as_str() {
+            "--out" | "--max-dofs" => {
+                let v = args
+                    .get(i + 1)
+                    .filter(|v| !v.starts_with('-'))
+                    .ok_or_else(|| Error::Usage(format!("{a} needs a value (see signorini --help)")))?;
+                if a == "--out" {
+                    r.out = Some(PathBuf::from(v));
+                } else {
+                    r.max_dofs = v
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|x| *x >= 1.0 && x.is_finite())
+                        .ok_or_else(|| Error::Usage(format!("--max-dofs expects a positive number, got {v:?}")))?
+                        as usize;
+                }
+                i += 2;
+            }
+            "--quiet" => {
+                r.quiet = true;
+                i += 1;
+            }
+            s if s.starts_with("--") => {
+                return Err(Error::Usage(format!("unknown flag {s} (PETSc options take one dash; see signorini --help)")))
+            }
+            s if s.starts_with('-') => {
+                r.petsc.push(s.to_string());
+                i += 1;
+                // The option's value, if any, follows: anything that is not another option name.
+                if let Some(v) = args.get(i) {
+                    let is_name = v.starts_with('-') && v[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
+                    if !is_name {
+                        r.petsc.push(v.clone());
+                        i += 1;
+                    }
+                }
+            }
+            s => {
+                if allow_scene && r.scene.is_none() && r.petsc.is_empty() {
+                    r.scene = Some(PathBuf::from(s));
+                    i += 1;
+                } else {
+                    return Err(Error::Usage(format!(
+                        "unexpected argument {s:?}: the scene file comes first, before PETSc options (see signorini --help)"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(r)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().collect();
+    let program = args.first().cloned().unwrap_or_else(|| "signorini".into());
+    match args.get(1).map(String::as_str) {
+        None | Some("--help") | Some("-h") | Some("help") => {
+            println!("{USAGE}");
+            ExitCode::SUCCESS
+        }
+        Some("--version") | Some("-V") => {
+            println!("signorini {}", env!("CARGO_PKG_VERSION"));
+            ExitCode::SUCCESS
+        }
+        Some("run") => with_session(&program, &args[2..], true, run),
+        Some("bench") => match args.get(2).map(String::as_str) {
+            Some("elasticity") => with_session(&program, &args[3..], false, bench_elasticity),
+            other => usage_error(&format!(
+                "bench needs a benchmark name: `signorini bench elasticity` (got {})",
+                other.map(|o| format!("{o:?}")).unwrap_or_else(|| "nothing".into())
+            )),
+        },
+        Some(other) => usage_error(&format!("unknown command {other:?}: use `signorini run` or `signorini bench` (see --help)")),
+    }
+}
+
+fn usage_error(message: &str) -> ExitCode {
+    eprintln!("error: {message}");
+    ExitCode::from(2)
+}
+
+fn with_session(program: &str, args: &[String], allow_scene: bool, job: fn(&Session, RunArgs) -> Result<(), Error>) -> ExitCode {
+    let parsed = match parse(args, allow_scene) {
+        Ok(p) => p,
+        Err(e) => return usage_error(&e.to_string()),
+    };
+    let mut petsc_argv = vec![program.to_string()];
+    petsc_argv.extend(parsed.petsc.iter().cloned());
+    let session = match Session::init(&petsc_argv) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let rank = session.rank();
+    let result = job(&session, parsed);
+    drop(session); // PetscFinalize before exit
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            if rank == 0 {
+                eprintln!("error: {e}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let say = |s: &str| {
+        if session.rank() == 0 && !args.quiet {
+            eprintln!("{s}");
+        }
+    };
+    let scene = match &args.scene {
+        Some(path) => Scene::from_file(path)?,
+        None => Scene::default_scene(),
+    };
+    let out = args.out.clone().or_else(|| scene.output_dir.clone()).unwrap_or_else(|| PathBuf::from("out"));
+    say(&format!(
+        "signorini {} — {} ({})",
+        env!("CARGO_PKG_VERSION"),
+        scene.title.as_deref().unwrap_or("untitled scene"),
+        scene.source.display()
+    ));
+    let mut problem = ElasticityProblem::setup_system(session, scene)?;
+    say(&format!(
+        "  mesh      {} nodes, {} {:?} triangles, {} dofs on {} rank(s) [{:.2} s]",
+        problem.mesh.num_nodes(),
+        problem.mesh.num_cells(),
+        problem.mesh.order,
+        problem.num_dofs(),
+        session.size(),
+        problem.timings.get("mesh").unwrap_or(0.0)
+    ));
+    problem.assemble()?;
+    say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
+    problem.solve()?;
+    problem.postprocess()?;
+    let (report, written) = problem.write_output(&out)?;
+    if session.rank() == 0 && !args.quiet {
+        print_summary(&report, &written);
+    }
+    Ok(())
+}
+
+fn print_summary(r: &Report, written: &[PathBuf]) {
+    let s = &r.solver.stats;
+    let pkg = s.factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default();
+    eprintln!(
+        "  solve     {} + {}{pkg}: {} iteration(s), {}, true residual {:.1e} [{:.2} s]",
+        s.ksp_type, s.pc_type, s.iterations, s.converged_reason, s.relative_residual, s.seconds
+    );
+    eprintln!(
+        "  result    max |u| = {:.4e}, max von Mises = {:.4e}",
+        r.results.max_displacement, r.results.max_von_mises
+    );
+    let reactions: Vec<String> =
+        r.results.reactions.iter().map(|(k, v)| format!("{k} ({:.4e}, {:.4e})", v[0], v[1])).collect();
+    eprintln!(
+        "  check     applied force ({:.4e}, {:.4e}), reactions {}, equilibrium residual {:.1e}",
+        r.results.applied_force[0],
+        r.results.applied_force[1],
+        reactions.join(", "),
+        r.results.equilibrium_residual
+    );
+    let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
+    eprintln!(
+        "  time      {} s; total {:.3} s; peak memory {}",
+        phases.join(", "),
+        r.timings.total(),
+        r.memory.peak_bytes.map(|b| format!("{:.1} MB", b as f64 / 1e6)).unwrap_or_else(|| "n/a".into())
+    );
+    for u in &r.solver.unused_options {
+        eprintln!("  warning   PETSc option {u} was never used (a typo?)");
+    }
+    let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    eprintln!("  wrote     {}", files.join(", "));
+}
+
+fn bench_elasticity(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+    let rank0 = session.rank() == 0;
+    let rows = bench::elasticity(session, args.max_dofs, &mut |line: &str| {
+        if rank0 {
+            eprintln!("{line}");
+        }
+    })?;
+    if rank0 {
+        let (md, svg) = bench::write_elasticity_outputs(&rows, &out)?;
+        println!("{}", bench::elasticity_table(&rows));
+        eprintln!("wrote {}, {}", md.display(), svg.display());
+    }
+    Ok(())
+}

@@ -1,1 +1,426 @@
-//! TODO
+//! The problem driver. Its methods read like the algorithm:
+//!
+//! ```text
+//! ElasticityProblem::setup_system   mesh (generate or read), material, Dirichlet constraints,
+//!                                   rigid-motion check, row partition over MPI ranks
+//!                   ::assemble      stiffness rows and load vector of this rank -> PETSc AIJ
+//!                   ::solve         KSP (MUMPS Cholesky by default, any PETSc option), checked
+//!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
+//!                   ::write_output  solution.vtu + report.json (rank 0, atomic)
+//! ```
+//!
+//! Parallel runs (`mpirun -n N`): every rank holds the whole mesh (2D meshes are small next to
+//! their matrices) and assembles only the rows of the nodes it owns — a contiguous block of
+//! node numbers, so PETSc's row layout is our node layout. The solution is gathered on every
+//! rank for post-processing; rank 0 writes the files.
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
+use crate::fem::material::{Material, PlaneModel};
+use crate::fem::postprocess;
+use crate::mesh::{self, Mesh, Order};
+use crate::output::{self, vtu};
+use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
+use crate::resources::{self, Timings};
+use crate::scene::{self, Scene};
+
+/// Everything a run reports (serialised to `report.json`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Report {
+    pub program: String,
+    pub scene: String,
+    pub title: Option<String>,
+    pub formulation: &'static str,
+    pub element: &'static str,
+    pub plane: &'static str,
+    pub nodes: usize,
+    pub elements: usize,
+    pub boundary_edges: usize,
+    pub dofs: usize,
+    pub fixed_dofs: usize,
+    pub mpi_ranks: usize,
+    pub timings: Timings,
+    pub solver: SolverReport,
+    pub memory: MemoryReport,
+    pub results: ResultsReport,
+    /// Physical group name -> tag (the `part_id` cell data of solution.vtu).
+    pub parts: std::collections::BTreeMap<String, i32>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SolverReport {
+    #[serde(flatten)]
+    pub stats: SolveStats,
+    /// PETSc options from the scene that were applied (the command line overrides them).
+    pub scene_options: Vec<String>,
+    /// Options given but never used by PETSc: usually a typo.
+    pub unused_options: Vec<String>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct MemoryReport {
+    /// Peak resident memory of rank 0, bytes.
+    pub peak_bytes: Option<u64>,
+    /// Sum over ranks of each rank's peak resident memory, bytes.
+    pub peak_bytes_all_ranks: Option<u64>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ResultsReport {
+    pub max_displacement: f64,
+    pub max_von_mises: f64,
+    /// Applied load resultant (body force + tractions), N per unit thickness.
+    pub applied_force: [f64; 2],
+    /// Reaction resultant on each Dirichlet part.
+    pub reactions: std::collections::BTreeMap<String, [f64; 2]>,
+    /// |applied + reactions| / |applied| (global equilibrium, computed independently of the solver).
+    pub equilibrium_residual: f64,
+}
+
+pub struct ElasticityProblem<'s> {
+    session: &'s Session,
+    pub scene: Scene,
+    pub mesh: Mesh,
+    pub material: Material,
+    pub constraints: Constraints,
+    /// Global dof rows owned by this rank.
+    pub rows: Range<usize>,
+    pub timings: Timings,
+    scene_options: Vec<String>,
+    system: Option<(Matrix<'s>, Vector<'s>)>,
+    pub stats: Option<SolveStats>,
+    /// The whole displacement vector (dof = 2·node + component), on every rank.
+    pub displacement: Option<Vec<f64>>,
+    pub results: Option<Results>,
+}
+
+/// Post-processed fields.
+pub struct Results {
+    pub nodal_stress: Vec<[f64; 3]>,
+    pub von_mises: Vec<f64>,
+    pub report: ResultsReport,
+}
+
+impl<'s> ElasticityProblem<'s> {
+    /// Mesh, material, constraints, partition. Scene PETSc options enter the options database
+    /// as defaults (the command line wins).
+    pub fn setup_system(session: &'s Session, scene: Scene) -> Result<Self> {
+        let mut timings = Timings::default();
+        let mesh = timings.time("mesh", || build_mesh(&scene))?;
+        let mesh = consistent_across_ranks(session, mesh)?;
+        scene.check_against_mesh(&mesh)?;
+        let material = Material {
+            young: scene.material.young,
+            poisson: scene.material.poisson,
+            plane: match scene.material.plane {
+                scene::PlaneSpec::Strain => PlaneModel::Strain,
+                scene::PlaneSpec::Stress => PlaneModel::Stress,
+            },
+        };
+        let start = std::time::Instant::now();
+        let mut constraints = Constraints::new(2 * mesh.num_nodes());
+        for d in &scene.dirichlet {
+            let g = mesh.require_group(&d.part, 1)?;
+            if let Some(ux) = d.ux {
+                constraints.fix_group(&mesh, g, 0, |_| ux);
+            }
+            if let Some(uy) = d.uy {
+                constraints.fix_group(&mesh, g, 1, |_| uy);
+            }
+        }
+        constraints.check_rigid_motions(&mesh)?;
+        let scene_options = session.insert_default_options(&scene.petsc_options)?;
+        let (size, rank) = (session.size(), session.rank());
+        let n = mesh.num_nodes();
+        let rows = 2 * (n * rank / size)..2 * (n * (rank + 1) / size);
+        timings.add("setup", start.elapsed().as_secs_f64());
+        Ok(ElasticityProblem {
+            session,
+            scene,
+            mesh,
+            material,
+            constraints,
+            rows,
+            timings,
+            scene_options,
+            system: None,
+            stats: None,
+            displacement: None,
+            results: None,
+        })
+    }
+
+    pub fn num_dofs(&self) -> usize {
+        2 * self.mesh.num_nodes()
+    }
+
+    fn loads(&self) -> Result<(Option<[f64; 2]>, Vec<(usize, Traction<'static>)>)> {
+        let body = self.scene.body_force;
+        let body = if body == [0.0, 0.0] { None } else { Some(body) };
+        let mut edge = Vec::new();
+        for t in &self.scene.tractions {
+            let g = self.mesh.require_group(&t.part, 1)?;
+            let traction = match t.load {
+                scene::Load::Traction(v) => Traction::Constant(v),
+                scene::Load::Pressure(p) => Traction::Pressure(p),
+            };
+            edge.push((g, traction));
+        }
+        Ok((body, edge))
+    }
+
+    /// Assemble this rank's rows of the stiffness matrix and load vector into PETSc objects.
+    pub fn assemble(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        let (body, edge) = self.loads()?;
+        let body_fn = body.map(|b| move |_x: [f64; 2]| b);
+        let loads = Loads {
+            body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
+            edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
+        };
+        let system = assembly::assemble(&self.mesh, &self.material, &self.constraints, &loads, self.rows.clone());
+        let world = self.session.world();
+        let m = &system.matrix;
+        let matrix = Matrix::from_csr_rows(
+            self.session,
+            world,
+            self.num_dofs(),
+            m.first_row,
+            &m.indptr,
+            &m.indices,
+            &m.values,
+            2,
+            true,
+        )?;
+        let mut rhs = matrix.create_vector()?;
+        rhs.set_owned(&system.rhs)?;
+        self.system = Some((matrix, rhs));
+        self.timings.add("assemble", start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// Solve the linear system with the KSP configured by the options database.
+    pub fn solve(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        let (matrix, rhs) = self
+            .system
+            .as_ref()
+            .ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
+        let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
+        ksp.set_operator(matrix)?;
+        let mut x = matrix.create_vector()?;
+        let stats = ksp.solve(matrix, rhs, &mut x)?;
+        self.displacement = Some(x.gather_all()?);
+        self.stats = Some(stats);
+        self.timings.add("solve", start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// Stresses, von Mises, reactions per Dirichlet part, global equilibrium.
+    pub fn postprocess(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        let u = self
+            .displacement
+            .as_ref()
+            .ok_or_else(|| Error::PetscUsage("postprocess() called before solve()".into()))?;
+        let nodal_stress = postprocess::nodal_stress(&self.mesh, &self.material, u);
+        let von_mises: Vec<f64> = nodal_stress.iter().map(|s| self.material.von_mises(*s)).collect();
+        let max_displacement = u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
+        let max_von_mises = von_mises.iter().cloned().fold(0.0, f64::max);
+
+        // Reactions: r = K u − f on the fixed dofs, from unconstrained operators.
+        let (body, edge) = self.loads()?;
+        let body_fn = body.map(|b| move |_x: [f64; 2]| b);
+        let loads = Loads {
+            body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
+            edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
+        };
+        let f = assembly::load_vector(&self.mesh, &loads);
+        let ku = assembly::residual_forces(&self.mesh, &self.material, u);
+        let applied_force = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
+        let mut reactions = std::collections::BTreeMap::new();
+        let mut total_reaction = [0.0f64; 2];
+        let mut counted = vec![false; f.len()];
+        for d in &self.scene.dirichlet {
+            let g = self.mesh.require_group(&d.part, 1)?;
+            let mut r = [0.0f64; 2];
+            for e in self.mesh.edges_in_group(g) {
+                for &node in self.mesh.edge(e) {
+                    for comp in 0..2 {
+                        let dof = 2 * node + comp;
+                        if self.constraints.value(dof).is_some() && !counted[dof] {
+                            counted[dof] = true;
+                            r[comp] += ku[dof] - f[dof];
+                        }
+                    }
+                }
+            }
+            total_reaction[0] += r[0];
+            total_reaction[1] += r[1];
+            reactions.entry(d.part.clone()).and_modify(|s: &mut [f64; 2]| {
+                s[0] += r[0];
+                s[1] += r[1];
+            }).or_insert(r);
+        }
+        // Independent equilibrium check: the free rows of K u − f must vanish, and the applied
+        // loads must balance the reactions.
+        let scale = applied_force[0].hypot(applied_force[1]).max(total_reaction[0].hypot(total_reaction[1]));
+        let imbalance = (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1]);
+        let equilibrium_residual = if scale > 0.0 { imbalance / scale } else { imbalance };
+        self.results = Some(Results {
+            nodal_stress,
+            von_mises,
+            report: ResultsReport { max_displacement, max_von_mises, applied_force, reactions, equilibrium_residual },
+        });
+        self.timings.add("postprocess", start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// Build the report (collective: every rank must call it).
+    pub fn report(&self) -> Result<Report> {
+        let stats = self.stats.clone().ok_or_else(|| Error::PetscUsage("report() before solve()".into()))?;
+        let results = self.results.as_ref().ok_or_else(|| Error::PetscUsage("report() before postprocess()".into()))?;
+        let peak = resources::peak_memory_bytes();
+        let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
+        let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
+        Ok(Report {
+            program: format!("signorini {}", env!("CARGO_PKG_VERSION")),
+            scene: self.scene.source.display().to_string(),
+            title: self.scene.title.clone(),
+            formulation: "primal",
+            element: match self.mesh.order {
+                Order::P1 => "P1",
+                Order::P2 => "P2",
+            },
+            plane: match self.material.plane {
+                PlaneModel::Strain => "strain",
+                PlaneModel::Stress => "stress",
+            },
+            nodes: self.mesh.num_nodes(),
+            elements: self.mesh.num_cells(),
+            boundary_edges: self.mesh.num_edges(),
+            dofs: self.num_dofs(),
+            fixed_dofs: self.constraints.num_fixed(),
+            mpi_ranks: self.session.size(),
+            timings: self.timings.clone(),
+            solver: SolverReport {
+                stats,
+                scene_options: self.scene_options.clone(),
+                unused_options: self.session.unused_options()?,
+            },
+            memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
+            results: results.report.clone(),
+            parts,
+        })
+    }
+
+    /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
+    /// Returns the report and the paths written.
+    pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
+        let start = std::time::Instant::now();
+        let mut written = Vec::new();
+        if self.session.rank() == 0 {
+            let u = self.displacement.as_ref().expect("checked by report()");
+            let results = self.results.as_ref().ok_or_else(|| Error::PetscUsage("write_output() before postprocess()".into()))?;
+            let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
+            let sigma_zz: Vec<f64> = results.nodal_stress.iter().map(|s| self.material.sigma_zz(*s)).collect();
+            // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
+            let stress6: Vec<f64> = results
+                .nodal_stress
+                .iter()
+                .zip(&sigma_zz)
+                .flat_map(|(s, zz)| [s[0], s[1], *zz, s[2], 0.0, 0.0])
+                .collect();
+            let path = dir.join("solution.vtu");
+            vtu::write_vtu(
+                &path,
+                &self.mesh,
+                &[
+                    vtu::Field { name: "displacement", components: 3, values: &disp3 },
+                    vtu::Field { name: "stress", components: 6, values: &stress6 },
+                    vtu::Field { name: "von_mises", components: 1, values: &results.von_mises },
+                ],
+                &[],
+                true,
+            )?;
+            written.push(path);
+        }
+        self.timings.add("output", start.elapsed().as_secs_f64());
+        let report = self.report()?;
+        if self.session.rank() == 0 {
+            let path = dir.join("report.json");
+            output::write_json(&path, &report)?;
+            written.push(path);
+        }
+        Ok((report, written))
+    }
+}
+
+/// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order.
+pub fn build_mesh(scene: &Scene) -> Result<Mesh> {
+    let order = scene.order;
+    match &scene.mesh {
+        scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Structured, .. } => {
+            let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
+            mesh::structured::rectangle(*origin, *size, nx, ny, order)
+        }
+        scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Gmsh, refine } => {
+            gmsh_mesh(mesh::gmsh::Shape::Rectangle { origin: *origin, size: *size }, *cell_size, refine, order)
+        }
+        scene::MeshSpec::Disc { center, radius, cell_size, refine } => {
+            gmsh_mesh(mesh::gmsh::Shape::Disc { center: *center, radius: *radius }, *cell_size, refine, order)
+        }
+        scene::MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
+            gmsh_mesh(mesh::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine, order)
+        }
+        scene::MeshSpec::File { path } => {
+            let m = mesh::msh::read_msh(path)?;
+            match (m.order, order) {
+                (Order::P1, Order::P2) => Ok(m.to_quadratic()),
+                (Order::P2, Order::P1) => Err(Error::Mesh {
+                    source_file: Some(path.clone()),
+                    entity: "elements".into(),
+                    message: "the file has quadratic (6-node) triangles but the scene asks for order = 1: set \
+                              [discretization] order = 2, or export a linear mesh"
+                        .into(),
+                }),
+                _ => Ok(m),
+            }
+        }
+    }
+}
+
+fn gmsh_mesh(shape: mesh::gmsh::Shape, cell_size: f64, refine: &Option<scene::RefineSpec>, order: Order) -> Result<Mesh> {
+    let request = mesh::gmsh::MeshRequest {
+        shape,
+        cell_size,
+        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement { point: r.point, cell_size: r.cell_size, radius: r.radius }),
+        order,
+    };
+    mesh::gmsh::generate(&request)
+}
+
+/// Every rank builds the mesh itself; make sure they all got the same one (Gmsh is
+/// deterministic, but a mismatch would give silently wrong answers).
+fn consistent_across_ranks(session: &Session, mesh: Mesh) -> Result<Mesh> {
+    if session.size() == 1 {
+        return Ok(mesh);
+    }
+    let fingerprint = [
+        mesh.num_nodes() as f64,
+        mesh.num_cells() as f64,
+        mesh.num_edges() as f64,
+        mesh.nodes.iter().map(|p| p[0] + 2.0 * p[1]).sum::<f64>(),
+    ];
+    let lo = session.world().min(&fingerprint)?;
+    let hi = session.world().max(&fingerprint)?;
+    if lo != hi {
+        return Err(Error::mesh(
+            "mesh",
+            "the MPI ranks built different meshes (node or cell counts differ): use a mesh file so every rank reads the same mesh",
+        ));
+    }
+    Ok(mesh)
+}

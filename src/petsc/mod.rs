@@ -1,1 +1,351 @@
-//! TODO
+//! The safe PETSc layer: the only module that touches `signorini-sys`.
+//!
+//! - [`Session`]: one process-wide PETSc session (`PetscInitialize` with the program's argv, so
+//!   every PETSc option works from the command line; `PetscFinalize` on drop). A second session
+//!   in the same process is refused with [`Error::PetscUsage`] (initialising MPI twice aborts).
+//! - [`Vector`], [`Matrix`], [`LinearSolver`]: owning handles. They are moved, never copied;
+//!   they borrow the session so they cannot outlive `PetscFinalize`; `Drop` destroys them and
+//!   never panics.
+//! - Every PETSc call goes through [`check`]: a nonzero code becomes [`Error::Petsc`] with
+//!   PETSc's own message (captured by an error handler we install, so PETSc prints nothing),
+//!   the call's name and the Rust file and line.
+//! - Debian's PETSc is built without debugging checks, so indices and sizes are checked here
+//!   before every call that takes them.
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
+use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::Mutex;
+
+use crate::error::{Error, Result};
+use signorini_sys as sys;
+
+mod linear_solver;
+mod matrix;
+mod vector;
+
+pub use linear_solver::{LinearSolver, SolveStats};
+pub use matrix::Matrix;
+pub use vector::Vector;
+
+/// The message of the last PETSc error, captured by our error handler.
+static LAST_ERROR: Mutex<Option<String>> = Mutex::new(None);
+
+/// 0: never initialised, 1: a session is alive, 2: finalised (cannot come back: MPI is gone).
+static SESSION_STATE: AtomicU8 = AtomicU8::new(0);
+
+unsafe extern "C" fn capture_error(
+    _comm: sys::MPI_Comm,
+    line: c_int,
+    func: *const c_char,
+    file: *const c_char,
+    code: sys::PetscErrorCode,
+    kind: sys::PetscErrorType,
+    message: *const c_char,
+    _ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    let result = std::panic::catch_unwind(|| {
+        let text = |p: *const c_char| {
+            if p.is_null() {
+                String::new()
+            } else {
+                // SAFETY: PETSc passes NUL-terminated strings (or NULL, handled above).
+                unsafe { CStr::from_ptr(p) }.to_string_lossy().trim().to_string()
+            }
+        };
+        if kind == sys::PetscErrorType::PETSC_ERROR_INITIAL {
+            let msg = format!("{} [in {}() at {}:{}]", text(message), text(func), text(file), line);
+            if let Ok(mut last) = LAST_ERROR.lock() {
+                *last = Some(msg);
+            }
+        }
+    });
+    let _ = result;
+    code
+}
+
+/// Turn a PETSc return code into a `Result`, with PETSc's message and where we called it.
+#[track_caller]
+pub(crate) fn check(code: sys::PetscErrorCode, call: &'static str) -> Result<()> {
+    if code == 0 {
+        return Ok(());
+    }
+    let caller = std::panic::Location::caller();
+    let detail = LAST_ERROR.lock().ok().and_then(|mut m| m.take());
+    let mut generic: *const c_char = std::ptr::null();
+    // SAFETY: PetscErrorMessage only writes a pointer to a static string.
+    unsafe { sys::PetscErrorMessage(code, &mut generic, std::ptr::null_mut()) };
+    let generic = if generic.is_null() {
+        String::new()
+    } else {
+        // SAFETY: static NUL-terminated string owned by PETSc.
+        unsafe { CStr::from_ptr(generic) }.to_string_lossy().into_owned()
+    };
+    let message = match detail {
+        Some(d) if !d.is_empty() => format!("{generic}: {d}"),
+        _ => generic,
+    };
+    Err(Error::Petsc { code, call, message, rust_file: caller.file(), rust_line: caller.line() })
+}
+
+/// Call a PETSc function and check its code: `petsc!(VecAssemblyBegin(v))`.
+macro_rules! petsc {
+    ($f:ident ( $($arg:expr),* $(,)? )) => {
+        $crate::petsc::check(
+            // SAFETY: every call site passes handles owned by a live wrapper and buffers whose
+            // sizes were checked against the object's sizes just before.
+            unsafe { signorini_sys::$f($($arg),*) },
+            stringify!($f),
+        )
+    };
+}
+pub(crate) use petsc;
+
+pub(crate) fn cstring(s: &str) -> Result<CString> {
+    CString::new(s).map_err(|_| Error::PetscUsage(format!("string {s:?} contains a NUL byte")))
+}
+
+pub(crate) fn from_c(p: *const c_char) -> String {
+    if p.is_null() {
+        String::new()
+    } else {
+        // SAFETY: PETSc strings are NUL-terminated.
+        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+    }
+}
+
+/// An MPI communicator handle (borrowed from PETSc: never freed by us).
+#[derive(Clone, Copy, Debug)]
+pub struct Comm {
+    raw: sys::MPI_Comm,
+}
+
+impl Comm {
+    pub(crate) fn raw(self) -> sys::MPI_Comm {
+        self.raw
+    }
+    pub fn rank(self) -> Result<usize> {
+        let mut r: c_int = 0;
+        mpi_check(unsafe { sys::signorini_comm_rank(self.raw, &mut r) }, "MPI_Comm_rank")?;
+        Ok(r as usize)
+    }
+    pub fn size(self) -> Result<usize> {
+        let mut s: c_int = 0;
+        mpi_check(unsafe { sys::signorini_comm_size(self.raw, &mut s) }, "MPI_Comm_size")?;
+        Ok(s as usize)
+    }
+    fn allreduce(self, values: &[f64], op: c_int) -> Result<Vec<f64>> {
+        let mut out = vec![0.0; values.len()];
+        let n = c_int::try_from(values.len()).map_err(|_| Error::PetscUsage("allreduce too large".into()))?;
+        // SAFETY: both buffers hold n doubles.
+        mpi_check(
+            unsafe { sys::signorini_allreduce_f64(self.raw, values.as_ptr(), out.as_mut_ptr(), n, op) },
+            "MPI_Allreduce",
+        )?;
+        Ok(out)
+    }
+    /// Element-wise sum over all ranks.
+    pub fn sum(self, values: &[f64]) -> Result<Vec<f64>> {
+        self.allreduce(values, 0)
+    }
+    /// Element-wise maximum over all ranks.
+    pub fn max(self, values: &[f64]) -> Result<Vec<f64>> {
+        self.allreduce(values, 1)
+    }
+    /// Element-wise minimum over all ranks.
+    pub fn min(self, values: &[f64]) -> Result<Vec<f64>> {
+        self.allreduce(values, 2)
+    }
+}
+
+fn mpi_check(code: c_int, call: &'static str) -> Result<()> {
+    if code == 0 {
+        Ok(())
+    } else {
+        let caller = std::panic::Location::caller();
+        Err(Error::Petsc {
+            code,
+            call,
+            message: "MPI error".into(),
+            rust_file: caller.file(),
+            rust_line: caller.line(),
+        })
+    }
+}
+
+/// The process-wide PETSc session. Create it once, early (it owns MPI too); every PETSc object
+/// borrows it.
+pub struct Session {
+    /// argv strings handed to PetscInitialize: PETSc keeps pointers into them until finalise.
+    _args: Vec<CString>,
+    _argv: Vec<*mut c_char>,
+    world: Comm,
+    rank: usize,
+    size: usize,
+    /// PETSc is not thread safe in this build: keep the session on its thread.
+    _not_send: PhantomData<*const ()>,
+}
+
+impl Session {
+    /// Initialise PETSc (and MPI) with these arguments (`args[0]` is the program name). All
+    /// `-option value` pairs in them go into PETSc's options database.
+    pub fn init(args: &[String]) -> Result<Session> {
+        match SESSION_STATE.compare_exchange(0, 1, Ordering::SeqCst, Ordering::SeqCst) {
+            Ok(_) => {}
+            Err(1) => {
+                return Err(Error::PetscUsage(
+                    "a PETSc session is already alive in this process: create one Session and share it".into(),
+                ))
+            }
+            Err(_) => {
+                return Err(Error::PetscUsage(
+                    "PETSc was finalised in this process and cannot be initialised again (MPI allows one \
+                     initialisation per process): run each session in its own process"
+                        .into(),
+                ))
+            }
+        }
+        let program = args.first().cloned().unwrap_or_else(|| "signorini".to_string());
+        let mut c_args = Vec::with_capacity(args.len().max(1));
+        c_args.push(cstring(&program)?);
+        for a in args.iter().skip(1) {
+            c_args.push(cstring(a)?);
+        }
+        let mut argv: Vec<*mut c_char> = c_args.iter().map(|c| c.as_ptr() as *mut c_char).collect();
+        argv.push(std::ptr::null_mut());
+        let mut argc = c_args.len() as c_int;
+        let mut argv_ptr = argv.as_mut_ptr();
+        // SAFETY: argc/argv describe NUL-terminated strings that live in `Session` until
+        // PetscFinalize (PETSc keeps pointers to them).
+        let code = unsafe { sys::PetscInitialize(&mut argc, &mut argv_ptr, std::ptr::null(), std::ptr::null()) };
+        if code != 0 {
+            SESSION_STATE.store(2, Ordering::SeqCst);
+            return check(code, "PetscInitialize").map(|_| unreachable!());
+        }
+        // From now on PETSc reports errors to us instead of printing them.
+        petsc!(PetscPushErrorHandler(Some(capture_error), std::ptr::null_mut()))?;
+        // SAFETY: valid after PetscInitialize.
+        let world = Comm { raw: unsafe { sys::signorini_comm_world() } };
+        let rank = world.rank()?;
+        let size = world.size()?;
+        Ok(Session { _args: c_args, _argv: argv, world, rank, size, _not_send: PhantomData })
+    }
+
+    /// `PETSC_COMM_WORLD`.
+    pub fn world(&self) -> Comm {
+        self.world
+    }
+    /// `PETSC_COMM_SELF`.
+    pub fn self_comm(&self) -> Comm {
+        // SAFETY: valid after PetscInitialize.
+        Comm { raw: unsafe { sys::signorini_comm_self() } }
+    }
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Is `-name` (with its leading dash) in the options database?
+    pub fn has_option(&self, name: &str) -> Result<bool> {
+        let n = cstring(name)?;
+        let mut set = sys::PetscBool::PETSC_FALSE;
+        petsc!(PetscOptionsHasName(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), &mut set))?;
+        Ok(set == sys::PetscBool::PETSC_TRUE)
+    }
+
+    /// The value of `-name`: `None` if absent, `Some("")` if present without a value.
+    pub fn option(&self, name: &str) -> Result<Option<String>> {
+        let n = cstring(name)?;
+        let mut buf = vec![0 as c_char; 4096];
+        let mut set = sys::PetscBool::PETSC_FALSE;
+        petsc!(PetscOptionsGetString(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), buf.as_mut_ptr(), buf.len(), &mut set))?;
+        if set != sys::PetscBool::PETSC_TRUE {
+            return Ok(None);
+        }
+        Ok(Some(from_c(buf.as_ptr())))
+    }
+
+    /// Set `-name [value]`, replacing any earlier value.
+    pub fn set_option(&self, name: &str, value: Option<&str>) -> Result<()> {
+        let n = cstring(name)?;
+        let v = value.map(cstring).transpose()?;
+        petsc!(PetscOptionsSetValue(std::ptr::null_mut(), n.as_ptr(), v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr())))
+    }
+
+    /// Insert options given as tokens (`["-ksp_type", "cg", "-ksp_monitor"]`) as *defaults*: an
+    /// option already in the database (from the command line) wins. Returns the options it set.
+    pub fn insert_default_options(&self, tokens: &[String]) -> Result<Vec<String>> {
+        let mut inserted = Vec::new();
+        let mut i = 0;
+        while i < tokens.len() {
+            let name = &tokens[i];
+            if !name.starts_with('-') || name.len() < 2 {
+                return Err(Error::PetscUsage(format!(
+                    "PETSc option list: expected an option starting with '-', found {name:?}"
+                )));
+            }
+            let value = tokens.get(i + 1).filter(|v| !is_option_name(v));
+            if !self.has_option(name)? {
+                self.set_option(name, value.map(|s| s.as_str()))?;
+                inserted.push(name.clone());
+            }
+            i += if value.is_some() { 2 } else { 1 };
+        }
+        Ok(inserted)
+    }
+
+    /// Options given but never queried by any PETSc object: usually a typo. (`-options_left`
+    /// style check, returned rather than printed.)
+    pub fn unused_options(&self) -> Result<Vec<String>> {
+        let mut n: sys::PetscInt = 0;
+        let mut names: *mut *mut c_char = std::ptr::null_mut();
+        let mut values: *mut *mut c_char = std::ptr::null_mut();
+        petsc!(PetscOptionsLeftGet(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
+        let mut out = Vec::with_capacity(n.max(0) as usize);
+        for k in 0..n.max(0) as usize {
+            // SAFETY: PETSc returned n entries in each array.
+            let name = from_c(unsafe { *names.add(k) });
+            let value = from_c(unsafe { *values.add(k) });
+            out.push(if value.is_empty() { format!("-{name}") } else { format!("-{name} {value}") });
+        }
+        petsc!(PetscOptionsLeftRestore(std::ptr::null_mut(), &mut n, &mut names, &mut values))?;
+        Ok(out)
+    }
+}
+
+/// `-ksp_type` is an option name; `-1e-3` and `-5` are values.
+fn is_option_name(token: &str) -> bool {
+    token.starts_with('-') && token[1..].chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        // SAFETY: every PETSc object borrows the session, so all were destroyed before this.
+        let _ = unsafe { sys::PetscFinalize() };
+        SESSION_STATE.store(2, Ordering::SeqCst);
+    }
+}
+
+/// Convert a `usize` index to PETSc's 32-bit `PetscInt`, or explain why not.
+pub(crate) fn to_petsc_int(value: usize, what: &str) -> Result<sys::PetscInt> {
+    sys::PetscInt::try_from(value).map_err(|_| {
+        Error::PetscUsage(format!(
+            "{what} = {value} does not fit Debian's 32-bit PetscInt (max {}): the problem is too large for this PETSc build",
+            sys::PetscInt::MAX
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_option_name;
+    #[test]
+    fn option_names_versus_negative_values() {
+        assert!(is_option_name("-ksp_type"));
+        assert!(is_option_name("-_x"));
+        assert!(!is_option_name("-1e-3"));
+        assert!(!is_option_name("-5"));
+        assert!(!is_option_name("cg"));
+    }
+}
