@@ -1,0 +1,704 @@
+//! Scenes: one plane-elasticity problem described in a TOML file (format reference with a
+//! complete example: `docs/scene-format.md`).
+//!
+//! # The problem a scene describes
+//!
+//! Find the displacement `u = (ux, uy)` of a body `Ω ⊂ R²` such that
+//!
+//! ```text
+//!   -div σ(u) = f                 in Ω           f   = [loads] body_force        (N/m³)
+//!   σ(u) = λ tr(ε(u)) I + 2μ ε(u)                ε(u) = (∇u + ∇uᵀ)/2
+//!   u_i = g_i                     on a part      [[dirichlet]] ux and/or uy      (m)
+//!   σ(u) n = t                    on a part      [[traction]] traction = t       (N/m²)
+//!   σ(u) n = -p n                 on a part      [[traction]] pressure = p       (N/m²)
+//!   σ(u) n = 0                    on the rest of ∂Ω
+//! ```
+//!
+//! with `n` the unit outward normal, so a positive pressure pushes into the body. Components
+//! `i` not listed in a `[[dirichlet]]` table stay free on that part. From Young's modulus `E`
+//! and Poisson's ratio `ν` (`[material]`), the Lamé constants are
+//!
+//! ```text
+//!   plane strain (εzz = 0):   μ = E / (2(1+ν)),   λ = E ν / ((1+ν)(1-2ν))
+//!   plane stress (σzz = 0):   μ = E / (2(1+ν)),   λ = E ν / (1-ν²)
+//! ```
+//!
+//! (Timoshenko & Goodier, *Theory of Elasticity*, 3rd ed., §§ 16-17; Barber, *Elasticity*,
+//! 3rd ed., § 3.1). Plane strain needs `-1 < ν < 1/2` (λ blows up at 1/2: incompressibility),
+//! which is the range accepted for both models.
+//!
+//! # Parsing
+//!
+//! The TOML text is first deserialized (serde, `deny_unknown_fields`) into the raw structs of
+//! `raw`, whose leaves keep their byte spans; the conversion below then checks every value and
+//! builds the plain spec types. Every mistake becomes [`Error::Scene`] with the 1-based line and
+//! column of the offending value (or of the table header when a key is missing), a message
+//! saying what is wrong and a hint saying what to do. Boundary part names can only be checked
+//! once the mesh exists: [`Scene::check_against_mesh`].
+//!
+//! Adding a section (e.g. `[contact]`): a raw struct and its key list in `raw`, a field in
+//! [`Scene`], a conversion function here called from [`Scene::from_str`], and a table in
+//! `docs/scene-format.md`.
+mod diagnostic;
+mod raw;
+
+use crate::error::{Error, Location, Result};
+use crate::mesh::{Mesh, Order};
+use diagnostic::{closest, describe, Source};
+use raw::{first_span, Leaf, RawDirichlet, RawMesh, RawRefine, RawScene, RawTraction};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::{Spanned, Value};
+
+/// The text of the built-in scene (`examples/scenes/default.toml`).
+pub const DEFAULT_SCENE_TOML: &str = include_str!("../../examples/scenes/default.toml");
+/// The name [`Scene::default_scene`] reports errors and outputs under.
+pub const DEFAULT_SCENE_SOURCE: &str = "<default scene>";
+/// Generated meshes are refused beyond this estimated number of triangles (2·area / cell_size²):
+/// a mistyped `cell_size` should be an error, not an exhausted memory.
+pub const MAX_TRIANGLES: f64 = 1e7;
+
+/// A parsed and checked scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The scene file, or `<default scene>`.
+    pub source: PathBuf,
+    pub title: Option<String>,
+    pub mesh: MeshSpec,
+    /// Order of the triangles and of the Lagrange finite-element space.
+    pub order: Order,
+    pub material: MaterialSpec,
+    /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
+    pub body_force: [f64; 2],
+    /// The `[[traction]]` tables, in file order.
+    pub tractions: Vec<TractionSpec>,
+    /// The `[[dirichlet]]` tables, in file order.
+    pub dirichlet: Vec<DirichletSpec>,
+    /// PETSc options from `[solver] petsc_options`, split on whitespace (command-line options are
+    /// applied after these and so override them).
+    pub petsc_options: Vec<String>,
+    /// `[output] dir` as written (relative to the current directory, not to the scene).
+    pub output_dir: Option<PathBuf>,
+}
+
+/// The geometry and how to mesh it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshSpec {
+    /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
+    Rectangle {
+        origin: [f64; 2],
+        size: [f64; 2],
+        cell_size: f64,
+        mesher: Mesher,
+        refine: Option<RefineSpec>,
+    },
+    /// Full disc; boundary part `boundary`. Always meshed by gmsh.
+    Disc {
+        center: [f64; 2],
+        radius: f64,
+        cell_size: f64,
+        refine: Option<RefineSpec>,
+    },
+    /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `top`.
+    /// Always meshed by gmsh.
+    HalfDisc {
+        center: [f64; 2],
+        radius: f64,
+        cell_size: f64,
+        refine: Option<RefineSpec>,
+    },
+    /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
+    File { path: PathBuf },
+}
+
+/// Who meshes a rectangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mesher {
+    /// A uniform grid of right triangles (no gmsh needed).
+    Structured,
+    /// An unstructured gmsh mesh.
+    Gmsh,
+}
+
+/// Local refinement for gmsh: cells of size about `cell_size` within `radius` of `point`,
+/// growing back to the mesh's `cell_size` away from it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RefineSpec {
+    pub point: [f64; 2],
+    pub cell_size: f64,
+    pub radius: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialSpec {
+    /// Young's modulus E (Pa), finite and > 0.
+    pub young: f64,
+    /// Poisson's ratio ν, in (-1, 0.5).
+    pub poisson: f64,
+    pub plane: PlaneSpec,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlaneSpec {
+    /// εzz = 0: a long body loaded uniformly along z.
+    Strain,
+    /// σzz = 0: a thin plate loaded in its plane.
+    Stress,
+}
+
+/// Prescribed displacement components on a boundary part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DirichletSpec {
+    pub part: String,
+    pub ux: Option<f64>,
+    pub uy: Option<f64>,
+    /// Where `part = ...` is written, for errors found later (unknown part).
+    pub at: Location,
+}
+
+/// A surface load on a boundary part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TractionSpec {
+    pub part: String,
+    pub load: Load,
+    /// Where `part = ...` is written, for errors found later (unknown part).
+    pub at: Location,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Load {
+    /// σ n = t, a force per unit area in global x and y (N/m²).
+    Traction([f64; 2]),
+    /// σ n = -p n: a normal pressure (N/m²), positive pushes into the body.
+    Pressure(f64),
+}
+
+impl Scene {
+    /// Read and parse a scene file.
+    pub fn from_file(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::io(path, "reading the scene file", e))?;
+        Scene::from_str(&text, path)
+    }
+
+    /// Parse scene text; `source` names it in errors and anchors relative mesh-file paths (they
+    /// are resolved against `source`'s directory).
+    #[allow(clippy::should_implement_trait)]
+    pub fn from_str(text: &str, source: &Path) -> Result<Scene> {
+        let src = Source { file: source, text };
+        let raw: RawScene = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
+        let scene_dir = source.parent().unwrap_or(Path::new(""));
+
+        let title = raw
+            .title
+            .as_ref()
+            .map(|v| src.string(v, "title").map(str::to_string))
+            .transpose()?;
+        let Some(raw_mesh) = &raw.mesh else {
+            return Err(src.error(
+                &(0..0),
+                "the scene has no [mesh] table",
+                "add a [mesh] table, e.g. [mesh] shape = \"rectangle\", size = [1.0, 0.2], cell_size = 0.02",
+            ));
+        };
+        let mesh = mesh_spec(&src, raw_mesh, scene_dir)?;
+        let order = order(
+            &src,
+            raw.discretization.as_ref().and_then(|d| d.order.as_ref()),
+        )?;
+        let Some(raw_material) = &raw.material else {
+            return Err(src.error(
+                &(0..0),
+                "the scene has no [material] table",
+                "add a [material] table, e.g. [material] young = 210e9, poisson = 0.3",
+            ));
+        };
+        let material = material_spec(&src, raw_material)?;
+        let body_force = match raw.loads.as_ref().and_then(|l| l.body_force.as_ref()) {
+            Some(v) => src.vector(v, "body_force")?,
+            None => [0.0; 2],
+        };
+        let tractions = raw
+            .traction
+            .iter()
+            .enumerate()
+            .map(|(i, t)| traction_spec(&src, t, i))
+            .collect::<Result<Vec<_>>>()?;
+        let dirichlet = raw
+            .dirichlet
+            .iter()
+            .enumerate()
+            .map(|(i, d)| dirichlet_spec(&src, d, i))
+            .collect::<Result<Vec<_>>>()?;
+        let petsc_options = match raw.solver.as_ref().and_then(|s| s.petsc_options.as_ref()) {
+            Some(v) => petsc_options(&src, v)?,
+            None => Vec::new(),
+        };
+        let output_dir = match raw.output.as_ref().and_then(|o| o.dir.as_ref()) {
+            Some(v) => Some(PathBuf::from(src.nonempty_string(v, "dir")?)),
+            None => None,
+        };
+        Ok(Scene {
+            source: source.to_path_buf(),
+            title,
+            mesh,
+            order,
+            material,
+            body_force,
+            tractions,
+            dirichlet,
+            petsc_options,
+            output_dir,
+        })
+    }
+
+    /// The built-in scene ([`DEFAULT_SCENE_TOML`]), reported as `<default scene>`.
+    pub fn default_scene() -> Scene {
+        // The text is part of the binary and parsed by the test suite: this cannot fail.
+        Scene::from_str(DEFAULT_SCENE_TOML, Path::new(DEFAULT_SCENE_SOURCE))
+            .expect("the built-in examples/scenes/default.toml is a valid scene")
+    }
+
+    /// Every boundary part the scene names, with where it is named, in file order per table kind.
+    pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
+        let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
+        let d = self.dirichlet.iter().map(|d| (d.part.as_str(), &d.at));
+        t.chain(d)
+    }
+
+    /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`.
+    pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
+        for (part, at) in self.boundary_parts() {
+            if mesh.group_index(part, 1).is_some() {
+                continue;
+            }
+            let names: Vec<&str> = mesh
+                .groups
+                .iter()
+                .filter(|g| g.dim == 1)
+                .map(|g| g.name.as_str())
+                .collect();
+            let message = match mesh.group_index(part, 2) {
+                Some(_) => {
+                    format!("`{part}` is a region (surface group) of the mesh, not a boundary part")
+                }
+                None => format!("the mesh has no boundary part named `{part}`"),
+            };
+            let known = match names.is_empty() {
+                true => {
+                    "the mesh has no named boundary parts: give its boundary curves physical names"
+                        .to_string()
+                }
+                false => format!("the mesh's boundary parts are: {}", names.join(", ")),
+            };
+            let hint = match closest(part, &names) {
+                Some(guess) => format!("did you mean `{guess}`? {known}"),
+                None => known,
+            };
+            return Err(Error::Scene {
+                location: at.clone(),
+                message,
+                hint,
+            });
+        }
+        Ok(())
+    }
+}
+
+// ---- conversion, one function per table -------------------------------------------------------
+
+/// A table being converted: its display name and where to point when a key is missing.
+struct Table<'s, 'a> {
+    src: &'s Source<'a>,
+    name: String,
+    span: Range<usize>,
+}
+
+impl<'s, 'a> Table<'s, 'a> {
+    /// `header` is found as `[header]` (or `[[header]]`, the `occurrence`-th); a table written
+    /// inline or with dotted keys is located by its first key, else by `fallback`.
+    fn locate(
+        src: &'s Source<'a>,
+        name: impl Into<String>,
+        header: (&str, bool, usize),
+        first_key: Option<Range<usize>>,
+        fallback: Range<usize>,
+    ) -> Self {
+        let span = src
+            .table_header(header.0, header.1, header.2)
+            .or(first_key)
+            .unwrap_or(fallback);
+        Table {
+            src,
+            name: name.into(),
+            span,
+        }
+    }
+
+    fn require<'v>(&self, leaf: &'v Leaf, key: &str, example: &str) -> Result<&'v Spanned<Value>> {
+        leaf.as_ref().ok_or_else(|| {
+            self.src.error(
+                &self.span,
+                format!("{} is missing `{key}`", self.name),
+                format!("add `{example}`"),
+            )
+        })
+    }
+}
+
+const SHAPES: &[&str] = &["rectangle", "disc", "half_disc", "file"];
+const MESHERS: &[&str] = &["structured", "gmsh"];
+const RECTANGLE_KEYS: &[&str] = &["shape", "origin", "size", "cell_size", "mesher", "refine"];
+const DISC_KEYS: &[&str] = &["shape", "center", "radius", "cell_size", "refine"];
+const FILE_KEYS: &[&str] = &["shape", "file"];
+
+fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
+    let table = Table::locate(src, "[mesh]", ("mesh", false, 0), m.first_span(), 0..0);
+    let shape_v = table.require(
+        &m.shape,
+        "shape",
+        "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"file\")",
+    )?;
+    let shape = src.choice(shape_v, "shape", SHAPES)?;
+    let allowed = match shape {
+        "rectangle" => RECTANGLE_KEYS,
+        "disc" | "half_disc" => DISC_KEYS,
+        _ => FILE_KEYS,
+    };
+    if let Some((key, span)) = m
+        .present_keys()
+        .into_iter()
+        .find(|(k, _)| !allowed.contains(k))
+    {
+        let hint = match (shape, key) {
+            ("file", _) => format!(
+                "a mesh file is used as it is: remove `{key}` (refine the mesh in gmsh instead)"
+            ),
+            (_, "mesher") => {
+                "disc and half_disc meshes are always made by gmsh: remove `mesher`".to_string()
+            }
+            _ => format!(
+                "remove `{key}`; shape = \"{shape}\" takes {}",
+                allowed.join(", ")
+            ),
+        };
+        return Err(src.error(
+            &span,
+            format!("`{key}` does not apply to shape = \"{shape}\""),
+            hint,
+        ));
+    }
+    let table = Table {
+        name: format!("[mesh] with shape = \"{shape}\""),
+        ..table
+    };
+
+    if shape == "file" {
+        let v = table.require(&m.file, "file", "file = \"part.msh\" (a Gmsh MSH 4.1 file)")?;
+        let name = src.nonempty_string(v, "file")?;
+        let path = scene_dir.join(name);
+        if !path.is_file() {
+            let what = if path.is_dir() {
+                "is a directory"
+            } else {
+                "does not exist"
+            };
+            return Err(src.error(
+                &v.span(),
+                format!("mesh file `{name}` {what} (looked for {})", path.display()),
+                "check the name; a relative path is read from the scene file's directory",
+            ));
+        }
+        return Ok(MeshSpec::File { path });
+    }
+
+    let cell_v = table.require(
+        &m.cell_size,
+        "cell_size",
+        "cell_size = 0.05 (target edge length)",
+    )?;
+    let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
+    let vector_or_zero = |leaf: &Leaf, key| leaf.as_ref().map(|v| src.vector(v, key)).transpose();
+    let mut spec = match shape {
+        "rectangle" => {
+            let origin = vector_or_zero(&m.origin, "origin")?.unwrap_or([0.0; 2]);
+            let size_v = table.require(&m.size, "size", "size = [width, height]")?;
+            let size = src.vector(size_v, "size")?;
+            if size[0] <= 0.0 || size[1] <= 0.0 {
+                return Err(src.error(
+                    &size_v.span(),
+                    format!("`size` must be positive in both directions, found {}", src.written(size_v)),
+                    "write size = [width, height] with width > 0 and height > 0 (use `origin` to place the corner)",
+                ));
+            }
+            let mesher = match &m.mesher {
+                Some(v) if src.choice(v, "mesher", MESHERS)? == "gmsh" => Mesher::Gmsh,
+                _ => Mesher::Structured,
+            };
+            MeshSpec::Rectangle {
+                origin,
+                size,
+                cell_size,
+                mesher,
+                refine: None,
+            }
+        }
+        _ => {
+            let center = vector_or_zero(&m.center, "center")?.unwrap_or([0.0; 2]);
+            let radius_v = table.require(&m.radius, "radius", "radius = 1.0")?;
+            let radius = src.positive(radius_v, "radius", "a radius")?;
+            match shape {
+                "disc" => MeshSpec::Disc {
+                    center,
+                    radius,
+                    cell_size,
+                    refine: None,
+                },
+                _ => MeshSpec::HalfDisc {
+                    center,
+                    radius,
+                    cell_size,
+                    refine: None,
+                },
+            }
+        }
+    };
+    let area = match &spec {
+        MeshSpec::Rectangle { size, .. } => size[0] * size[1],
+        MeshSpec::Disc { radius, .. } => std::f64::consts::PI * radius * radius,
+        MeshSpec::HalfDisc { radius, .. } => std::f64::consts::PI * radius * radius / 2.0,
+        MeshSpec::File { .. } => 0.0,
+    };
+    check_cell_count(src, cell_v, "cell_size", cell_size, area)?;
+    if let Some(r) = &m.refine {
+        let fallback = table.span.clone();
+        let rt = Table::locate(
+            src,
+            "mesh.refine",
+            ("mesh.refine", false, 0),
+            r.first_span(),
+            fallback,
+        );
+        if let MeshSpec::Rectangle {
+            mesher: Mesher::Structured,
+            ..
+        } = spec
+        {
+            return Err(src.error(
+                &rt.span,
+                "`refine` needs mesher = \"gmsh\"",
+                "the structured mesher makes a uniform grid: add mesher = \"gmsh\" to [mesh], or remove refine",
+            ));
+        }
+        let parsed = refine_spec(src, r, rt, cell_size)?;
+        match &mut spec {
+            MeshSpec::Rectangle { refine, .. }
+            | MeshSpec::Disc { refine, .. }
+            | MeshSpec::HalfDisc { refine, .. } => *refine = Some(parsed),
+            MeshSpec::File { .. } => {}
+        }
+    }
+    Ok(spec)
+}
+
+fn refine_spec(
+    src: &Source,
+    r: &RawRefine,
+    table: Table,
+    mesh_cell_size: f64,
+) -> Result<RefineSpec> {
+    let point = src.vector(table.require(&r.point, "point", "point = [x, y]")?, "point")?;
+    let cell_v = table.require(
+        &r.cell_size,
+        "cell_size",
+        "cell_size = 0.01 (the edge length near point)",
+    )?;
+    let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
+    if cell_size > mesh_cell_size {
+        return Err(src.error(
+            &cell_v.span(),
+            format!(
+                "refine's `cell_size` ({}) is larger than the mesh's cell_size ({mesh_cell_size})",
+                src.written(cell_v)
+            ),
+            "a refinement needs a smaller cell_size than [mesh] cell_size",
+        ));
+    }
+    let radius_v = table.require(
+        &r.radius,
+        "radius",
+        "radius = 0.1 (the size of the refined zone)",
+    )?;
+    let radius = src.positive(radius_v, "radius", "the radius of the refined zone")?;
+    let area = std::f64::consts::PI * radius * radius;
+    check_cell_count(src, cell_v, "refine's cell_size", cell_size, area)?;
+    Ok(RefineSpec {
+        point,
+        cell_size,
+        radius,
+    })
+}
+
+fn check_cell_count(
+    src: &Source,
+    cell_v: &Spanned<Value>,
+    key: &str,
+    cell_size: f64,
+    area: f64,
+) -> Result<()> {
+    let estimate = 2.0 * area / (cell_size * cell_size);
+    if estimate > MAX_TRIANGLES {
+        return Err(src.error(
+            &cell_v.span(),
+            format!("{key} = {} would make about {estimate:.1e} triangles", src.written(cell_v)),
+            format!(
+                "use a larger {key} (at most {MAX_TRIANGLES:.0e} triangles are accepted: 2·area / cell_size² ≤ {MAX_TRIANGLES:.0e})"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn order(src: &Source, v: Option<&Spanned<Value>>) -> Result<Order> {
+    match v.map(|v| (v, v.get_ref())) {
+        None => Ok(Order::P1),
+        Some((_, Value::Integer(1))) => Ok(Order::P1),
+        Some((_, Value::Integer(2))) => Ok(Order::P2),
+        Some((v, other)) => Err(src.error(
+            &v.span(),
+            format!("`order` must be 1 or 2, found {}", describe(other)),
+            "write order = 1 for linear (P1) triangles or order = 2 for quadratic (P2) triangles",
+        )),
+    }
+}
+
+fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
+    let first = first_span(&[&m.young, &m.poisson, &m.plane]);
+    let table = Table::locate(src, "[material]", ("material", false, 0), first, 0..0);
+    let young_v = table.require(&m.young, "young", "young = 210e9 (Young's modulus in Pa)")?;
+    let young = src.number(young_v, "young")?;
+    if young <= 0.0 {
+        return Err(src.error(
+            &young_v.span(),
+            format!("`young` must be positive, found {}", src.written(young_v)),
+            "Young's modulus is in Pa and must be > 0, e.g. young = 210e9 for steel, 70e9 for aluminium",
+        ));
+    }
+    let poisson_v = table.require(
+        &m.poisson,
+        "poisson",
+        "poisson = 0.3 (Poisson's ratio, in (-1, 0.5))",
+    )?;
+    let poisson = src.number(poisson_v, "poisson")?;
+    if poisson >= 0.5 {
+        return Err(src.error(
+            &poisson_v.span(),
+            format!("`poisson` must be below 0.5, found {}", src.written(poisson_v)),
+            "0.5 is an incompressible material, which a displacement formulation cannot represent: use a \
+             value < 0.5 (nearly incompressible, e.g. 0.4999, only with order = 2: P1 triangles lock)",
+        ));
+    }
+    if poisson <= -1.0 {
+        return Err(src.error(
+            &poisson_v.span(),
+            format!(
+                "`poisson` must be above -1, found {}",
+                src.written(poisson_v)
+            ),
+            "a stable isotropic material has -1 < poisson < 0.5 (metals: about 0.3)",
+        ));
+    }
+    let plane = match &m.plane {
+        Some(v) if src.choice(v, "plane", &["strain", "stress"])? == "stress" => PlaneSpec::Stress,
+        _ => PlaneSpec::Strain,
+    };
+    Ok(MaterialSpec {
+        young,
+        poisson,
+        plane,
+    })
+}
+
+fn part_name(src: &Source, table: &Table, leaf: &Leaf) -> Result<(String, Location)> {
+    let v = table.require(
+        leaf,
+        "part",
+        "part = \"left\" (a boundary physical name of the mesh)",
+    )?;
+    Ok((
+        src.nonempty_string(v, "part")?.to_string(),
+        src.location(v.span().start),
+    ))
+}
+
+fn traction_spec(src: &Source, t: &RawTraction, index: usize) -> Result<TractionSpec> {
+    let first = first_span(&[&t.part, &t.traction, &t.pressure]);
+    let table = Table::locate(
+        src,
+        "this [[traction]] table",
+        ("traction", true, index),
+        first,
+        0..0,
+    );
+    let (part, at) = part_name(src, &table, &t.part)?;
+    let load = match (&t.traction, &t.pressure) {
+        (Some(v), None) => Load::Traction(src.vector(v, "traction")?),
+        (None, Some(v)) => Load::Pressure(src.number(v, "pressure")?),
+        (Some(_), Some(p)) => {
+            return Err(src.error(
+                &p.span(),
+                format!("the [[traction]] on `{part}` gives both `traction` and `pressure`"),
+                "keep one (write a second [[traction]] table on the same part to add the other)",
+            ))
+        }
+        (None, None) => {
+            return Err(src.error(
+                &table.span,
+                format!("the [[traction]] on `{part}` has neither `traction` nor `pressure`"),
+                "add traction = [tx, ty] (force per area, N/m²) or pressure = p (normal, positive pushes \
+                 into the body)",
+            ))
+        }
+    };
+    Ok(TractionSpec { part, load, at })
+}
+
+fn dirichlet_spec(src: &Source, d: &RawDirichlet, index: usize) -> Result<DirichletSpec> {
+    let first = first_span(&[&d.part, &d.ux, &d.uy]);
+    let table = Table::locate(
+        src,
+        "this [[dirichlet]] table",
+        ("dirichlet", true, index),
+        first,
+        0..0,
+    );
+    let (part, at) = part_name(src, &table, &d.part)?;
+    let ux = d.ux.as_ref().map(|v| src.number(v, "ux")).transpose()?;
+    let uy = d.uy.as_ref().map(|v| src.number(v, "uy")).transpose()?;
+    if ux.is_none() && uy.is_none() {
+        return Err(src.error(
+            &table.span,
+            format!("the [[dirichlet]] on `{part}` fixes neither `ux` nor `uy`"),
+            "add ux = 0.0 and/or uy = 0.0 (the prescribed displacement components, in m)",
+        ));
+    }
+    Ok(DirichletSpec { part, ux, uy, at })
+}
+
+fn petsc_options(src: &Source, v: &Spanned<Value>) -> Result<Vec<String>> {
+    let options: Vec<String> = src
+        .string(v, "petsc_options")?
+        .split_whitespace()
+        .map(str::to_string)
+        .collect();
+    if let Some(first) = options.first() {
+        if !first.starts_with('-') {
+            return Err(src.error(
+                &v.span(),
+                format!("`petsc_options` must start with an option name, found `{first}`"),
+                "PETSc options are written as on a command line, e.g. petsc_options = \"-ksp_type cg -pc_type gamg\"",
+            ));
+        }
+    }
+    Ok(options)
+}

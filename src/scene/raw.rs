@@ -1,0 +1,194 @@
+//! The scene file as TOML sees it: one struct per table, every key optional and kept with its
+//! byte span, so that all checks beyond "is this key allowed here" are done (and reported with
+//! a location) by the conversion in the parent module.
+//!
+//! Tables themselves are *not* wrapped in `toml::Spanned`: toml 0.8 cannot give a span to a
+//! table defined implicitly (`[mesh.refine]` without `[mesh]`, or dotted keys `mesh.shape = ..`)
+//! and then fails with a confusing message. Table locations are found in the text instead
+//! (see `diagnostic::Source::table_span`).
+//!
+//! To add a section (e.g. `[contact]`): add a `Raw...` struct here, its field in [`RawScene`],
+//! its key list in [`TABLE_KEYS`], and a conversion function in the parent module.
+use serde::Deserialize;
+use std::ops::Range;
+use toml::{Spanned, Value};
+
+/// A leaf value with the byte span of its text, absent if the key is not written.
+pub(super) type Leaf = Option<Spanned<Value>>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a scene (a TOML document)")]
+pub(super) struct RawScene {
+    pub title: Leaf,
+    pub mesh: Option<RawMesh>,
+    pub discretization: Option<RawDiscretization>,
+    pub material: Option<RawMaterial>,
+    pub loads: Option<RawLoads>,
+    #[serde(default)]
+    pub traction: Vec<RawTraction>,
+    #[serde(default)]
+    pub dirichlet: Vec<RawDirichlet>,
+    pub solver: Option<RawSolver>,
+    pub output: Option<RawOutput>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [mesh] table")]
+pub(super) struct RawMesh {
+    pub shape: Leaf,
+    pub origin: Leaf,
+    pub size: Leaf,
+    pub center: Leaf,
+    pub radius: Leaf,
+    pub file: Leaf,
+    pub cell_size: Leaf,
+    pub mesher: Leaf,
+    pub refine: Option<RawRefine>,
+}
+
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table { point = [x, y], cell_size = h, radius = r }"
+)]
+pub(super) struct RawRefine {
+    pub point: Leaf,
+    pub cell_size: Leaf,
+    pub radius: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [discretization] table")]
+pub(super) struct RawDiscretization {
+    pub order: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [material] table")]
+pub(super) struct RawMaterial {
+    pub young: Leaf,
+    pub poisson: Leaf,
+    pub plane: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [loads] table")]
+pub(super) struct RawLoads {
+    pub body_force: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [[traction]] table")]
+pub(super) struct RawTraction {
+    pub part: Leaf,
+    pub traction: Leaf,
+    pub pressure: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [[dirichlet]] table")]
+pub(super) struct RawDirichlet {
+    pub part: Leaf,
+    pub ux: Leaf,
+    pub uy: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [solver] table")]
+pub(super) struct RawSolver {
+    pub petsc_options: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [output] table")]
+pub(super) struct RawOutput {
+    pub dir: Leaf,
+}
+
+/// Every table with its allowed keys, as written in error messages. Serde reports an unknown key
+/// with the list of allowed ones; matching that list against these names the table. Keep each
+/// list equal (as a set) to its struct's fields: `tests/scene.rs` checks every table.
+pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
+    (
+        "the top level",
+        &[
+            "title",
+            "mesh",
+            "discretization",
+            "material",
+            "loads",
+            "traction",
+            "dirichlet",
+            "solver",
+            "output",
+        ],
+    ),
+    (
+        "[mesh]",
+        &[
+            "shape",
+            "origin",
+            "size",
+            "center",
+            "radius",
+            "file",
+            "cell_size",
+            "mesher",
+            "refine",
+        ],
+    ),
+    ("mesh.refine", &["point", "cell_size", "radius"]),
+    ("[discretization]", &["order"]),
+    ("[material]", &["young", "poisson", "plane"]),
+    ("[loads]", &["body_force"]),
+    ("[[traction]]", &["part", "traction", "pressure"]),
+    ("[[dirichlet]]", &["part", "ux", "uy"]),
+    ("[solver]", &["petsc_options"]),
+    ("[output]", &["dir"]),
+];
+
+fn span_of(leaf: &Leaf) -> Option<Range<usize>> {
+    leaf.as_ref().map(|v| v.span())
+}
+
+/// The first present key's span among `leaves`, in file order.
+pub(super) fn first_span(leaves: &[&Leaf]) -> Option<Range<usize>> {
+    leaves
+        .iter()
+        .filter_map(|l| span_of(l))
+        .min_by_key(|s| s.start)
+}
+
+impl RawMesh {
+    /// The keys written in `[mesh]`, each with the span of its value (for `refine`, of its first
+    /// key).
+    pub fn present_keys(&self) -> Vec<(&'static str, Range<usize>)> {
+        let mut keys: Vec<(&'static str, Range<usize>)> = [
+            ("shape", &self.shape),
+            ("origin", &self.origin),
+            ("size", &self.size),
+            ("center", &self.center),
+            ("radius", &self.radius),
+            ("file", &self.file),
+            ("cell_size", &self.cell_size),
+            ("mesher", &self.mesher),
+        ]
+        .into_iter()
+        .filter_map(|(k, leaf)| span_of(leaf).map(|s| (k, s)))
+        .collect();
+        if let Some(refine) = &self.refine {
+            keys.push(("refine", refine.first_span().unwrap_or(0..0)));
+        }
+        keys.sort_by_key(|(_, s)| s.start);
+        keys
+    }
+    pub fn first_span(&self) -> Option<Range<usize>> {
+        self.present_keys().first().map(|(_, s)| s.clone())
+    }
+}
+
+impl RawRefine {
+    pub fn first_span(&self) -> Option<Range<usize>> {
+        first_span(&[&self.point, &self.cell_size, &self.radius])
+    }
+}
