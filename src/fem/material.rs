@@ -1,0 +1,179 @@
+//! Isotropic Hooke's law in plane strain and plane stress (Voigt notation).
+//!
+//! Voigt vectors: stress `s = (σxx, σyy, σxy)`, strain `e = (εxx, εyy, γxy)` with the
+//! engineering shear `γxy = 2 εxy`, so that `s · e = σ : ε`.
+//!
+//! Plane strain (`εzz = 0`), with `λ = Eν / ((1 + ν)(1 − 2ν))`, `μ = E / (2(1 + ν))`:
+//!
+//! ```text
+//!         E          [ 1 − ν    ν        0      ]
+//!   C = --------------[   ν    1 − ν      0      ] ,   σzz = ν (σxx + σyy)
+//!     (1 + ν)(1 − 2ν) [   0      0   (1 − 2ν)/2  ]
+//! ```
+//!
+//! Plane stress (`σzz = 0`):
+//!
+//! ```text
+//!         E    [ 1  ν     0     ]
+//!   C = ------ [ ν  1     0     ] ,   σzz = 0
+//!       1 − ν² [ 0  0  (1 − ν)/2 ]
+//! ```
+//!
+//! Both have the form `[[λ* + 2μ, λ*, 0], [λ*, λ* + 2μ, 0], [0, 0, μ]]` with the in-plane
+//! `λ* = λ` (plane strain) or `λ* = 2λμ / (λ + 2μ) = Eν / (1 − ν²)` (plane stress).
+//!
+//! Compliance `C⁻¹` and the complementary energy density `w*(σ) = ½ s · C⁻¹ s`
+//! (SCIENCE.md §3):
+//!
+//! ```text
+//!   plane strain: w* = (1 + ν)/(2E) [ (1 − ν)(σxx² + σyy²) − 2ν σxx σyy + 2 σxy² ]
+//!   plane stress: w* = 1/(2E) [ σxx² + σyy² − 2ν σxx σyy + 2(1 + ν) σxy² ]
+//! ```
+//!
+//! The von Mises stress includes σzz (nonzero in plane strain):
+//! `σ_vm = √( ½[(σxx − σyy)² + (σyy − σzz)² + (σzz − σxx)²] + 3 σxy² )`.
+//!
+//! References: S. Timoshenko, J. N. Goodier, *Theory of Elasticity*, 3rd ed., McGraw-Hill 1970,
+//! §§8–17 (plane stress / plane strain); T. J. R. Hughes, *The Finite Element Method*, Dover 2000,
+//! §2.7 (the Voigt matrices above).
+
+/// Which 2D reduction of 3D elasticity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PlaneModel {
+    /// `εzz = 0` (thick bodies; the default of the project).
+    Strain,
+    /// `σzz = 0` (thin plates).
+    Stress,
+}
+
+/// An isotropic linear elastic material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Material {
+    /// Young's modulus E (> 0).
+    pub young: f64,
+    /// Poisson's ratio ν (−1 < ν < 0.5).
+    pub poisson: f64,
+    pub plane: PlaneModel,
+}
+
+impl Material {
+    pub fn new(young: f64, poisson: f64, plane: PlaneModel) -> Self {
+        Material {
+            young,
+            poisson,
+            plane,
+        }
+    }
+
+    /// `Ok` when `E > 0` is finite and `−1 < ν < 0.5`; otherwise what is wrong and what to do.
+    pub fn check(&self) -> std::result::Result<(), String> {
+        if !(self.young.is_finite() && self.young > 0.0) {
+            return Err(format!(
+                "Young's modulus must be a finite positive number, got {}; give E in Pa (e.g. 2.1e11 for steel)",
+                self.young
+            ));
+        }
+        if !(self.poisson > -1.0 && self.poisson < 0.5) {
+            return Err(format!(
+                "Poisson's ratio must satisfy -1 < nu < 0.5, got {}; nu = 0.5 (incompressible) is not supported by the displacement formulation",
+                self.poisson
+            ));
+        }
+        Ok(())
+    }
+
+    /// Shear modulus `μ = E / (2(1 + ν))`.
+    pub fn shear_modulus(&self) -> f64 {
+        self.young / (2.0 * (1.0 + self.poisson))
+    }
+
+    /// In-plane Lamé parameters `(λ*, μ)` of the model (see the module doc).
+    pub fn lame(&self) -> (f64, f64) {
+        let (e, nu) = (self.young, self.poisson);
+        let mu = self.shear_modulus();
+        let lambda = match self.plane {
+            PlaneModel::Strain => e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            PlaneModel::Stress => e * nu / (1.0 - nu * nu),
+        };
+        (lambda, mu)
+    }
+
+    /// Elasticity matrix `C` (σ = C e in Voigt notation, engineering shear strain).
+    pub fn elasticity(&self) -> [[f64; 3]; 3] {
+        let (lambda, mu) = self.lame();
+        [
+            [lambda + 2.0 * mu, lambda, 0.0],
+            [lambda, lambda + 2.0 * mu, 0.0],
+            [0.0, 0.0, mu],
+        ]
+    }
+
+    /// Compliance matrix `C⁻¹` (e = C⁻¹ σ).
+    pub fn compliance(&self) -> [[f64; 3]; 3] {
+        let (e, nu) = (self.young, self.poisson);
+        match self.plane {
+            PlaneModel::Strain => {
+                let f = (1.0 + nu) / e;
+                [
+                    [f * (1.0 - nu), -f * nu, 0.0],
+                    [-f * nu, f * (1.0 - nu), 0.0],
+                    [0.0, 0.0, 2.0 * f],
+                ]
+            }
+            PlaneModel::Stress => [
+                [1.0 / e, -nu / e, 0.0],
+                [-nu / e, 1.0 / e, 0.0],
+                [0.0, 0.0, 2.0 * (1.0 + nu) / e],
+            ],
+        }
+    }
+
+    /// Stress `(σxx, σyy, σxy)` from the strain `(εxx, εyy, γxy)`.
+    pub fn stress(&self, strain: [f64; 3]) -> [f64; 3] {
+        let c = self.elasticity();
+        [
+            c[0][0] * strain[0] + c[0][1] * strain[1] + c[0][2] * strain[2],
+            c[1][0] * strain[0] + c[1][1] * strain[1] + c[1][2] * strain[2],
+            c[2][0] * strain[0] + c[2][1] * strain[1] + c[2][2] * strain[2],
+        ]
+    }
+
+    /// Out-of-plane stress: `ν (σxx + σyy)` in plane strain, 0 in plane stress.
+    pub fn sigma_zz(&self, s: [f64; 3]) -> f64 {
+        match self.plane {
+            PlaneModel::Strain => self.poisson * (s[0] + s[1]),
+            PlaneModel::Stress => 0.0,
+        }
+    }
+
+    /// Von Mises equivalent stress, including σzz.
+    pub fn von_mises(&self, s: [f64; 3]) -> f64 {
+        let szz = self.sigma_zz(s);
+        let (sxx, syy, sxy) = (s[0], s[1], s[2]);
+        (0.5 * ((sxx - syy).powi(2) + (syy - szz).powi(2) + (szz - sxx).powi(2)) + 3.0 * sxy * sxy)
+            .sqrt()
+    }
+
+    /// Complementary (compliance) energy density `w*(σ) = ½ σ : C⁻¹ σ` (SCIENCE.md §3).
+    pub fn complementary_energy_density(&self, s: [f64; 3]) -> f64 {
+        let (e, nu) = (self.young, self.poisson);
+        let (sxx, syy, sxy) = (s[0], s[1], s[2]);
+        match self.plane {
+            PlaneModel::Strain => {
+                (1.0 + nu) / (2.0 * e)
+                    * ((1.0 - nu) * (sxx * sxx + syy * syy) - 2.0 * nu * sxx * syy
+                        + 2.0 * sxy * sxy)
+            }
+            PlaneModel::Stress => {
+                (sxx * sxx + syy * syy - 2.0 * nu * sxx * syy + 2.0 * (1.0 + nu) * sxy * sxy)
+                    / (2.0 * e)
+            }
+        }
+    }
+
+    /// Strain energy density `w(ε) = ½ e · C e`.
+    pub fn strain_energy_density(&self, strain: [f64; 3]) -> f64 {
+        let s = self.stress(strain);
+        0.5 * (s[0] * strain[0] + s[1] * strain[1] + s[2] * strain[2])
+    }
+}
