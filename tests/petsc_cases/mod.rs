@@ -1,0 +1,391 @@
+//! The cases of the PETSc suite (see tests/petsc_suite.rs). Each takes the one session.
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use signorini::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
+use signorini::fem::material::{Material, PlaneModel};
+use signorini::fem::postprocess;
+use signorini::mesh::{gmsh, structured, Mesh, Order};
+use signorini::petsc::{LinearSolver, Matrix, Session, SolveStats};
+use signorini::problem::ElasticityProblem;
+use signorini::scene::Scene;
+use signorini::Error;
+
+type Case = fn(&Session) -> Result<(), String>;
+
+pub const TESTS: &[(&str, Case)] = &[
+    ("second_session_is_refused", second_session_is_refused),
+    ("matrix_checks_csr_input", matrix_checks_csr_input),
+    ("vector_checks_lengths", vector_checks_lengths),
+    ("petsc_error_carries_petsc_message", petsc_error_carries_petsc_message),
+    ("missing_petsc_option_value_is_an_error", missing_petsc_option_value_is_an_error),
+    ("krylov_divergence_is_reported", krylov_divergence_is_reported),
+    ("residual_check_rejects_preonly_with_incomplete_factorisation", residual_check_rejects_preonly_icc),
+    ("patch_test_p1_driver_exact", patch_test_p1_driver_exact),
+    ("patch_test_p2_driver_exact", patch_test_p2_driver_exact),
+    ("manufactured_p1_structured_rates", manufactured_p1_structured_rates),
+    ("manufactured_p2_structured_rates", manufactured_p2_structured_rates),
+    ("manufactured_p1_gmsh_rates", manufactured_p1_gmsh_rates),
+    ("manufactured_p2_gmsh_rates", manufactured_p2_gmsh_rates),
+    ("solvers_agree_mumps_icc_hypre_symmlq", solvers_agree),
+    ("driver_reports_unconstrained_rigid_motion", driver_reports_unconstrained_rigid_motion),
+    ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
+    ("driver_default_scene_equilibrium", driver_default_scene_equilibrium),
+];
+
+fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
+    if cond {
+        Ok(())
+    } else {
+        Err(msg())
+    }
+}
+
+fn manifest(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// Solve a constrained elasticity system with the KSP configured under `prefix`.
+fn solve(
+    session: &Session,
+    mesh: &Mesh,
+    material: &Material,
+    constraints: &Constraints,
+    loads: &Loads,
+    prefix: &str,
+) -> Result<(Vec<f64>, SolveStats), Error> {
+    let n = 2 * mesh.num_nodes();
+    let system = assembly::assemble(mesh, material, constraints, loads, 0..n);
+    let m = &system.matrix;
+    let a = Matrix::from_csr_rows(session, session.world(), n, 0, &m.indptr, &m.indices, &m.values, 2, true)?;
+    let mut b = a.create_vector()?;
+    b.set_owned(&system.rhs)?;
+    let mut x = a.create_vector()?;
+    let mut ksp = LinearSolver::new(session, session.world(), prefix)?;
+    ksp.set_operator(&a)?;
+    let stats = ksp.solve(&a, &b, &mut x)?;
+    Ok((x.owned_values()?, stats))
+}
+
+fn set_options(session: &Session, prefix: &str, options: &[(&str, Option<&str>)]) {
+    for (k, v) in options {
+        session.set_option(&format!("-{prefix}{k}"), *v).unwrap();
+    }
+}
+
+fn steel() -> Material {
+    Material::new(210e9, 0.3, PlaneModel::Strain)
+}
+
+fn clamped_cantilever(order: Order) -> (Mesh, Constraints) {
+    let mesh = structured::rectangle([0.0, 0.0], [4.0, 1.0], 24, 6, order).unwrap();
+    let mut c = Constraints::new(2 * mesh.num_nodes());
+    let left = mesh.require_group("left", 1).unwrap();
+    c.fix_group(&mesh, left, 0, |_| 0.0);
+    c.fix_group(&mesh, left, 1, |_| 0.0);
+    (mesh, c)
+}
+
+// ---------------------------------------------------------------- PETSc layer
+
+fn second_session_is_refused(_s: &Session) -> Result<(), String> {
+    match Session::init(&["again".to_string()]) {
+        Err(Error::PetscUsage(m)) => ensure(m.contains("already alive"), || format!("message: {m}")),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(_) => Err("a second session was created".into()),
+    }
+}
+
+fn matrix_checks_csr_input(s: &Session) -> Result<(), String> {
+    let w = s.world();
+    let cases: Vec<(&str, Vec<usize>, Vec<usize>, Vec<f64>)> = vec![
+        ("out of range", vec![0, 1, 2], vec![0, 7], vec![1.0, 1.0]),
+        ("not strictly increasing", vec![0, 2, 3], vec![1, 0, 1], vec![1.0, 1.0, 1.0]),
+        ("disagree", vec![0, 1, 3], vec![0, 1], vec![1.0, 1.0]),
+    ];
+    for (what, indptr, indices, values) in cases {
+        match Matrix::from_csr_rows(s, w, 2, 0, &indptr, &indices, &values, 1, false) {
+            Err(Error::PetscUsage(m)) => ensure(m.contains(what), || format!("expected '{what}' in: {m}"))?,
+            Err(e) => return Err(format!("{what}: wrong error {e}")),
+            Ok(_) => return Err(format!("{what}: accepted")),
+        }
+    }
+    match Matrix::from_csr_rows(s, w, 3, 0, &[0, 1, 2, 3], &[0, 1, 2], &[1.0; 3], 2, false) {
+        Err(Error::PetscUsage(m)) => ensure(m.contains("block size"), || m.clone()),
+        other => Err(format!("misaligned block accepted or wrong error: {:?}", other.err())),
+    }
+}
+
+fn vector_checks_lengths(s: &Session) -> Result<(), String> {
+    let a = Matrix::from_csr_rows(s, s.world(), 2, 0, &[0, 1, 2], &[0, 1], &[2.0, 4.0], 2, true).map_err(|e| e.to_string())?;
+    let mut v = a.create_vector().map_err(|e| e.to_string())?;
+    match v.set_owned(&[1.0, 2.0, 3.0]) {
+        Err(Error::PetscUsage(m)) => ensure(m.contains("3 values"), || m.clone())?,
+        other => return Err(format!("wrong length accepted: {:?}", other.err())),
+    }
+    v.set_owned(&[1.0, 2.0]).map_err(|e| e.to_string())?;
+    ensure(v.gather_all().map_err(|e| e.to_string())? == vec![1.0, 2.0], || "gather".into())
+}
+
+fn petsc_error_carries_petsc_message(s: &Session) -> Result<(), String> {
+    let (mesh, c) = clamped_cantilever(Order::P1);
+    set_options(s, "bad_", &[("ksp_type", Some("no_such_krylov"))]);
+    match solve(s, &mesh, &steel(), &c, &Loads::default(), "bad_") {
+        Err(Error::Petsc { code, message, call, .. }) => ensure(code != 0 && message.contains("no_such_krylov"), || {
+            format!("code {code} call {call} message {message}")
+        }),
+        other => Err(format!("expected a PETSc error, got {:?}", other.map(|_| ()))),
+    }
+}
+
+fn missing_petsc_option_value_is_an_error(s: &Session) -> Result<(), String> {
+    let (mesh, c) = clamped_cantilever(Order::P1);
+    set_options(s, "miss_", &[("ksp_type", Some("cg")), ("pc_type", Some("icc")), ("pc_factor_levels", None)]);
+    match solve(s, &mesh, &steel(), &c, &Loads::default(), "miss_") {
+        Err(Error::Petsc { message, .. }) => {
+            ensure(message.to_lowercase().contains("pc_factor_levels") || message.to_lowercase().contains("missing"), || {
+                format!("message does not name the option: {message}")
+            })
+        }
+        other => Err(format!("expected a PETSc error, got {:?}", other.map(|_| ()))),
+    }
+}
+
+fn krylov_divergence_is_reported(s: &Session) -> Result<(), String> {
+    let (mesh, c) = clamped_cantilever(Order::P1);
+    set_options(s, "div_", &[("ksp_type", Some("cg")), ("pc_type", Some("none")), ("ksp_max_it", Some("3"))]);
+    let right = mesh.require_group("right", 1).unwrap();
+    let loads = Loads { body_force: None, edge_loads: vec![EdgeLoad { group: right, traction: Traction::Constant([0.0, -1e6]) }] };
+    match solve(s, &mesh, &steel(), &c, &loads, "div_") {
+        Err(Error::SolverDiverged { reason, iterations, tried, .. }) => {
+            ensure(reason.contains("DIVERGED_ITS") && iterations == 3 && !tried.is_empty(), || format!("{reason} {iterations} {tried}"))
+        }
+        other => Err(format!("expected SolverDiverged, got {:?}", other.map(|_| ()))),
+    }
+}
+
+fn residual_check_rejects_preonly_icc(s: &Session) -> Result<(), String> {
+    let (mesh, c) = clamped_cantilever(Order::P1);
+    set_options(s, "pre_", &[("ksp_type", Some("preonly")), ("pc_type", Some("icc"))]);
+    let right = mesh.require_group("right", 1).unwrap();
+    let loads = Loads { body_force: None, edge_loads: vec![EdgeLoad { group: right, traction: Traction::Constant([0.0, -1e6]) }] };
+    match solve(s, &mesh, &steel(), &c, &loads, "pre_") {
+        Err(Error::SolverDiverged { reason, .. }) => {
+            ensure(reason.contains("true relative residual"), || format!("reason: {reason}"))
+        }
+        other => Err(format!("a wrong answer was accepted: {:?}", other.map(|(_, s)| s))),
+    }
+}
+
+// ---------------------------------------------------------------- patch tests (driver)
+
+fn patch_test(s: &Session, order: u32) -> Result<(), String> {
+    let path = manifest("examples/scenes/patch_test.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
+    let text = text.replace("order = 1", &format!("order = {order}"));
+    let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
+    let (e, nu) = (scene.material.young, scene.material.poisson);
+    let p = match scene.tractions.iter().find(|t| t.part == "top").map(|t| &t.load) {
+        Some(signorini::scene::Load::Pressure(p)) => *p,
+        _ => return Err("patch_test.toml: no top pressure".into()),
+    };
+    let mut problem = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    problem.assemble().map_err(|e| e.to_string())?;
+    problem.solve().map_err(|e| e.to_string())?;
+    problem.postprocess().map_err(|e| e.to_string())?;
+    let u = problem.displacement.as_ref().unwrap();
+    let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (e * (1.0 - nu));
+    let scale = problem.mesh.nodes.iter().map(|x| (k * x[1]).abs()).fold(0.0, f64::max);
+    let mut err = 0.0f64;
+    for (i, x) in problem.mesh.nodes.iter().enumerate() {
+        err = err.max(u[2 * i].abs()).max((u[2 * i + 1] - k * x[1]).abs());
+    }
+    ensure(err <= 1e-12 * scale, || format!("P{order} patch: max displacement error {err:e} (scale {scale:e})"))?;
+    let sxx = -nu * p / (1.0 - nu);
+    let results = problem.results.as_ref().unwrap();
+    for s in &results.nodal_stress {
+        let d = (s[0] - sxx).abs().max((s[1] + p).abs()).max(s[2].abs());
+        ensure(d <= 1e-9 * p, || format!("P{order} patch: stress {s:?} vs ({sxx}, {}, 0)", -p))?;
+    }
+    ensure(results.report.equilibrium_residual < 1e-10, || {
+        format!("equilibrium residual {}", results.report.equilibrium_residual)
+    })
+}
+
+fn patch_test_p1_driver_exact(s: &Session) -> Result<(), String> {
+    patch_test(s, 1)
+}
+fn patch_test_p2_driver_exact(s: &Session) -> Result<(), String> {
+    patch_test(s, 2)
+}
+
+// ---------------------------------------------------------------- manufactured solutions
+
+/// u = (s, s), s = sin πx sin πy on the unit square, u = 0 on the boundary; body force
+/// F = −div σ(u) = π² (2μ s − (λ+μ)(cos πx cos πy − s)) (1, 1).
+fn manufactured_errors(s: &Session, mesh: &Mesh, prefix: &str) -> Result<(f64, f64), String> {
+    let material = steel();
+    let (lambda, mu) = material.lame();
+    let body = move |x: [f64; 2]| {
+        let sv = (PI * x[0]).sin() * (PI * x[1]).sin();
+        let cc = (PI * x[0]).cos() * (PI * x[1]).cos();
+        let f = PI * PI * (2.0 * mu * sv - (lambda + mu) * (cc - sv));
+        [f, f]
+    };
+    let mut c = Constraints::new(2 * mesh.num_nodes());
+    for side in ["bottom", "right", "top", "left"] {
+        let g = mesh.require_group(side, 1).map_err(|e| e.to_string())?;
+        c.fix_group(mesh, g, 0, |_| 0.0);
+        c.fix_group(mesh, g, 1, |_| 0.0);
+    }
+    let loads = Loads { body_force: Some(&body), edge_loads: vec![] };
+    let (u, _) = solve(s, mesh, &material, &c, &loads, prefix).map_err(|e| e.to_string())?;
+    let exact = |x: [f64; 2]| {
+        let sv = (PI * x[0]).sin() * (PI * x[1]).sin();
+        [sv, sv]
+    };
+    let grad = |x: [f64; 2]| {
+        let dx = PI * (PI * x[0]).cos() * (PI * x[1]).sin();
+        let dy = PI * (PI * x[0]).sin() * (PI * x[1]).cos();
+        [[dx, dy], [dx, dy]]
+    };
+    Ok((postprocess::energy_error(mesh, &material, &u, grad), postprocess::l2_error(mesh, &u, exact)))
+}
+
+fn rates(hs: &[f64], errs: &[f64]) -> Vec<f64> {
+    (1..hs.len()).map(|k| (errs[k - 1] / errs[k]).ln() / (hs[k - 1] / hs[k]).ln()).collect()
+}
+
+fn check_rates(label: &str, meshes: Vec<Mesh>, energy_min: f64, l2_min: f64, s: &Session) -> Result<(), String> {
+    let (mut hs, mut ee, mut el) = (vec![], vec![], vec![]);
+    for m in &meshes {
+        let (e, l) = manufactured_errors(s, m, "")?;
+        hs.push((1.0 / m.num_cells() as f64).sqrt());
+        ee.push(e);
+        el.push(l);
+    }
+    let (re, rl) = (rates(&hs, &ee), rates(&hs, &el));
+    let last = re.len() - 1;
+    ensure(re[last] >= energy_min && rl[last] >= l2_min, || {
+        format!("{label}: energy rates {re:?} (need ≥ {energy_min}), L2 rates {rl:?} (need ≥ {l2_min})")
+    })
+}
+
+fn manufactured_p1_structured_rates(s: &Session) -> Result<(), String> {
+    let meshes = [8, 16, 32, 64].iter().map(|&n| structured::rectangle([0.0; 2], [1.0; 2], n, n, Order::P1).unwrap()).collect();
+    check_rates("P1 structured", meshes, 0.95, 1.9, s)
+}
+
+fn manufactured_p2_structured_rates(s: &Session) -> Result<(), String> {
+    let meshes = [4, 8, 16, 32].iter().map(|&n| structured::rectangle([0.0; 2], [1.0; 2], n, n, Order::P2).unwrap()).collect();
+    check_rates("P2 structured", meshes, 1.9, 2.8, s)
+}
+
+fn gmsh_square(h: f64, order: Order) -> Mesh {
+    gmsh::generate(&gmsh::MeshRequest {
+        shape: gmsh::Shape::Rectangle { origin: [0.0, 0.0], size: [1.0, 1.0] },
+        cell_size: h,
+        refinement: None,
+        order,
+    })
+    .unwrap()
+}
+
+fn manufactured_p1_gmsh_rates(s: &Session) -> Result<(), String> {
+    let meshes = [0.2, 0.1, 0.05, 0.025].iter().map(|&h| gmsh_square(h, Order::P1)).collect();
+    check_rates("P1 gmsh", meshes, 0.9, 1.8, s)
+}
+
+fn manufactured_p2_gmsh_rates(s: &Session) -> Result<(), String> {
+    let meshes = [0.25, 0.125, 0.0625, 0.03125].iter().map(|&h| gmsh_square(h, Order::P2)).collect();
+    check_rates("P2 gmsh", meshes, 1.8, 2.7, s)
+}
+
+// ---------------------------------------------------------------- solver agreement
+
+fn solvers_agree(s: &Session) -> Result<(), String> {
+    let solvers: &[(&str, &[(&str, Option<&str>)])] = &[
+        ("ag_mumps_", &[]),
+        ("ag_icc0_", &[("ksp_type", Some("cg")), ("pc_type", Some("icc"))]),
+        ("ag_icc2_", &[("ksp_type", Some("cg")), ("pc_type", Some("icc")), ("pc_factor_levels", Some("2"))]),
+        ("ag_amg_", &[("ksp_type", Some("cg")), ("pc_type", Some("hypre")), ("pc_hypre_type", Some("boomeramg"))]),
+        ("ag_ssor_", &[("ksp_type", Some("symmlq")), ("pc_type", Some("sor")), ("pc_sor_symmetric", None)]),
+    ];
+    for order in [Order::P1, Order::P2] {
+        let (mesh, c) = clamped_cantilever(order);
+        let right = mesh.require_group("right", 1).unwrap();
+        let loads =
+            Loads { body_force: None, edge_loads: vec![EdgeLoad { group: right, traction: Traction::Constant([0.0, -1e6]) }] };
+        let mut reference: Option<Vec<f64>> = None;
+        for (prefix, options) in solvers {
+            let prefix = format!("{prefix}{}", order.degree());
+            set_options(s, &prefix, options);
+            let (u, stats) = solve(s, &mesh, &steel(), &c, &loads, &prefix).map_err(|e| format!("{prefix}: {e}"))?;
+            match &reference {
+                None => {
+                    ensure(stats.factor_package.as_deref() == Some("mumps"), || format!("default is not MUMPS: {stats:?}"))?;
+                    reference = Some(u);
+                }
+                Some(r) => {
+                    let norm = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    let diff = r.iter().zip(&u).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+                    ensure(diff <= 1e-6 * norm, || format!("{prefix} ({} + {}): relative difference {:e}", stats.ksp_type, stats.pc_type, diff / norm))?;
+                    ensure(stats.iterations > 1, || format!("{prefix}: not iterative? {stats:?}"))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------- driver errors and checks
+
+fn scene_from(text: &str) -> Scene {
+    Scene::from_str(text, Path::new("inline.toml")).unwrap()
+}
+
+const FREE_BLOCK: &str = r#"
+[mesh]
+shape = "rectangle"
+size = [1.0, 1.0]
+cell_size = 0.25
+[material]
+young = 1e9
+poisson = 0.25
+[[traction]]
+part = "top"
+pressure = 1e6
+"#;
+
+fn driver_reports_unconstrained_rigid_motion(s: &Session) -> Result<(), String> {
+    match ElasticityProblem::setup_system(s, scene_from(FREE_BLOCK)) {
+        Err(Error::Unconstrained(m)) => ensure(m.contains("translation") && m.contains("rotation"), || m.clone()),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(_) => Err("a free body was accepted".into()),
+    }
+}
+
+fn driver_reports_unknown_boundary_part(s: &Session) -> Result<(), String> {
+    let text = format!("{FREE_BLOCK}\n[[dirichlet]]\npart = \"lefft\"\nux = 0.0\n");
+    match ElasticityProblem::setup_system(s, scene_from(&text)) {
+        Err(Error::Scene { location, message, hint }) => ensure(
+            location.line == text.lines().position(|l| l.contains("lefft")).unwrap() + 1 && (message.contains("lefft")) && hint.contains("left"),
+            || format!("{location}: {message} / {hint}"),
+        ),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(_) => Err("unknown part accepted".into()),
+    }
+}
+
+fn driver_default_scene_equilibrium(s: &Session) -> Result<(), String> {
+    let mut p = ElasticityProblem::setup_system(s, Scene::default_scene()).map_err(|e| e.to_string())?;
+    p.assemble().map_err(|e| e.to_string())?;
+    p.solve().map_err(|e| e.to_string())?;
+    p.postprocess().map_err(|e| e.to_string())?;
+    let r = &p.results.as_ref().unwrap().report;
+    // Default scene: traction (0, -1e6) on a 0.2 m end: resultant (0, -2e5).
+    ensure((r.applied_force[1] + 2e5).abs() < 1e-6 * 2e5 && r.applied_force[0].abs() < 1e-6, || format!("{:?}", r.applied_force))?;
+    let left = r.reactions.get("left").ok_or("no reaction on left")?;
+    ensure((left[1] - 2e5).abs() < 1e-8 * 2e5 && left[0].abs() < 1e-8 * 2e5, || format!("reaction {left:?}"))?;
+    ensure(r.equilibrium_residual < 1e-10, || format!("equilibrium {}", r.equilibrium_residual))
+}
