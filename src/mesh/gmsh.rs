@@ -93,13 +93,9 @@ pub fn generate_from_geo(geo: &str, order: Order) -> Result<Mesh> {
     let dir = TempDir::new()?;
     let geo_path = dir.path.join("in.geo");
     let msh_path = dir.path.join("out.msh");
-    std::fs::write(&geo_path, geo)
-        .map_err(|e| Error::io(&geo_path, "writing the Gmsh script", e))?;
+    std::fs::write(&geo_path, geo).map_err(|e| Error::io(&geo_path, "writing the Gmsh script", e))?;
     let mut command = Command::new("gmsh");
-    command
-        .arg(&geo_path)
-        .args(["-2", "-format", "msh41", "-bin", "-v", "1", "-o"])
-        .arg(&msh_path);
+    command.arg(&geo_path).args(["-2", "-format", "msh41", "-bin", "-v", "1", "-o"]).arg(&msh_path);
     if order == Order::P2 {
         command.args(["-order", "2"]);
     }
@@ -107,80 +103,45 @@ pub fn generate_from_geo(geo: &str, order: Order) -> Result<Mesh> {
     let output = command.output().map_err(spawn_error)?;
     let stderr = String::from_utf8_lossy(&output.stderr).trim().to_string();
     if !output.status.success() {
-        let first = stderr
-            .lines()
-            .find(|l| l.contains("Error"))
-            .unwrap_or("no error message");
-        let first = first
-            .trim_start_matches("Error")
-            .trim_start_matches([' ', ':']);
-        let code = output
-            .status
-            .code()
-            .map_or("a signal".to_string(), |c| format!("exit code {c}"));
-        return Err(Error::Gmsh {
-            message: format!("{first} ({code})"),
-            stderr,
-        });
+        let first = stderr.lines().find(|l| l.contains("Error")).unwrap_or("no error message");
+        let first = first.trim_start_matches("Error").trim_start_matches([' ', ':']);
+        let code = output.status.code().map_or("a signal".to_string(), |c| format!("exit code {c}"));
+        return Err(Error::Gmsh { message: format!("{first} ({code})"), stderr });
     }
     if !msh_path.is_file() {
-        return Err(Error::Gmsh {
-            message: "gmsh wrote no mesh file".to_string(),
-            stderr,
-        });
+        return Err(Error::Gmsh { message: "gmsh wrote no mesh file".to_string(), stderr });
     }
     read_msh(&msh_path).map_err(|e| match e {
         // The temporary file name means nothing to the user: say where the mesh came from.
-        Error::Mesh {
-            entity, message, ..
-        } => Error::Mesh {
+        Error::Mesh { entity, message, .. } => Error::Mesh {
             source_file: None,
             entity,
-            message: format!(
-                "{message} (in the mesh gmsh generated; a smaller cell size may help)"
-            ),
+            message: format!("{message} (in the mesh gmsh generated; a smaller cell size may help)"),
         },
-        Error::MeshFile { message, .. } => Error::Gmsh {
-            message: format!("cannot read the mesh gmsh produced: {message}"),
-            stderr: stderr.clone(),
-        },
+        Error::MeshFile { message, .. } => {
+            Error::Gmsh { message: format!("cannot read the mesh gmsh produced: {message}"), stderr: stderr.clone() }
+        }
         other => other,
     })
 }
 
 /// The version Gmsh reports (`gmsh --version`), e.g. "4.8.4".
 pub fn gmsh_version() -> Result<String> {
-    let output = Command::new("gmsh")
-        .arg("--version")
-        .output()
-        .map_err(spawn_error)?;
+    let output = Command::new("gmsh").arg("--version").output().map_err(spawn_error)?;
     // Gmsh prints its version on stderr.
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    );
+    let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     let version = text.trim().to_string();
     if !output.status.success() || version.is_empty() {
-        return Err(Error::Gmsh {
-            message: format!("gmsh --version failed ({})", output.status),
-            stderr: version,
-        });
+        return Err(Error::Gmsh { message: format!("gmsh --version failed ({})", output.status), stderr: version });
     }
     Ok(version)
 }
 
 fn spawn_error(e: std::io::Error) -> Error {
     if e.kind() == std::io::ErrorKind::NotFound {
-        Error::Gmsh {
-            message: NOT_FOUND.to_string(),
-            stderr: String::new(),
-        }
+        Error::Gmsh { message: NOT_FOUND.to_string(), stderr: String::new() }
     } else {
-        Error::Gmsh {
-            message: format!("cannot run gmsh: {e}"),
-            stderr: String::new(),
-        }
+        Error::Gmsh { message: format!("cannot run gmsh: {e}"), stderr: String::new() }
     }
 }
 
@@ -221,10 +182,7 @@ fn positive(value: f64, name: &str, entity: &dyn Fn() -> String) -> Result<()> {
     if value > 0.0 && value.is_finite() {
         Ok(())
     } else {
-        Err(request_error(
-            entity(),
-            format!("{name} = {value} must be positive and finite"),
-        ))
+        Err(request_error(entity(), format!("{name} = {value} must be positive and finite")))
     }
 }
 
@@ -232,10 +190,7 @@ fn finite_point(p: [f64; 2], name: &str, entity: &dyn Fn() -> String) -> Result<
     if p[0].is_finite() && p[1].is_finite() {
         Ok(())
     } else {
-        Err(request_error(
-            entity(),
-            format!("{name} ({}, {}) must be finite", p[0], p[1]),
-        ))
+        Err(request_error(entity(), format!("{name} ({}, {}) must be finite", p[0], p[1])))
     }
 }
 
@@ -247,26 +202,17 @@ fn geo_script(request: &MeshRequest) -> Result<String> {
             finite_point(origin, "origin", &entity)?;
             positive(size[0], "width", &entity)?;
             positive(size[1], "height", &entity)?;
-            (
-                size[0] * size[1],
-                rectangle_geo(origin, size, request.cell_size),
-            )
+            (size[0] * size[1], rectangle_geo(origin, size, request.cell_size))
         }
         Shape::Disc { center, radius } => {
             finite_point(center, "center", &entity)?;
             positive(radius, "radius", &entity)?;
-            (
-                std::f64::consts::PI * radius * radius,
-                disc_geo(center, radius, request.cell_size),
-            )
+            (std::f64::consts::PI * radius * radius, disc_geo(center, radius, request.cell_size))
         }
         Shape::HalfDisc { center, radius } => {
             finite_point(center, "center", &entity)?;
             positive(radius, "radius", &entity)?;
-            (
-                0.5 * std::f64::consts::PI * radius * radius,
-                half_disc_geo(center, radius, request.cell_size),
-            )
+            (0.5 * std::f64::consts::PI * radius * radius, half_disc_geo(center, radius, request.cell_size))
         }
     };
     positive(request.cell_size, "cell_size", &entity)?;
@@ -298,11 +244,7 @@ fn geo_script(request: &MeshRequest) -> Result<String> {
 
 /// `Point(tag) = {x, y, 0, size};`
 fn point(geo: &mut String, tag: usize, p: [f64; 2], size: f64) {
-    let _ = writeln!(
-        geo,
-        "Point({tag}) = {{{:?}, {:?}, 0, {:?}}};",
-        p[0], p[1], size
-    );
+    let _ = writeln!(geo, "Point({tag}) = {{{:?}, {:?}, 0, {:?}}};", p[0], p[1], size);
 }
 
 fn rectangle_geo(o: [f64; 2], s: [f64; 2], h: f64) -> String {
@@ -376,20 +318,13 @@ mod tests {
     #[test]
     fn missing_binary_is_reported_with_the_install_command() {
         let e = spawn_error(std::io::Error::from(std::io::ErrorKind::NotFound));
-        assert!(
-            e.to_string()
-                .contains("apt-get install -y --no-install-recommends gmsh"),
-            "{e}"
-        );
+        assert!(e.to_string().contains("apt-get install -y --no-install-recommends gmsh"), "{e}");
     }
 
     #[test]
     fn numbers_are_written_with_full_precision() {
         let geo = geo_script(&MeshRequest {
-            shape: Shape::Disc {
-                center: [0.1, 1.0 / 3.0],
-                radius: 2.0 / 3.0,
-            },
+            shape: Shape::Disc { center: [0.1, 1.0 / 3.0], radius: 2.0 / 3.0 },
             cell_size: 0.1,
             refinement: None,
             order: Order::P2,

@@ -98,33 +98,18 @@ impl Mesh {
     }
     /// Index of the physical group with this name and dimension.
     pub fn group_index(&self, name: &str, dim: u8) -> Option<usize> {
-        self.groups
-            .iter()
-            .position(|g| g.name == name && g.dim == dim)
+        self.groups.iter().position(|g| g.name == name && g.dim == dim)
     }
     /// Like [`Mesh::group_index`], but an error naming the known groups when absent.
     pub fn require_group(&self, name: &str, dim: u8) -> Result<usize> {
         self.group_index(name, dim).ok_or_else(|| {
-            let known: Vec<&str> = self
-                .groups
-                .iter()
-                .filter(|g| g.dim == dim)
-                .map(|g| g.name.as_str())
-                .collect();
+            let known: Vec<&str> = self.groups.iter().filter(|g| g.dim == dim).map(|g| g.name.as_str()).collect();
             Error::mesh(
                 format!("physical group '{name}'"),
                 format!(
                     "no {} group of that name; the mesh has: {}",
-                    if dim == 1 {
-                        "boundary (curve)"
-                    } else {
-                        "region (surface)"
-                    },
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
+                    if dim == 1 { "boundary (curve)" } else { "region (surface)" },
+                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
                 ),
             )
         })

@@ -46,11 +46,7 @@ use crate::error::{Error, Result};
 /// Read a Gmsh MSH 4.1 file (ASCII or binary) and validate the mesh.
 pub fn read_msh(path: &Path) -> Result<Mesh> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, "reading the mesh file", e))?;
-    MshReader {
-        bytes: &bytes,
-        file: path,
-    }
-    .read()
+    MshReader { bytes: &bytes, file: path }.read()
 }
 
 struct MshReader<'a> {
@@ -68,19 +64,12 @@ struct Format {
 
 impl<'a> MshReader<'a> {
     fn error(&self, line: Option<usize>, message: impl Into<String>) -> Error {
-        Error::MeshFile {
-            file: self.file.to_path_buf(),
-            line,
-            message: message.into(),
-        }
+        Error::MeshFile { file: self.file.to_path_buf(), line, message: message.into() }
     }
 
     /// 1-based line of byte `offset`.
     fn line_at(&self, offset: usize) -> usize {
-        1 + self.bytes[..offset.min(self.bytes.len())]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
+        1 + self.bytes[..offset.min(self.bytes.len())].iter().filter(|&&b| b == b'\n').count()
     }
 
     fn read(&self) -> Result<Mesh> {
@@ -105,10 +94,7 @@ impl<'a> MshReader<'a> {
             }
         };
         if first.1.trim() != "$MeshFormat" {
-            return Err(self.error(
-                Some(first.0),
-                "not a Gmsh MSH file: it does not start with $MeshFormat",
-            ));
+            return Err(self.error(Some(first.0), "not a Gmsh MSH file: it does not start with $MeshFormat"));
         }
         let Some((n, line)) = lines.next() else {
             return Err(self.error(Some(first.0), "the file ends inside $MeshFormat"));
@@ -117,10 +103,7 @@ impl<'a> MshReader<'a> {
         if fields.len() < 3 {
             return Err(self.error(
                 Some(n),
-                format!(
-                    "expected '<version> <file-type> <data-size>' in $MeshFormat, found '{}'",
-                    line.trim()
-                ),
+                format!("expected '<version> <file-type> <data-size>' in $MeshFormat, found '{}'", line.trim()),
             ));
         }
         let version = fields[0];
@@ -132,26 +115,20 @@ impl<'a> MshReader<'a> {
                 ),
             ));
         }
-        let binary =
-            match fields[1] {
-                "0" => false,
-                "1" => true,
-                other => return Err(self.error(
-                    Some(n),
-                    format!(
-                        "file type '{other}' in $MeshFormat is neither 0 (ASCII) nor 1 (binary)"
-                    ),
-                )),
-            };
+        let binary = match fields[1] {
+            "0" => false,
+            "1" => true,
+            other => {
+                return Err(self
+                    .error(Some(n), format!("file type '{other}' in $MeshFormat is neither 0 (ASCII) nor 1 (binary)")))
+            }
+        };
         let size_t_bytes = match fields[2].parse::<usize>() {
             Ok(s @ (4 | 8)) => s,
             _ => {
                 return Err(self.error(
                     Some(n),
-                    format!(
-                        "data size '{}' in $MeshFormat is not supported (4 or 8 bytes)",
-                        fields[2]
-                    ),
+                    format!("data size '{}' in $MeshFormat is not supported (4 or 8 bytes)", fields[2]),
                 ))
             }
         };
@@ -168,17 +145,12 @@ impl<'a> MshReader<'a> {
             } else if i32::from_be_bytes(word) == 1 {
                 false
             } else {
-                return Err(self.error(
-                    Some(n + 1),
-                    "cannot tell the byte order: the integer 1 after the header is missing",
-                ));
+                return Err(
+                    self.error(Some(n + 1), "cannot tell the byte order: the integer 1 after the header is missing")
+                );
             };
         }
-        Ok(Format {
-            binary,
-            size_t_bytes,
-            little_endian,
-        })
+        Ok(Format { binary, size_t_bytes, little_endian })
     }
 
     /// Offset just after the line `$name` (at a line start), if the file has that section.
@@ -187,10 +159,7 @@ impl<'a> MshReader<'a> {
         let tag = tag.as_bytes();
         let mut start = 0;
         while start < self.bytes.len() {
-            let end = self.bytes[start..]
-                .iter()
-                .position(|&b| b == b'\n')
-                .map_or(self.bytes.len(), |p| start + p);
+            let end = self.bytes[start..].iter().position(|&b| b == b'\n').map_or(self.bytes.len(), |p| start + p);
             let line = &self.bytes[start..end];
             let trimmed = trim_ascii(line);
             if trimmed == tag {
@@ -207,17 +176,10 @@ impl<'a> MshReader<'a> {
             return Ok(Vec::new());
         };
         let mut lines = Lines::new(self.bytes, at, self.line_at(at));
-        let truncated =
-            |lines: &Lines| self.error(Some(lines.line), "the file ends inside $PhysicalNames");
+        let truncated = |lines: &Lines| self.error(Some(lines.line), "the file ends inside $PhysicalNames");
         let (n, count_line) = lines.next().ok_or_else(|| truncated(&lines))?;
         let count: usize = count_line.trim().parse().map_err(|_| {
-            self.error(
-                Some(n),
-                format!(
-                    "expected the number of physical names, found '{}'",
-                    count_line.trim()
-                ),
-            )
+            self.error(Some(n), format!("expected the number of physical names, found '{}'", count_line.trim()))
         })?;
         let mut names = Vec::with_capacity(count.min(1 << 16));
         for _ in 0..count {
@@ -225,10 +187,7 @@ impl<'a> MshReader<'a> {
             let bad = |what: &str| {
                 self.error(
                     Some(n),
-                    format!(
-                        "{what} in $PhysicalNames: expected '<dim> <tag> \"<name>\"', found '{}'",
-                        line.trim()
-                    ),
+                    format!("{what} in $PhysicalNames: expected '<dim> <tag> \"<name>\"', found '{}'", line.trim()),
                 )
             };
             let line = line.trim();
@@ -250,13 +209,10 @@ impl<'a> MshReader<'a> {
         }
         match lines.next() {
             Some((_, l)) if l.trim() == "$EndPhysicalNames" => Ok(names),
-            Some((n, l)) => Err(self.error(
-                Some(n),
-                format!(
-                    "expected $EndPhysicalNames after {count} names, found '{}'",
-                    l.trim()
-                ),
-            )),
+            Some((n, l)) => {
+                Err(self
+                    .error(Some(n), format!("expected $EndPhysicalNames after {count} names, found '{}'", l.trim())))
+            }
             None => Err(truncated(&lines)),
         }
     }
@@ -280,7 +236,10 @@ impl<'a> MshReader<'a> {
             r.int("node block entity tag")?;
             let parametric = r.int("node block parametric flag")?;
             if parametric != 0 {
-                return Err(self.error(r.line(), "parametric node coordinates are not supported; save without them (Mesh.SaveParametric = 0)"));
+                return Err(self.error(
+                    r.line(),
+                    "parametric node coordinates are not supported; save without them (Mesh.SaveParametric = 0)",
+                ));
             }
             let n = r.size_t("number of nodes in the block")?;
             for _ in 0..n {
@@ -289,13 +248,9 @@ impl<'a> MshReader<'a> {
             r.skip_doubles(3 * n, "node coordinates")?;
         }
         if tags.len() as u64 != num_nodes {
-            return Err(self.error(
-                r.line(),
-                format!(
-                    "$Nodes announces {num_nodes} nodes but its blocks hold {}",
-                    tags.len()
-                ),
-            ));
+            return Err(
+                self.error(r.line(), format!("$Nodes announces {num_nodes} nodes but its blocks hold {}", tags.len()))
+            );
         }
         Ok(tags)
     }
@@ -316,50 +271,24 @@ impl<'a> MshReader<'a> {
     fn parser_error(&self, e: MshParserError<&[u8]>, format: Format) -> Error {
         let trace = e.filtered_backtrace();
         let Some((rest, kind)) = trace.first() else {
-            return self.error(
-                None,
-                "cannot parse the file (no details from the MSH parser)",
-            );
+            return self.error(None, "cannot parse the file (no details from the MSH parser)");
         };
         let mut offset = self.bytes.len() - rest.len();
         let at_end = self.bytes[offset..].iter().all(|b| b.is_ascii_whitespace());
-        while offset < self.bytes.len()
-            && self.bytes[offset].is_ascii_whitespace()
-            && !format.binary
-        {
+        while offset < self.bytes.len() && self.bytes[offset].is_ascii_whitespace() && !format.binary {
             offset += 1;
         }
-        let line = if format.binary {
-            None
-        } else {
-            Some(self.line_at(offset))
-        };
+        let line = if format.binary { None } else { Some(self.line_at(offset)) };
         // Innermost first: the failures (error kinds), then where the parser was (contexts).
-        let problems: Vec<String> = trace
-            .iter()
-            .filter(|(_, k)| k.context().is_none())
-            .map(|(_, k)| k.to_string())
-            .collect();
-        let contexts: Vec<&str> = trace
-            .iter()
-            .rev()
-            .filter_map(|(_, k)| k.context())
-            .collect();
-        let mut message = format!(
-            "cannot parse: {}",
-            if problems.is_empty() {
-                format!("{kind}")
-            } else {
-                problems.join("; ")
-            }
-        );
+        let problems: Vec<String> =
+            trace.iter().filter(|(_, k)| k.context().is_none()).map(|(_, k)| k.to_string()).collect();
+        let contexts: Vec<&str> = trace.iter().rev().filter_map(|(_, k)| k.context()).collect();
+        let mut message =
+            format!("cannot parse: {}", if problems.is_empty() { format!("{kind}") } else { problems.join("; ") });
         if !contexts.is_empty() {
             message += &format!(" (while reading {})", contexts.join(" > "));
         }
-        let last_line = trim_ascii(self.bytes)
-            .rsplit(|&b| b == b'\n')
-            .next()
-            .unwrap_or_default();
+        let last_line = trim_ascii(self.bytes).rsplit(|&b| b == b'\n').next().unwrap_or_default();
         if at_end {
             message += "; the file ends early (truncated?)";
         } else if !trim_ascii(last_line).starts_with(b"$End") {
@@ -409,9 +338,7 @@ impl<'a> MshReader<'a> {
         for (dim, tag) in unnamed {
             add_group(&mut groups, &mut group_of, dim, tag, tag.to_string());
         }
-        let has_physical_surface = entity_groups
-            .iter()
-            .any(|(&(dim, _), tags)| dim == 2 && !tags.is_empty());
+        let has_physical_surface = entity_groups.iter().any(|(&(dim, _), tags)| dim == 2 && !tags.is_empty());
         let groups_of_entity = |dim: u8, entity: i32| -> Result<Vec<usize>> {
             if msh.data.entities.is_none() {
                 return Ok(Vec::new());
@@ -491,10 +418,7 @@ impl<'a> MshReader<'a> {
                         [] => NO_GROUP,
                         [g] => *g,
                         several => {
-                            let list: Vec<String> = several
-                                .iter()
-                                .map(|&g| format!("'{}'", groups[g].name))
-                                .collect();
+                            let list: Vec<String> = several.iter().map(|&g| format!("'{}'", groups[g].name)).collect();
                             return Err(self.error(
                                 None,
                                 format!(
@@ -557,35 +481,21 @@ impl<'a> MshReader<'a> {
         if file_index != node_tags.len() {
             return Err(self.error(
                 None,
-                format!(
-                    "the MSH parser found {file_index} nodes, the $Nodes blocks list {} tags",
-                    node_tags.len()
-                ),
+                format!("the MSH parser found {file_index} nodes, the $Nodes blocks list {} tags", node_tags.len()),
             ));
         }
-        let scale = nodes
-            .iter()
-            .fold(0.0f64, |s, p| s.max(p[0].abs()).max(p[1].abs()));
-        if let Some(&(i, x, y, z)) = z_values.iter().find(|v| !(v.3.abs() <= 1e-12 * scale)) {
+        let scale = nodes.iter().fold(0.0f64, |s, p| s.max(p[0].abs()).max(p[1].abs()));
+        if let Some(&(i, x, y, z)) = z_values.iter().find(|v| v.3.is_nan() || v.3.abs() > 1e-12 * scale) {
             return Err(Error::Mesh {
                 source_file: Some(self.file.to_path_buf()),
                 entity: format!("node tag {} at ({x}, {y}, {z})", node_tags[i]),
-                message: "not a planar mesh: z must be 0 (mesh the geometry in the xy-plane)"
-                    .to_string(),
+                message: "not a planar mesh: z must be 0 (mesh the geometry in the xy-plane)".to_string(),
             });
         }
         for v in cells.iter_mut().chain(edges.iter_mut()) {
             *v = new_index[*v];
         }
-        Ok(Mesh {
-            order,
-            nodes,
-            cells,
-            cell_group,
-            edges,
-            edge_group,
-            groups,
-        })
+        Ok(Mesh { order, nodes, cells, cell_group, edges, edge_group, groups })
     }
 }
 
@@ -667,17 +577,8 @@ struct NumberReader<'r, 'a> {
 
 impl<'r, 'a> NumberReader<'r, 'a> {
     fn new(reader: &'r MshReader<'a>, format: Format, pos: usize) -> Self {
-        let line = if format.binary {
-            0
-        } else {
-            reader.line_at(pos)
-        };
-        NumberReader {
-            reader,
-            format,
-            pos,
-            line,
-        }
+        let line = if format.binary { 0 } else { reader.line_at(pos) };
+        NumberReader { reader, format, pos, line }
     }
 
     fn line(&self) -> Option<usize> {
@@ -685,10 +586,7 @@ impl<'r, 'a> NumberReader<'r, 'a> {
     }
 
     fn truncated(&self, what: &str) -> Error {
-        self.reader.error(
-            self.line(),
-            format!("the file ends early: expected {what} (truncated?)"),
-        )
+        self.reader.error(self.line(), format!("the file ends early: expected {what} (truncated?)"))
     }
 
     /// Next whitespace-separated token (ASCII).
@@ -727,10 +625,7 @@ impl<'r, 'a> NumberReader<'r, 'a> {
     fn parse_token<T: std::str::FromStr>(&mut self, what: &str) -> Result<T> {
         let token = self.token(what)?;
         let text = String::from_utf8_lossy(token);
-        text.parse().map_err(|_| {
-            self.reader
-                .error(self.line(), format!("expected {what}, found '{text}'"))
-        })
+        text.parse().map_err(|_| self.reader.error(self.line(), format!("expected {what}, found '{text}'")))
     }
 
     fn size_t(&mut self, what: &str) -> Result<u64> {
@@ -753,10 +648,7 @@ impl<'r, 'a> NumberReader<'r, 'a> {
     fn skip_doubles(&mut self, n: u64, what: &str) -> Result<()> {
         if self.format.binary {
             let len = usize::try_from(n).ok().and_then(|n| n.checked_mul(8));
-            match len
-                .and_then(|l| self.pos.checked_add(l))
-                .filter(|&end| end <= self.reader.bytes.len())
-            {
+            match len.and_then(|l| self.pos.checked_add(l)).filter(|&end| end <= self.reader.bytes.len()) {
                 Some(end) => self.pos = end,
                 None => return Err(self.truncated(what)),
             }
@@ -778,9 +670,7 @@ enum NodeIndex {
 impl NodeIndex {
     /// Fails with the first repeated tag.
     fn new(tags: &[u64]) -> std::result::Result<Self, u64> {
-        let (min, max) = tags
-            .iter()
-            .fold((u64::MAX, 0), |(lo, hi), &t| (lo.min(t), hi.max(t)));
+        let (min, max) = tags.iter().fold((u64::MAX, 0), |(lo, hi), &t| (lo.min(t), hi.max(t)));
         let span = max.saturating_sub(min);
         if span <= 4 * tags.len() as u64 + 16 {
             let mut index = vec![usize::MAX; span as usize + 1];

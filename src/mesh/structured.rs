@@ -41,39 +41,25 @@ pub fn cells_for_size(size: [f64; 2], cell_size: f64) -> (usize, usize) {
     (count(size[0]), count(size[1]))
 }
 
-/// Most triangles a structured mesh may have (2^31: node numbers stay well inside 32-bit solver
-/// indices and the arrays inside memory).
-const MAX_TRIANGLES: usize = 1 << 31;
+/// Most triangles a structured mesh may have: 1e8 triangles already take about 5 GB (P1
+/// connectivity and edge tables), far beyond what the solver handles; the limit turns an absurd
+/// cell size into an error instead of an allocation failure.
+const MAX_TRIANGLES: usize = 100_000_000;
 
 /// A structured triangle mesh of the rectangle with lower-left corner `origin` and extent `size`,
 /// `nx x ny` cells, two triangles each. Groups: curves "bottom", "right", "top", "left" (tags
 /// 1-4) and surface "domain" (tag 5).
-pub fn rectangle(
-    origin: [f64; 2],
-    size: [f64; 2],
-    nx: usize,
-    ny: usize,
-    order: Order,
-) -> Result<Mesh> {
+pub fn rectangle(origin: [f64; 2], size: [f64; 2], nx: usize, ny: usize, order: Order) -> Result<Mesh> {
     let entity = || {
-        format!(
-            "rectangle (origin ({}, {}), size ({}, {}), {nx} x {ny} cells)",
-            origin[0], origin[1], size[0], size[1]
-        )
+        format!("rectangle (origin ({}, {}), size ({}, {}), {nx} x {ny} cells)", origin[0], origin[1], size[0], size[1])
     };
     if nx == 0 || ny == 0 {
-        return Err(Error::mesh(
-            entity(),
-            format!("nx = {nx}, ny = {ny}: need at least one cell in each direction"),
-        ));
+        return Err(Error::mesh(entity(), format!("nx = {nx}, ny = {ny}: need at least one cell in each direction")));
     }
     if !(size[0] > 0.0 && size[1] > 0.0 && size[0].is_finite() && size[1].is_finite()) {
         return Err(Error::mesh(
             entity(),
-            format!(
-                "size ({}, {}): both sides must be positive and finite",
-                size[0], size[1]
-            ),
+            format!("size ({}, {}): both sides must be positive and finite", size[0], size[1]),
         ));
     }
     if !(origin[0].is_finite() && origin[1].is_finite()) {
@@ -81,12 +67,12 @@ pub fn rectangle(
     }
     match nx.checked_mul(ny).and_then(|n| n.checked_mul(2)) {
         Some(n) if n <= MAX_TRIANGLES => {}
-        _ => return Err(Error::mesh(
-            entity(),
-            format!(
-                "{nx} x {ny} cells is more than {MAX_TRIANGLES} triangles; use a larger cell size"
-            ),
-        )),
+        _ => {
+            return Err(Error::mesh(
+                entity(),
+                format!("{nx} x {ny} cells is more than {MAX_TRIANGLES} triangles; use a larger cell size"),
+            ))
+        }
     }
 
     let row = nx + 1;
@@ -100,8 +86,7 @@ pub fn rectangle(
     let diagonal = |i: usize, j: usize| nv + nh + nvert + j * nx + i; // centre of cell (i, j)
 
     // k / n is exact at both ends, so the corners are exactly origin and origin + size.
-    let coordinate =
-        |k: usize, n: usize, axis: usize| origin[axis] + size[axis] * (k as f64 / n as f64);
+    let coordinate = |k: usize, n: usize, axis: usize| origin[axis] + size[axis] * (k as f64 / n as f64);
     let p2 = order == Order::P2;
     let num_nodes = if p2 { (2 * nx + 1) * (2 * ny + 1) } else { nv };
     let mut nodes = Vec::with_capacity(num_nodes);
@@ -129,18 +114,8 @@ pub fn rectangle(
     let mut cells = Vec::with_capacity(2 * nx * ny * npc);
     for j in 0..ny {
         for i in 0..nx {
-            let (a, b, c, d) = (
-                vertex(i, j),
-                vertex(i + 1, j),
-                vertex(i + 1, j + 1),
-                vertex(i, j + 1),
-            );
-            let (ab, bc, dc, ad) = (
-                horizontal(i, j),
-                vertical(i + 1, j),
-                horizontal(i, j + 1),
-                vertical(i, j),
-            );
+            let (a, b, c, d) = (vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1));
+            let (ab, bc, dc, ad) = (horizontal(i, j), vertical(i + 1, j), horizontal(i, j + 1), vertical(i, j));
             let diag = diagonal(i, j);
             if (i + j) % 2 == 0 {
                 // Diagonal a-c.
@@ -188,11 +163,7 @@ pub fn rectangle(
         push_edge(vertex(0, j + 1), vertex(0, j), vertical(0, j), 3);
     }
 
-    let group = |name: &str, tag: i32, dim: u8| PhysicalGroup {
-        name: name.to_string(),
-        tag,
-        dim,
-    };
+    let group = |name: &str, tag: i32, dim: u8| PhysicalGroup { name: name.to_string(), tag, dim };
     let groups = vec![
         group("bottom", 1, 1),
         group("right", 2, 1),
@@ -200,15 +171,7 @@ pub fn rectangle(
         group("left", 4, 1),
         group("domain", 5, 2),
     ];
-    let mut mesh = Mesh {
-        order,
-        nodes,
-        cell_group: vec![4; 2 * nx * ny],
-        cells,
-        edges,
-        edge_group,
-        groups,
-    };
+    let mut mesh = Mesh { order, nodes, cell_group: vec![4; 2 * nx * ny], cells, edges, edge_group, groups };
     // Correct by construction; validation costs a fraction of the build and keeps the promise
     // every constructor makes.
     mesh.validate()?;

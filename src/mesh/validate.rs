@@ -198,22 +198,8 @@ fn signed_area(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 /// `det J` of the P2 isoparametric map at reference point `(xi, eta)`.
 fn p2_jacobian_det(x: &[[f64; 2]; 6], xi: f64, eta: f64) -> f64 {
     let (l0, l1, l2) = (1.0 - xi - eta, xi, eta);
-    let d_xi = [
-        -(4.0 * l0 - 1.0),
-        4.0 * l1 - 1.0,
-        0.0,
-        4.0 * (l0 - l1),
-        4.0 * l2,
-        -4.0 * l2,
-    ];
-    let d_eta = [
-        -(4.0 * l0 - 1.0),
-        0.0,
-        4.0 * l2 - 1.0,
-        -4.0 * l1,
-        4.0 * l1,
-        4.0 * (l0 - l2),
-    ];
+    let d_xi = [-(4.0 * l0 - 1.0), 4.0 * l1 - 1.0, 0.0, 4.0 * (l0 - l1), 4.0 * l2, -4.0 * l2];
+    let d_eta = [-(4.0 * l0 - 1.0), 0.0, 4.0 * l2 - 1.0, -4.0 * l1, 4.0 * l1, 4.0 * (l0 - l2)];
     let (mut x_xi, mut y_xi, mut x_eta, mut y_eta) = (0.0, 0.0, 0.0, 0.0);
     for i in 0..6 {
         x_xi += d_xi[i] * x[i][0];
@@ -245,10 +231,7 @@ impl Mesh {
             None => format!("#{}", self.edge_group[e]),
         };
         let list: Vec<String> = self.edge(e).iter().map(|n| n.to_string()).collect();
-        format!(
-            "boundary edge {e} of group {group} (nodes {})",
-            list.join(", ")
-        )
+        format!("boundary edge {e} of group {group} (nodes {})", list.join(", "))
     }
 
     /// Check the mesh and bring it to the conventions of [`Mesh`]: counter-clockwise triangles,
@@ -281,7 +264,7 @@ impl Mesh {
     fn check_structure(&self) -> Result<()> {
         let (npc, npe) = (self.order.nodes_per_cell(), self.order.nodes_per_edge());
         let mesh = || "mesh".to_string();
-        if self.cells.len() % npc != 0 {
+        if !self.cells.len().is_multiple_of(npc) {
             return Err(Error::mesh(
                 mesh(),
                 format!(
@@ -291,7 +274,7 @@ impl Mesh {
                 ),
             ));
         }
-        if self.edges.len() % npe != 0 {
+        if !self.edges.len().is_multiple_of(npe) {
             return Err(Error::mesh(
                 mesh(),
                 format!(
@@ -307,21 +290,13 @@ impl Mesh {
         if self.cell_group.len() != self.num_cells() {
             return Err(Error::mesh(
                 mesh(),
-                format!(
-                    "{} triangles but {} cell group entries",
-                    self.num_cells(),
-                    self.cell_group.len()
-                ),
+                format!("{} triangles but {} cell group entries", self.num_cells(), self.cell_group.len()),
             ));
         }
         if self.edge_group.len() != self.num_edges() {
             return Err(Error::mesh(
                 mesh(),
-                format!(
-                    "{} boundary edges but {} edge group entries",
-                    self.num_edges(),
-                    self.edge_group.len()
-                ),
+                format!("{} boundary edges but {} edge group entries", self.num_edges(), self.edge_group.len()),
             ));
         }
         Ok(())
@@ -332,22 +307,13 @@ impl Mesh {
             if g.dim != 1 && g.dim != 2 {
                 return Err(Error::mesh(
                     format!("physical group '{}'", g.name),
-                    format!(
-                        "has dimension {}; only curves (1) and surfaces (2) are used",
-                        g.dim
-                    ),
+                    format!("has dimension {}; only curves (1) and surfaces (2) are used", g.dim),
                 ));
             }
-            if self.groups[..i]
-                .iter()
-                .any(|h| h.name == g.name && h.dim == g.dim)
-            {
+            if self.groups[..i].iter().any(|h| h.name == g.name && h.dim == g.dim) {
                 return Err(Error::mesh(
                     format!("physical group '{}'", g.name),
-                    format!(
-                        "defined twice with dimension {}; give each group a distinct name",
-                        g.dim
-                    ),
+                    format!("defined twice with dimension {}; give each group a distinct name", g.dim),
                 ));
             }
         }
@@ -356,10 +322,7 @@ impl Mesh {
             if g != NO_GROUP && self.groups.get(g).map(|g| g.dim) != Some(2) {
                 let what = match self.groups.get(g) {
                     Some(grp) => format!("group '{}' of dimension {}", grp.name, grp.dim),
-                    None => format!(
-                        "group index {g}, out of range ({} groups)",
-                        self.groups.len()
-                    ),
+                    None => format!("group index {g}, out of range ({} groups)", self.groups.len()),
                 };
                 return Err(Error::mesh(
                     self.describe_cell(c),
@@ -372,10 +335,7 @@ impl Mesh {
             if self.groups.get(g).map(|g| g.dim) != Some(1) {
                 let what = match self.groups.get(g) {
                     Some(grp) => format!("group '{}' of dimension {}", grp.name, grp.dim),
-                    None => format!(
-                        "group index {g}, out of range ({} groups)",
-                        self.groups.len()
-                    ),
+                    None => format!("group index {g}, out of range ({} groups)", self.groups.len()),
                 };
                 return Err(Error::mesh(
                     self.describe_edge(e),
@@ -404,15 +364,8 @@ impl Mesh {
                 ));
             }
         }
-        if let Some(i) = self
-            .nodes
-            .iter()
-            .position(|p| !(p[0].is_finite() && p[1].is_finite()))
-        {
-            return Err(Error::mesh(
-                self.describe_node(i),
-                "coordinates are not finite numbers",
-            ));
+        if let Some(i) = self.nodes.iter().position(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return Err(Error::mesh(self.describe_node(i), "coordinates are not finite numbers"));
         }
         Ok(())
     }
@@ -458,19 +411,9 @@ impl Mesh {
         } else if num_cw > 0 {
             // Name a triangle of the minority orientation (clockwise on a tie).
             let (c, this, other, n_other) = if 2 * num_cw <= nt {
-                (
-                    first_cw.unwrap_or(0),
-                    "clockwise",
-                    "counter-clockwise",
-                    nt - num_cw,
-                )
+                (first_cw.unwrap_or(0), "clockwise", "counter-clockwise", nt - num_cw)
             } else {
-                (
-                    first_ccw.unwrap_or(0),
-                    "counter-clockwise",
-                    "clockwise",
-                    num_cw,
-                )
+                (first_ccw.unwrap_or(0), "counter-clockwise", "clockwise", num_cw)
             };
             return Err(Error::mesh(
                 self.describe_cell(c),
@@ -495,7 +438,7 @@ impl Mesh {
             let x: [[f64; 2]; 6] = std::array::from_fn(|i| self.nodes[v[i]]);
             for &(xi, eta, at) in &SAMPLES {
                 let det = p2_jacobian_det(&x, xi, eta);
-                if !(det > 0.0) {
+                if det.is_nan() || det <= 0.0 {
                     return Err(Error::mesh(
                         self.describe_cell(c),
                         format!(
@@ -569,11 +512,7 @@ impl Mesh {
         Ok(count)
     }
 
-    fn check_and_orient_boundary<I: EdgeIndex>(
-        &mut self,
-        table: &EdgeTable<I>,
-        count: &[u8],
-    ) -> Result<()> {
+    fn check_and_orient_boundary<I: EdgeIndex>(&mut self, table: &EdgeTable<I>, count: &[u8]) -> Result<()> {
         let npc = self.order.nodes_per_cell();
         let npe = self.order.nodes_per_edge();
         let mut seen: Vec<(usize, usize, usize)> = Vec::with_capacity(self.num_edges());
@@ -619,10 +558,7 @@ impl Mesh {
             if w[0].0 == w[1].0 && w[0].1 == w[1].1 {
                 return Err(Error::mesh(
                     self.describe_edge(w[1].2),
-                    format!(
-                        "repeats boundary edge {} of the same group; remove the duplicate",
-                        w[0].2
-                    ),
+                    format!("repeats boundary edge {} of the same group; remove the duplicate", w[0].2),
                 ));
             }
         }
@@ -656,11 +592,7 @@ impl Mesh {
         }
     }
 
-    fn quadratic_from<I: EdgeIndex>(
-        &self,
-        table: &EdgeTable<I>,
-        snap: impl Fn(usize, [f64; 2]) -> [f64; 2],
-    ) -> Mesh {
+    fn quadratic_from<I: EdgeIndex>(&self, table: &EdgeTable<I>, snap: impl Fn(usize, [f64; 2]) -> [f64; 2]) -> Mesh {
         let nv = self.num_nodes();
         let ne = table.num_edges();
         let mut nodes = Vec::with_capacity(nv + ne);
@@ -713,8 +645,7 @@ mod tests {
 
     #[test]
     fn edge_tables_of_both_index_types_agree() {
-        let mesh =
-            crate::mesh::structured::rectangle([0.0, 0.0], [1.0, 1.0], 7, 5, Order::P2).unwrap();
+        let mesh = crate::mesh::structured::rectangle([0.0, 0.0], [1.0, 1.0], 7, 5, Order::P2).unwrap();
         let (small, large) = (EdgeTable::<u32>::new(&mesh), EdgeTable::<usize>::new(&mesh));
         // V + T - 1 edges for a simply connected mesh.
         assert_eq!(small.num_edges(), 8 * 6 + 70 - 1);
