@@ -1,1 +1,346 @@
-//! TODO
+//! Unstructured triangle meshes made by the Gmsh binary (`gmsh`, Debian package `gmsh`).
+//!
+//! We write a `.geo` script for the requested shape, run
+//! `gmsh in.geo -2 -format msh41 -bin -o out.msh -v 1 [-order 2]` in a fresh temporary directory
+//! and read the result with [`super::msh::read_msh`]. Driving the binary (instead of linking the
+//! Gmsh library) keeps this crate free of the GPL.
+//!
+//! Shapes, their geometry points and physical groups (curves run counter-clockwise, so the
+//! region is on their left):
+//!
+//! ```text
+//!   Rectangle                   Disc (4 quarter arcs,          HalfDisc (lower half,
+//!                               one group "circle")            y <= cy)
+//!   4 ---- top ---- 3
+//!   |               |                 3                        1 ------ flat ------ 3
+//!  left   domain  right          /         \                    \                 /
+//!   |               |           4     c     2                   arc    domain   arc
+//!   1 --- bottom -- 2            \         /                       \           /
+//!                                     5                                  2
+//!                                                                  2 = (cx, cy - R)
+//! ```
+//!
+//! Circle arcs are kept below 180 degrees, as Gmsh requires. The bottom point of the half disc
+//! is a geometry point, so it is a mesh node (the initial contact point of the Hertz problem).
+//!
+//! Mesh size: the points carry `cell_size`. With a [`Refinement`] the size is instead given by a
+//! background field: a `Distance` field `d` from the refinement point feeding a `Threshold`
+//! field, size `refinement.cell_size` for `d <= radius`, growing linearly to `cell_size` at
+//! `d = 2 radius` and constant beyond; sizes from points, curvature and boundary extension are
+//! switched off so the field alone decides (Gmsh reference manual, "Specifying mesh element
+//! sizes").
+//!
+//! For P2, `-order 2` with `Mesh.SecondOrderLinear = 0` puts the mid nodes of boundary edges on
+//! the curves (on the circle arcs), not on their chords.
+//!
+//! Numbers are written into the script literally with full precision (Rust's shortest
+//! round-trip formatting), never through `DefineNumber` (which `-setnumber` does not override).
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::{msh::read_msh, Mesh, Order};
+use crate::error::{Error, Result};
+
+/// A domain Gmsh can mesh for us.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    /// Axis-aligned rectangle with lower-left corner `origin`. Groups "bottom", "right", "top",
+    /// "left", "domain".
+    Rectangle { origin: [f64; 2], size: [f64; 2] },
+    /// Full disc. Groups "circle", "domain".
+    Disc { center: [f64; 2], radius: f64 },
+    /// Lower half disc `{|x - c| <= R, y <= cy}`. Groups "arc" (curved side), "flat" (top),
+    /// "domain".
+    HalfDisc { center: [f64; 2], radius: f64 },
+}
+
+/// Smaller cells around a point: `cell_size` within `radius`, growing to the request's size at
+/// `2 radius`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refinement {
+    pub point: [f64; 2],
+    pub cell_size: f64,
+    pub radius: f64,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRequest {
+    pub shape: Shape,
+    /// Target side length of the triangles away from the refinement.
+    pub cell_size: f64,
+    pub refinement: Option<Refinement>,
+    pub order: Order,
+}
+
+/// Estimated triangle count above which a request is refused (Gmsh needs about a minute per
+/// million triangles; this limit is far beyond what the solver handles).
+const MAX_ESTIMATED_TRIANGLES: f64 = 5e7;
+
+const NOT_FOUND: &str =
+    "the gmsh binary was not found on PATH: install it with `apt-get install -y --no-install-recommends gmsh`";
+
+/// Mesh a shape with Gmsh.
+pub fn generate(request: &MeshRequest) -> Result<Mesh> {
+    let geo = geo_script(request)?;
+    generate_from_geo(&geo, request.order)
+}
+
+/// Mesh a `.geo` script (built-in kernel syntax) with Gmsh: 2D mesh, MSH 4.1, `order`. The
+/// script must define the physical groups it wants to keep.
+pub fn generate_from_geo(geo: &str, order: Order) -> Result<Mesh> {
+    let dir = TempDir::new()?;
+    let geo_path = dir.path.join("in.geo");
+    let msh_path = dir.path.join("out.msh");
+    std::fs::write(&geo_path, geo).map_err(|e| Error::io(&geo_path, "writing the Gmsh script", e))?;
+    let mut command = Command::new("gmsh");
+    command.arg(&geo_path).args(["-2", "-format", "msh41", "-bin", "-v", "1", "-o"]).arg(&msh_path);
+    if order == Order::P2 {
+        command.args(["-order", "2"]);
+    }
+    command.current_dir(&dir.path);
+    let output = command.output().map_err(spawn_error)?;
+    let stderr = String::from_utf8_lossy(&output.stderr).trim().to_string();
+    if !output.status.success() {
+        let first = stderr.lines().find(|l| l.contains("Error")).unwrap_or("no error message");
+        let first = first.trim_start_matches("Error").trim_start_matches([' ', ':']);
+        let code = output.status.code().map_or("a signal".to_string(), |c| format!("exit code {c}"));
+        return Err(Error::Gmsh { message: format!("{first} ({code})"), stderr });
+    }
+    if !msh_path.is_file() {
+        return Err(Error::Gmsh { message: "gmsh wrote no mesh file".to_string(), stderr });
+    }
+    read_msh(&msh_path).map_err(|e| match e {
+        // The temporary file name means nothing to the user: say where the mesh came from.
+        Error::Mesh { entity, message, .. } => Error::Mesh {
+            source_file: None,
+            entity,
+            message: format!("{message} (in the mesh gmsh generated; a smaller cell size may help)"),
+        },
+        Error::MeshFile { message, .. } => {
+            Error::Gmsh { message: format!("cannot read the mesh gmsh produced: {message}"), stderr: stderr.clone() }
+        }
+        other => other,
+    })
+}
+
+/// The version Gmsh reports (`gmsh --version`), e.g. "4.8.4".
+pub fn gmsh_version() -> Result<String> {
+    let output = Command::new("gmsh").arg("--version").output().map_err(spawn_error)?;
+    // Gmsh prints its version on stderr.
+    let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    let version = text.trim().to_string();
+    if !output.status.success() || version.is_empty() {
+        return Err(Error::Gmsh { message: format!("gmsh --version failed ({})", output.status), stderr: version });
+    }
+    Ok(version)
+}
+
+fn spawn_error(e: std::io::Error) -> Error {
+    if e.kind() == std::io::ErrorKind::NotFound {
+        Error::Gmsh { message: NOT_FOUND.to_string(), stderr: String::new() }
+    } else {
+        Error::Gmsh { message: format!("cannot run gmsh: {e}"), stderr: String::new() }
+    }
+}
+
+/// A directory under the system temp dir, removed when dropped.
+struct TempDir {
+    path: PathBuf,
+}
+
+impl TempDir {
+    fn new() -> Result<Self> {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let base = std::env::temp_dir();
+        loop {
+            let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+            let path = base.join(format!("signorini-gmsh-{}-{n}", std::process::id()));
+            match std::fs::create_dir(&path) {
+                Ok(()) => return Ok(TempDir { path }),
+                // Left over from an earlier process with the same id: try the next number.
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(Error::io(path, "creating a temporary directory", e)),
+            }
+        }
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        // Best effort: a leftover directory in /tmp is harmless.
+        let _ = std::fs::remove_dir_all(&self.path);
+    }
+}
+
+fn request_error(entity: String, message: String) -> Error {
+    Error::mesh(entity, message)
+}
+
+fn positive(value: f64, name: &str, entity: &dyn Fn() -> String) -> Result<()> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(request_error(entity(), format!("{name} = {value} must be positive and finite")))
+    }
+}
+
+fn finite_point(p: [f64; 2], name: &str, entity: &dyn Fn() -> String) -> Result<()> {
+    if p[0].is_finite() && p[1].is_finite() {
+        Ok(())
+    } else {
+        Err(request_error(entity(), format!("{name} ({}, {}) must be finite", p[0], p[1])))
+    }
+}
+
+/// Check the request and write its `.geo` script.
+fn geo_script(request: &MeshRequest) -> Result<String> {
+    let entity = || format!("mesh request {:?}", request.shape);
+    let (area, mut geo) = match request.shape {
+        Shape::Rectangle { origin, size } => {
+            finite_point(origin, "origin", &entity)?;
+            positive(size[0], "width", &entity)?;
+            positive(size[1], "height", &entity)?;
+            (size[0] * size[1], rectangle_geo(origin, size, request.cell_size))
+        }
+        Shape::Disc { center, radius } => {
+            finite_point(center, "center", &entity)?;
+            positive(radius, "radius", &entity)?;
+            (std::f64::consts::PI * radius * radius, disc_geo(center, radius, request.cell_size))
+        }
+        Shape::HalfDisc { center, radius } => {
+            finite_point(center, "center", &entity)?;
+            positive(radius, "radius", &entity)?;
+            (0.5 * std::f64::consts::PI * radius * radius, half_disc_geo(center, radius, request.cell_size))
+        }
+    };
+    positive(request.cell_size, "cell_size", &entity)?;
+    // Equilateral triangles of side h have area h^2 sqrt(3) / 4.
+    let per_triangle = |h: f64| h * h * 3f64.sqrt() / 4.0;
+    let mut estimate = area / per_triangle(request.cell_size);
+    if let Some(r) = &request.refinement {
+        let entity = || format!("refinement {r:?}");
+        finite_point(r.point, "point", &entity)?;
+        positive(r.cell_size, "cell_size", &entity)?;
+        positive(r.radius, "radius", &entity)?;
+        let refined_area = std::f64::consts::PI * 4.0 * r.radius * r.radius;
+        estimate += refined_area.min(area) / per_triangle(r.cell_size);
+        refinement_geo(&mut geo, r, request.cell_size);
+    }
+    if estimate > MAX_ESTIMATED_TRIANGLES {
+        return Err(request_error(
+            entity(),
+            format!(
+                "would make about {estimate:.2e} triangles (limit {MAX_ESTIMATED_TRIANGLES:.0e}); use a larger cell size"
+            ),
+        ));
+    }
+    if request.order == Order::P2 {
+        geo.push_str("Mesh.SecondOrderLinear = 0;\n");
+    }
+    Ok(geo)
+}
+
+/// `Point(tag) = {x, y, 0, size};`
+fn point(geo: &mut String, tag: usize, p: [f64; 2], size: f64) {
+    let _ = writeln!(geo, "Point({tag}) = {{{:?}, {:?}, 0, {:?}}};", p[0], p[1], size);
+}
+
+fn rectangle_geo(o: [f64; 2], s: [f64; 2], h: f64) -> String {
+    let mut geo = String::from("// rectangle, written by signorini\n");
+    point(&mut geo, 1, o, h);
+    point(&mut geo, 2, [o[0] + s[0], o[1]], h);
+    point(&mut geo, 3, [o[0] + s[0], o[1] + s[1]], h);
+    point(&mut geo, 4, [o[0], o[1] + s[1]], h);
+    geo.push_str(
+        "Line(1) = {1, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 4};\nLine(4) = {4, 1};\n\
+         Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n\
+         Physical Curve(\"bottom\") = {1};\nPhysical Curve(\"right\") = {2};\n\
+         Physical Curve(\"top\") = {3};\nPhysical Curve(\"left\") = {4};\n\
+         Physical Surface(\"domain\") = {1};\n",
+    );
+    geo
+}
+
+fn disc_geo(c: [f64; 2], r: f64, h: f64) -> String {
+    let mut geo = String::from("// disc, written by signorini\n");
+    point(&mut geo, 1, c, h);
+    point(&mut geo, 2, [c[0] + r, c[1]], h);
+    point(&mut geo, 3, [c[0], c[1] + r], h);
+    point(&mut geo, 4, [c[0] - r, c[1]], h);
+    point(&mut geo, 5, [c[0], c[1] - r], h);
+    geo.push_str(
+        "Circle(1) = {2, 1, 3};\nCircle(2) = {3, 1, 4};\nCircle(3) = {4, 1, 5};\nCircle(4) = {5, 1, 2};\n\
+         Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n\
+         Physical Curve(\"circle\") = {1, 2, 3, 4};\nPhysical Surface(\"domain\") = {1};\n",
+    );
+    geo
+}
+
+fn half_disc_geo(c: [f64; 2], r: f64, h: f64) -> String {
+    let mut geo = String::from("// lower half disc, written by signorini\n");
+    point(&mut geo, 1, [c[0] - r, c[1]], h);
+    point(&mut geo, 2, [c[0], c[1] - r], h);
+    point(&mut geo, 3, [c[0] + r, c[1]], h);
+    point(&mut geo, 4, c, h);
+    geo.push_str(
+        "Circle(1) = {1, 4, 2};\nCircle(2) = {2, 4, 3};\nLine(3) = {3, 1};\n\
+         Curve Loop(1) = {1, 2, 3};\nPlane Surface(1) = {1};\n\
+         Physical Curve(\"arc\") = {1, 2};\nPhysical Curve(\"flat\") = {3};\n\
+         Physical Surface(\"domain\") = {1};\n",
+    );
+    geo
+}
+
+fn refinement_geo(geo: &mut String, r: &Refinement, h: f64) {
+    // A free point (not on any curve, not in a physical group) for the distance field.
+    point(geo, 100, r.point, r.cell_size);
+    let _ = write!(
+        geo,
+        "Field[1] = Distance;\nField[1].PointsList = {{100}};\n\
+         Field[2] = Threshold;\nField[2].InField = 1;\n\
+         Field[2].SizeMin = {:?};\nField[2].SizeMax = {:?};\n\
+         Field[2].DistMin = {:?};\nField[2].DistMax = {:?};\n\
+         Background Field = 2;\n\
+         Mesh.MeshSizeExtendFromBoundary = 0;\nMesh.MeshSizeFromPoints = 0;\nMesh.MeshSizeFromCurvature = 0;\n",
+        r.cell_size,
+        h,
+        r.radius,
+        2.0 * r.radius
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_binary_is_reported_with_the_install_command() {
+        let e = spawn_error(std::io::Error::from(std::io::ErrorKind::NotFound));
+        assert!(e.to_string().contains("apt-get install -y --no-install-recommends gmsh"), "{e}");
+    }
+
+    #[test]
+    fn numbers_are_written_with_full_precision() {
+        let geo = geo_script(&MeshRequest {
+            shape: Shape::Disc { center: [0.1, 1.0 / 3.0], radius: 2.0 / 3.0 },
+            cell_size: 0.1,
+            refinement: None,
+            order: Order::P2,
+        })
+        .unwrap();
+        assert!(geo.contains("0.3333333333333333"), "{geo}");
+        assert!(geo.contains("Mesh.SecondOrderLinear = 0;"), "{geo}");
+        assert!(!geo.contains("DefineNumber"));
+    }
+
+    #[test]
+    fn temporary_directories_are_unique_and_removed() {
+        let (a, b) = (TempDir::new().unwrap(), TempDir::new().unwrap());
+        assert_ne!(a.path, b.path);
+        let path = a.path.clone();
+        drop(a);
+        assert!(!path.exists());
+    }
+}

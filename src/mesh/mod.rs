@@ -20,6 +20,7 @@
 pub mod gmsh;
 pub mod msh;
 pub mod structured;
+mod validate;
 
 use crate::error::{Error, Result};
 
