@@ -42,16 +42,8 @@ fn grid(m: usize) -> Mesh {
         edges,
         edge_group,
         groups: vec![
-            PhysicalGroup {
-                name: "top".into(),
-                tag: 1,
-                dim: 1,
-            },
-            PhysicalGroup {
-                name: "left".into(),
-                tag: 2,
-                dim: 1,
-            },
+            PhysicalGroup { name: "top".into(), tag: 1, dim: 1 },
+            PhysicalGroup { name: "left".into(), tag: 2, dim: 1 },
         ],
     }
 }
@@ -60,25 +52,14 @@ fn grid(m: usize) -> Mesh {
 fn thread_cpu_seconds() -> f64 {
     std::fs::read_to_string("/proc/thread-self/schedstat")
         .ok()
-        .and_then(|s| {
-            s.split_whitespace()
-                .next()
-                .and_then(|ns| ns.parse::<f64>().ok())
-        })
+        .and_then(|s| s.split_whitespace().next().and_then(|ns| ns.parse::<f64>().ok()))
         .map_or(0.0, |ns| ns * 1e-9)
 }
 
 fn main() {
-    let m: usize = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(707);
+    let m: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(707);
     let mesh = grid(m);
-    let material = Material {
-        young: 2.0e11,
-        poisson: 0.3,
-        plane: PlaneModel::Strain,
-    };
+    let material = Material { young: 2.0e11, poisson: 0.3, plane: PlaneModel::Strain };
     let ndof = 2 * mesh.num_nodes();
     let mut constraints = Constraints::new(ndof);
     constraints.fix_group(&mesh, 1, 0, |_| 0.0);
@@ -86,21 +67,10 @@ fn main() {
     let gravity = |_: [f64; 2]| [0.0, -7.8e4];
     let with_loads = Loads {
         body_force: Some(&gravity),
-        edge_loads: vec![EdgeLoad {
-            group: 0,
-            traction: Traction::Pressure(1e6),
-        }],
+        edge_loads: vec![EdgeLoad { group: 0, traction: Traction::Pressure(1e6) }],
     };
-    println!(
-        "{} nodes, {} triangles, {} dofs",
-        mesh.num_nodes(),
-        mesh.num_cells(),
-        ndof
-    );
-    for (name, loads) in [
-        ("no loads", Loads::default()),
-        ("body force + pressure", with_loads),
-    ] {
+    println!("{} nodes, {} triangles, {} dofs", mesh.num_nodes(), mesh.num_cells(), ndof);
+    for (name, loads) in [("no loads", Loads::default()), ("body force + pressure", with_loads)] {
         let (mut best_wall, mut best_cpu) = (f64::INFINITY, f64::INFINITY);
         let mut nnz = 0;
         for _ in 0..3 {
@@ -115,13 +85,7 @@ fn main() {
     let (t, c) = (Instant::now(), thread_cpu_seconds());
     let half = ndof / 2 + 1;
     let a = assemble(&mesh, &material, &constraints, &Loads::default(), 0..half);
-    let b = assemble(
-        &mesh,
-        &material,
-        &constraints,
-        &Loads::default(),
-        half..ndof,
-    );
+    let b = assemble(&mesh, &material, &constraints, &Loads::default(), half..ndof);
     println!(
         "two row blocks: wall {:.3} s, cpu {:.3} s, nnz = {} + {}",
         t.elapsed().as_secs_f64(),

@@ -112,14 +112,27 @@ pub fn elasticity(session: &Session, max_dofs: usize, progress: &mut dyn FnMut(&
         constraints.fix_group(&mesh, left, 1, |_| 0.0);
         let loads = Loads {
             body_force: None,
-            edge_loads: vec![EdgeLoad { group: mesh.require_group("right", 1)?, traction: Traction::Constant([0.0, -1.0e6]) }],
+            edge_loads: vec![EdgeLoad {
+                group: mesh.require_group("right", 1)?,
+                traction: Traction::Constant([0.0, -1.0e6]),
+            }],
         };
         let (size, rank) = (session.size(), session.rank());
         let nn = mesh.num_nodes();
         let rows_range = 2 * (nn * rank / size)..2 * (nn * (rank + 1) / size);
         let system = assembly::assemble(&mesh, &material, &constraints, &loads, rows_range);
         let m = &system.matrix;
-        let matrix = Matrix::from_csr_rows(session, session.world(), dofs, m.first_row, &m.indptr, &m.indices, &m.values, 2, true)?;
+        let matrix = Matrix::from_csr_rows(
+            session,
+            session.world(),
+            dofs,
+            m.first_row,
+            &m.indptr,
+            &m.indices,
+            &m.values,
+            2,
+            true,
+        )?;
         let mut rhs = matrix.create_vector()?;
         rhs.set_owned(&system.rhs)?;
         drop(system);
@@ -239,6 +252,12 @@ pub fn write_elasticity_outputs(rows: &[BenchRow], dir: &Path) -> Result<(PathBu
     }
     series.push(plot::Series { label: "assembly".into(), points: assembly });
     let svg = dir.join("bench_elasticity.svg");
-    plot::write_loglog_svg(&svg, "Plane elasticity, P1: wall time against size", "degrees of freedom", "seconds", &series)?;
+    plot::write_loglog_svg(
+        &svg,
+        "Plane elasticity, P1: wall time against size",
+        "degrees of freedom",
+        "seconds",
+        &series,
+    )?;
     Ok((md, svg))
 }

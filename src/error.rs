@@ -47,6 +47,10 @@ pub enum Error {
     #[error("PETSc error {code} in {call} (at {rust_file}:{rust_line}): {message}")]
     Petsc { code: i32, call: &'static str, message: String, rust_file: &'static str, rust_line: u32 },
 
+    /// A PETSc option given in a way PETSc would silently ignore (e.g. without its value).
+    #[error("{message}")]
+    PetscOption { option: String, message: String },
+
     /// A misuse of the PETSc layer caught before it reached PETSc (which does no checks in
     /// Debian's build): out-of-range index, size mismatch, second session...
     #[error("PETSc layer: {0}")]
@@ -54,7 +58,9 @@ pub enum Error {
 
     /// An iterative or nonlinear solver stopped without converging, or converged to an answer
     /// that fails our independent check.
-    #[error("{solver} did not converge: {reason} after {iterations} iterations (residual {residual:.3e}); tried: {tried}")]
+    #[error(
+        "{solver} did not converge: {reason} after {iterations} iterations (residual {residual:.3e}); tried: {tried}"
+    )]
     SolverDiverged { solver: String, reason: String, iterations: usize, residual: f64, tried: String },
 
     /// The problem has no unique solution: the boundary conditions leave a rigid motion free.

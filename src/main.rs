@@ -62,14 +62,17 @@ fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
                 i += 1;
             }
             s if s.starts_with("--") => {
-                return Err(Error::Usage(format!("unknown flag {s} (PETSc options take one dash; see signorini --help)")))
+                return Err(Error::Usage(format!(
+                    "unknown flag {s} (PETSc options take one dash; see signorini --help)"
+                )))
             }
             s if s.starts_with('-') => {
                 r.petsc.push(s.to_string());
                 i += 1;
                 // The option's value, if any, follows: anything that is not another option name.
                 if let Some(v) = args.get(i) {
-                    let is_name = v.starts_with('-') && v[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
+                    let is_name =
+                        v.starts_with('-') && v[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
                     if !is_name {
                         r.petsc.push(v.clone());
                         i += 1;
@@ -111,7 +114,9 @@ fn main() -> ExitCode {
                 other.map(|o| format!("{o:?}")).unwrap_or_else(|| "nothing".into())
             )),
         },
-        Some(other) => usage_error(&format!("unknown command {other:?}: use `signorini run` or `signorini bench` (see --help)")),
+        Some(other) => {
+            usage_error(&format!("unknown command {other:?}: use `signorini run` or `signorini bench` (see --help)"))
+        }
     }
 }
 
@@ -120,7 +125,12 @@ fn usage_error(message: &str) -> ExitCode {
     ExitCode::from(2)
 }
 
-fn with_session(program: &str, args: &[String], allow_scene: bool, job: fn(&Session, RunArgs) -> Result<(), Error>) -> ExitCode {
+fn with_session(
+    program: &str,
+    args: &[String],
+    allow_scene: bool,
+    job: fn(&Session, RunArgs) -> Result<(), Error>,
+) -> ExitCode {
     let parsed = match parse(args, allow_scene) {
         Ok(p) => p,
         Err(e) => return usage_error(&e.to_string()),

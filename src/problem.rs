@@ -204,10 +204,8 @@ impl<'s> ElasticityProblem<'s> {
     /// Solve the linear system with the KSP configured by the options database.
     pub fn solve(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
-        let (matrix, rhs) = self
-            .system
-            .as_ref()
-            .ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
+        let (matrix, rhs) =
+            self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
         let mut x = matrix.create_vector()?;
@@ -259,10 +257,13 @@ impl<'s> ElasticityProblem<'s> {
             }
             total_reaction[0] += r[0];
             total_reaction[1] += r[1];
-            reactions.entry(d.part.clone()).and_modify(|s: &mut [f64; 2]| {
-                s[0] += r[0];
-                s[1] += r[1];
-            }).or_insert(r);
+            reactions
+                .entry(d.part.clone())
+                .and_modify(|s: &mut [f64; 2]| {
+                    s[0] += r[0];
+                    s[1] += r[1];
+                })
+                .or_insert(r);
         }
         // Independent equilibrium check: the free rows of K u − f must vanish, and the applied
         // loads must balance the reactions.
@@ -323,7 +324,8 @@ impl<'s> ElasticityProblem<'s> {
         let mut written = Vec::new();
         if self.session.rank() == 0 {
             let u = self.displacement.as_ref().expect("checked by report()");
-            let results = self.results.as_ref().ok_or_else(|| Error::PetscUsage("write_output() before postprocess()".into()))?;
+            let results =
+                self.results.as_ref().ok_or_else(|| Error::PetscUsage("write_output() before postprocess()".into()))?;
             let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
             let sigma_zz: Vec<f64> = results.nodal_stress.iter().map(|s| self.material.sigma_zz(*s)).collect();
             // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
@@ -392,11 +394,20 @@ pub fn build_mesh(scene: &Scene) -> Result<Mesh> {
     }
 }
 
-fn gmsh_mesh(shape: mesh::gmsh::Shape, cell_size: f64, refine: &Option<scene::RefineSpec>, order: Order) -> Result<Mesh> {
+fn gmsh_mesh(
+    shape: mesh::gmsh::Shape,
+    cell_size: f64,
+    refine: &Option<scene::RefineSpec>,
+    order: Order,
+) -> Result<Mesh> {
     let request = mesh::gmsh::MeshRequest {
         shape,
         cell_size,
-        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement { point: r.point, cell_size: r.cell_size, radius: r.radius }),
+        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement {
+            point: r.point,
+            cell_size: r.cell_size,
+            radius: r.radius,
+        }),
         order,
     };
     mesh::gmsh::generate(&request)

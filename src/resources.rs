@@ -71,10 +71,7 @@ impl Timings {
 
     /// Seconds recorded for `phase`, if it ran.
     pub fn get(&self, phase: &str) -> Option<f64> {
-        self.phases
-            .iter()
-            .find(|(name, _)| name == phase)
-            .map(|&(_, s)| s)
+        self.phases.iter().find(|(name, _)| name == phase).map(|&(_, s)| s)
     }
 
     /// Sum over all phases.
@@ -95,8 +92,7 @@ impl serde::Serialize for Timings {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
         let has_total_phase = self.get("total").is_some();
-        let mut map =
-            serializer.serialize_map(Some(self.phases.len() + usize::from(!has_total_phase)))?;
+        let mut map = serializer.serialize_map(Some(self.phases.len() + usize::from(!has_total_phase)))?;
         for (name, seconds) in &self.phases {
             map.serialize_entry(name, seconds)?;
         }

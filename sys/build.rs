@@ -21,7 +21,10 @@ fn libclang_present() -> bool {
     let has_lib = |dir: &Path| {
         std::fs::read_dir(dir)
             .map(|entries| {
-                entries.flatten().any(|e| e.file_name().to_string_lossy().starts_with("libclang") && e.file_name().to_string_lossy().contains(".so"))
+                entries.flatten().any(|e| {
+                    e.file_name().to_string_lossy().starts_with("libclang")
+                        && e.file_name().to_string_lossy().contains(".so")
+                })
             })
             .unwrap_or(false)
     };
@@ -49,15 +52,16 @@ fn main() {
         Ok(lib) => lib,
         Err(e) => fail(&format!("PETSc >= 3.18 was not found by pkg-config ({e})")),
     };
-    let mpi_includes: Vec<PathBuf> = match pkg_config::Config::new().cargo_metadata(false).probe("mpi") {
+    // The shim calls MPI directly, so link libmpi too (pkg-config emits the link flags).
+    let mpi_includes: Vec<PathBuf> = match pkg_config::Config::new().probe("mpi") {
         Ok(lib) => lib.include_paths,
         Err(_) => {
             // Fall back on mpicc's own view of its include dirs.
             match std::process::Command::new("mpicc").arg("-showme:incdirs").output() {
-                Ok(out) if out.status.success() => String::from_utf8_lossy(&out.stdout)
-                    .split_whitespace()
-                    .map(PathBuf::from)
-                    .collect(),
+                Ok(out) if out.status.success() => {
+                    println!("cargo:rustc-link-lib=mpi");
+                    String::from_utf8_lossy(&out.stdout).split_whitespace().map(PathBuf::from).collect()
+                }
                 _ => fail("the MPI headers were not found (neither pkg-config 'mpi' nor mpicc)"),
             }
         }

@@ -9,9 +9,8 @@ use signorini::error::Error;
 use signorini::fem::lagrange;
 use signorini::fem::quadrature;
 use signorini::fem::{
-    assemble, cell_stress, element_stiffness, energy_error, energy_norm, l2_error, load_vector,
-    nodal_stress, residual_forces, Constraints, EdgeLoad, LinearSystem, Loads, Material,
-    PlaneModel, Traction,
+    assemble, cell_stress, element_stiffness, energy_error, energy_norm, l2_error, load_vector, nodal_stress,
+    residual_forces, Constraints, EdgeLoad, LinearSystem, Loads, Material, PlaneModel, Traction,
 };
 use signorini::mesh::{Mesh, Order, PhysicalGroup};
 
@@ -60,13 +59,7 @@ struct Grid {
 
 impl Grid {
     fn new(n: usize, order: Order) -> Self {
-        Grid {
-            n,
-            order,
-            distortion: Distortion::None,
-            curve_interior: 0.0,
-            curve_boundary: 0.0,
-        }
+        Grid { n, order, distortion: Distortion::None, curve_interior: 0.0, curve_boundary: 0.0 }
     }
     fn distorted(mut self, d: Distortion) -> Self {
         self.distortion = d;
@@ -99,10 +92,7 @@ impl Grid {
                     Distortion::Smooth(a) if interior => {
                         let (x0, y0) = (x, y);
                         x = x0 + a * (2.0 * PI * x0).sin() * (2.0 * PI * y0).sin();
-                        y = y0
-                            + a * (2.0 * PI * (x0 + 0.25)).sin()
-                                * (PI * y0).sin()
-                                * (PI * x0).sin();
+                        y = y0 + a * (2.0 * PI * (x0 + 0.25)).sin() * (PI * y0).sin() * (PI * x0).sin();
                     }
                     _ => {}
                 }
@@ -137,8 +127,7 @@ impl Grid {
             sides.push((LEFT, [vid(0, j + 1), vid(0, j)]));
         }
         let key = |a: usize, b: usize| (a.min(b), a.max(b));
-        let side_of: HashMap<(usize, usize), usize> =
-            sides.iter().map(|&(g, [a, b])| (key(a, b), g)).collect();
+        let side_of: HashMap<(usize, usize), usize> = sides.iter().map(|&(g, [a, b])| (key(a, b), g)).collect();
 
         let mut cells = Vec::new();
         let mut mids: HashMap<(usize, usize), usize> = HashMap::new();
@@ -181,26 +170,10 @@ impl Grid {
         let groups = ["bottom", "right", "top", "left"]
             .iter()
             .enumerate()
-            .map(|(k, name)| PhysicalGroup {
-                name: name.to_string(),
-                tag: k as i32 + 1,
-                dim: 1,
-            })
-            .chain(std::iter::once(PhysicalGroup {
-                name: "domain".into(),
-                tag: 5,
-                dim: 2,
-            }))
+            .map(|(k, name)| PhysicalGroup { name: name.to_string(), tag: k as i32 + 1, dim: 1 })
+            .chain(std::iter::once(PhysicalGroup { name: "domain".into(), tag: 5, dim: 2 }))
             .collect();
-        let mesh = Mesh {
-            order: self.order,
-            nodes,
-            cells,
-            cell_group: vec![4; num_cells],
-            edges,
-            edge_group,
-            groups,
-        };
+        let mesh = Mesh { order: self.order, nodes, cells, cell_group: vec![4; num_cells], edges, edge_group, groups };
         assert_positive_jacobians(&mesh);
         mesh
     }
@@ -212,11 +185,7 @@ fn assert_positive_jacobians(mesh: &Mesh) {
     let npc = mesh.order.nodes_per_cell();
     for c in 0..mesh.num_cells() {
         let x: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&k| mesh.nodes[k]).collect();
-        for &xi in rule
-            .points
-            .iter()
-            .chain(lagrange::reference_nodes(mesh.order))
-        {
+        for &xi in rule.points.iter().chain(lagrange::reference_nodes(mesh.order)) {
             let p = lagrange::map_cell_point(mesh.order, &x[..npc], xi);
             assert!(
                 p.det > 0.0,
@@ -233,11 +202,7 @@ fn assert_positive_jacobians(mesh: &Mesh) {
 // ---------------------------------------------------------------------------------------------
 
 fn steel(plane: PlaneModel) -> Material {
-    Material {
-        young: 200.0e9,
-        poisson: 0.3,
-        plane,
-    }
+    Material { young: 200.0e9, poisson: 0.3, plane }
 }
 
 fn to_dense(system: &LinearSystem) -> DMatrix<f64> {
@@ -256,12 +221,8 @@ fn solve(system: &LinearSystem) -> Vec<f64> {
     assert_eq!(system.matrix.first_row, 0);
     assert_eq!(system.matrix.num_rows(), system.matrix.num_cols);
     let a = to_dense(system);
-    let chol = a
-        .cholesky()
-        .expect("the constrained stiffness matrix must be SPD");
-    chol.solve(&DVector::from_column_slice(&system.rhs))
-        .as_slice()
-        .to_vec()
+    let chol = a.cholesky().expect("the constrained stiffness matrix must be SPD");
+    chol.solve(&DVector::from_column_slice(&system.rhs)).as_slice().to_vec()
 }
 
 /// Solve a full system by banded Cholesky, with the dofs ordered by node position (x, then y)
@@ -274,9 +235,7 @@ fn solve_banded(mesh: &Mesh, system: &LinearSystem) -> Vec<f64> {
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| {
         let (p, q) = (mesh.nodes[i / 2], mesh.nodes[j / 2]);
-        p[0].total_cmp(&q[0])
-            .then(p[1].total_cmp(&q[1]))
-            .then(i.cmp(&j))
+        p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])).then(i.cmp(&j))
     });
     let mut position = vec![0; n];
     for (k, &d) in order.iter().enumerate() {
@@ -310,10 +269,7 @@ fn solve_banded(mesh: &Mesh, system: &LinearSystem) -> Vec<f64> {
                 s -= l[at(i, k)] * l[at(j, k)];
             }
             l[at(i, j)] = if i == j {
-                assert!(
-                    s > 0.0,
-                    "banded Cholesky: matrix not positive definite at {i}"
-                );
+                assert!(s > 0.0, "banded Cholesky: matrix not positive definite at {i}");
                 s.sqrt()
             } else {
                 s / l[at(j, j)]
@@ -380,19 +336,10 @@ fn monomial_integral(a: u32, b: u32) -> f64 {
 fn triangle_rules_integrate_monomials_exactly() {
     for degree in 0..=10 {
         let rule = quadrature::triangle(degree);
+        assert!(rule.degree >= degree, "rule for degree {degree} claims only {}", rule.degree);
+        assert!(rule.weights.iter().all(|&w| w > 0.0), "degree {degree}: a weight is not positive");
         assert!(
-            rule.degree >= degree,
-            "rule for degree {degree} claims only {}",
-            rule.degree
-        );
-        assert!(
-            rule.weights.iter().all(|&w| w > 0.0),
-            "degree {degree}: a weight is not positive"
-        );
-        assert!(
-            rule.points
-                .iter()
-                .all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[0] + p[1] <= 1.0),
+            rule.points.iter().all(|p| p[0] >= 0.0 && p[1] >= 0.0 && p[0] + p[1] <= 1.0),
             "degree {degree}: a point lies outside the reference triangle"
         );
         for total in 0..=rule.degree as u32 {
@@ -405,10 +352,7 @@ fn triangle_rules_integrate_monomials_exactly() {
                     .map(|(p, w)| w * p[0].powi(a as i32) * p[1].powi(b as i32))
                     .sum();
                 let exact = monomial_integral(a, b);
-                assert!(
-                    (q - exact).abs() <= 1e-14 * exact,
-                    "degree {degree} rule: x^{a} y^{b}: {q} vs {exact}"
-                );
+                assert!((q - exact).abs() <= 1e-14 * exact, "degree {degree} rule: x^{a} y^{b}: {q} vs {exact}");
             }
         }
     }
@@ -428,10 +372,7 @@ fn triangle_rules_integrate_monomials_exactly() {
                 (q - monomial_integral(a, d - a)).abs()
             })
             .fold(0.0, f64::max);
-        assert!(
-            worst > 1e-6,
-            "degree {degree} rule is unexpectedly exact for degree {d}"
-        );
+        assert!(worst > 1e-6, "degree {degree} rule is unexpectedly exact for degree {d}");
     }
 }
 
@@ -444,18 +385,10 @@ fn gauss_legendre_integrates_monomials_exactly() {
         assert!(rule.weights.iter().all(|&w| w > 0.0));
         assert!(rule.points.windows(2).all(|p| p[0] < p[1]));
         for k in 0..=2 * n as i32 {
-            let q: f64 = rule
-                .points
-                .iter()
-                .zip(&rule.weights)
-                .map(|(x, w)| w * x.powi(k))
-                .sum();
+            let q: f64 = rule.points.iter().zip(&rule.weights).map(|(x, w)| w * x.powi(k)).sum();
             let exact = 1.0 / (k as f64 + 1.0);
             if k < 2 * n as i32 {
-                assert!(
-                    (q - exact).abs() <= 1e-15,
-                    "{n} points, x^{k}: {q} vs {exact}"
-                );
+                assert!((q - exact).abs() <= 1e-15, "{n} points, x^{k}: {q} vs {exact}");
             } else {
                 assert!((q - exact).abs() > 1e-12, "{n} points exact for x^{k}?");
             }
@@ -479,29 +412,19 @@ fn shape_functions_are_nodal_and_complete() {
         for (i, &xi) in nodes.iter().enumerate() {
             let v = lagrange::shape_values(order, xi);
             for j in 0..n {
-                assert!(
-                    (v[j] - if i == j { 1.0 } else { 0.0 }).abs() < 1e-15,
-                    "{order:?}: N{j} at node {i}"
-                );
+                assert!((v[j] - if i == j { 1.0 } else { 0.0 }).abs() < 1e-15, "{order:?}: N{j} at node {i}");
             }
         }
         let mut rng = Random(42);
         for _ in 0..20 {
             let (a, b) = (0.5 * (rng.next() + 1.0), 0.5 * (rng.next() + 1.0));
-            let xi = if a + b <= 1.0 {
-                [a, b]
-            } else {
-                [1.0 - a, 1.0 - b]
-            };
+            let xi = if a + b <= 1.0 { [a, b] } else { [1.0 - a, 1.0 - b] };
             let v = lagrange::shape_values(order, xi);
             let g = lagrange::shape_gradients(order, xi);
             assert!((v[..n].iter().sum::<f64>() - 1.0).abs() < 1e-15);
             // Reproduce ξ, η (and ξη, ξ² for P2) and compare gradients with finite differences.
             let fns: Vec<Box<dyn Fn([f64; 2]) -> f64>> = match order {
-                Order::P1 => vec![
-                    Box::new(|p: [f64; 2]| p[0]),
-                    Box::new(|p: [f64; 2]| 2.0 * p[1] - p[0] + 1.0),
-                ],
+                Order::P1 => vec![Box::new(|p: [f64; 2]| p[0]), Box::new(|p: [f64; 2]| 2.0 * p[1] - p[0] + 1.0)],
                 Order::P2 => vec![
                     Box::new(|p: [f64; 2]| p[0] * p[1]),
                     Box::new(|p: [f64; 2]| p[0] * p[0] - 3.0 * p[1] * p[1] + p[1]),
@@ -517,14 +440,8 @@ fn shape_functions_are_nodal_and_complete() {
                     let (mut p, mut m) = (xi, xi);
                     p[d] += eps;
                     m[d] -= eps;
-                    let fd = (lagrange::shape_values(order, p)[k]
-                        - lagrange::shape_values(order, m)[k])
-                        / (2.0 * eps);
-                    assert!(
-                        (fd - g[k][d]).abs() < 1e-8,
-                        "{order:?}: dN{k}/dξ{d}: {fd} vs {}",
-                        g[k][d]
-                    );
+                    let fd = (lagrange::shape_values(order, p)[k] - lagrange::shape_values(order, m)[k]) / (2.0 * eps);
+                    assert!((fd - g[k][d]).abs() < 1e-8, "{order:?}: dN{k}/dξ{d}: {fd} vs {}", g[k][d]);
                 }
             }
         }
@@ -533,14 +450,7 @@ fn shape_functions_are_nodal_and_complete() {
 
 /// A P2 triangle with vertices (0,0), (2,0), (0,1) whose edge 0-1 bulges outward by `delta`.
 fn curved_p2_triangle(delta: f64) -> Vec<[f64; 2]> {
-    vec![
-        [0.0, 0.0],
-        [2.0, 0.0],
-        [0.0, 1.0],
-        [1.0, -delta],
-        [1.0, 0.5],
-        [0.0, 0.5],
-    ]
+    vec![[0.0, 0.0], [2.0, 0.0], [0.0, 1.0], [1.0, -delta], [1.0, 0.5], [0.0, 0.5]]
 }
 
 #[test]
@@ -551,23 +461,15 @@ fn isoparametric_map_of_a_curved_triangle() {
     assert!(lagrange::is_affine(&curved_p2_triangle(0.0)));
     // Area: straight triangle + parabolic segment (2/3 · chord · sagitta); det J is quadratic.
     let rule = quadrature::triangle(2);
-    let area: f64 = rule
-        .points
-        .iter()
-        .zip(&rule.weights)
-        .map(|(&p, w)| w * lagrange::map_cell_point(Order::P2, &x, p).det)
-        .sum();
+    let area: f64 =
+        rule.points.iter().zip(&rule.weights).map(|(&p, w)| w * lagrange::map_cell_point(Order::P2, &x, p).det).sum();
     let exact = 1.0 + 2.0 / 3.0 * 2.0 * delta;
     assert!((area - exact).abs() < 1e-14, "area {area} vs {exact}");
     // The physical gradients of the coordinate functions are exact: Σ x_k ∇N_k = (1, 0).
     let mut rng = Random(7);
     for _ in 0..10 {
         let (a, b) = (0.5 * (rng.next() + 1.0), 0.5 * (rng.next() + 1.0));
-        let xi = if a + b <= 1.0 {
-            [a, b]
-        } else {
-            [1.0 - a, 1.0 - b]
-        };
+        let xi = if a + b <= 1.0 { [a, b] } else { [1.0 - a, 1.0 - b] };
         let p = lagrange::map_cell_point(Order::P2, &x, xi);
         let mut gx = [0.0; 2];
         let mut gy = [0.0; 2];
@@ -578,10 +480,7 @@ fn isoparametric_map_of_a_curved_triangle() {
             }
         }
         assert!(
-            (gx[0] - 1.0).abs() < 1e-14
-                && gx[1].abs() < 1e-14
-                && gy[0].abs() < 1e-14
-                && (gy[1] - 1.0).abs() < 1e-14
+            (gx[0] - 1.0).abs() < 1e-14 && gx[1].abs() < 1e-14 && gy[0].abs() < 1e-14 && (gy[1] - 1.0).abs() < 1e-14
         );
         let v = lagrange::shape_values(Order::P2, xi);
         assert_eq!(p.x, lagrange::map_point(&x, &v[..6]));
@@ -601,10 +500,7 @@ fn edge_maps_integrate_curved_edges() {
         n_ds[0] += w * p.length_element * p.normal[0];
         n_ds[1] += w * p.length_element * p.normal[1];
     }
-    assert!(
-        n_ds[0].abs() < 1e-15 && (n_ds[1] + l).abs() < 1e-15,
-        "∫ n ds = {n_ds:?}"
-    );
+    assert!(n_ds[0].abs() < 1e-15 && (n_ds[1] + l).abs() < 1e-15, "∫ n ds = {n_ds:?}");
     let k = 4.0 * delta;
     let exact_length = 0.5 * ((l * l + k * k).sqrt() + l * l / k * (k / l).asinh());
     let fine = quadrature::gauss_legendre(30);
@@ -614,10 +510,7 @@ fn edge_maps_integrate_curved_edges() {
         .zip(&fine.weights)
         .map(|(&t, &w)| w * lagrange::map_edge_point(&edge, t).length_element)
         .sum();
-    assert!(
-        (length - exact_length).abs() < 1e-13,
-        "{length} vs {exact_length}"
-    );
+    assert!((length - exact_length).abs() < 1e-13, "{length} vs {exact_length}");
     // Outward normal at the middle of the bulge points down (domain on the left of 0 -> 1).
     let mid = lagrange::map_edge_point(&edge, 0.5);
     assert!((mid.normal[0]).abs() < 1e-15 && (mid.normal[1] + 1.0).abs() < 1e-15);
@@ -640,18 +533,10 @@ fn hooke_law_plane_strain_and_plane_stress() {
     let stress = Material::new(e, nu, PlaneModel::Stress);
     let f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
     let cs = strain.elasticity();
-    let expect = [
-        [f * (1.0 - nu), f * nu, 0.0],
-        [f * nu, f * (1.0 - nu), 0.0],
-        [0.0, 0.0, f * (1.0 - 2.0 * nu) / 2.0],
-    ];
+    let expect = [[f * (1.0 - nu), f * nu, 0.0], [f * nu, f * (1.0 - nu), 0.0], [0.0, 0.0, f * (1.0 - 2.0 * nu) / 2.0]];
     let g = e / (1.0 - nu * nu);
     let cp = stress.elasticity();
-    let expect_p = [
-        [g, g * nu, 0.0],
-        [g * nu, g, 0.0],
-        [0.0, 0.0, g * (1.0 - nu) / 2.0],
-    ];
+    let expect_p = [[g, g * nu, 0.0], [g * nu, g, 0.0], [0.0, 0.0, g * (1.0 - nu) / 2.0]];
     for i in 0..3 {
         for j in 0..3 {
             assert!((cs[i][j] - expect[i][j]).abs() <= 1e-15 * f);
@@ -663,11 +548,7 @@ fn hooke_law_plane_strain_and_plane_stress() {
         for i in 0..3 {
             for j in 0..3 {
                 let p: f64 = (0..3).map(|k| c[i][k] * s[k][j]).sum();
-                assert!(
-                    (p - if i == j { 1.0 } else { 0.0 }).abs() < 1e-14,
-                    "C C^-1 != I for {:?}",
-                    m.plane
-                );
+                assert!((p - if i == j { 1.0 } else { 0.0 }).abs() < 1e-14, "C C^-1 != I for {:?}", m.plane);
             }
         }
         // w*(C e) = w(e) = ½ e·C e.
@@ -675,10 +556,8 @@ fn hooke_law_plane_strain_and_plane_stress() {
         let sig = m.stress(eps);
         let w = m.strain_energy_density(eps);
         assert!((m.complementary_energy_density(sig) - w).abs() < 1e-12 * w);
-        let half_s_cinv_s: f64 = 0.5
-            * (0..3)
-                .map(|i| (0..3).map(|j| sig[i] * s[i][j] * sig[j]).sum::<f64>())
-                .sum::<f64>();
+        let half_s_cinv_s: f64 =
+            0.5 * (0..3).map(|i| (0..3).map(|j| sig[i] * s[i][j] * sig[j]).sum::<f64>()).sum::<f64>();
         assert!((m.complementary_energy_density(sig) - half_s_cinv_s).abs() < 1e-12 * w);
     }
     // σzz and von Mises.
@@ -690,25 +569,20 @@ fn hooke_law_plane_strain_and_plane_stress() {
     // Plane strain, equibiaxial: σzz = 2νσ, σ_vm = |σ − σzz|.
     assert!((strain.von_mises([10.0, 10.0, 0.0]) - 10.0 * (1.0 - 2.0 * nu)).abs() < 1e-12);
     let szz = strain.sigma_zz(s);
-    let vm = (0.5 * ((s[0] - s[1]).powi(2) + (s[1] - szz).powi(2) + (szz - s[0]).powi(2))
-        + 3.0 * s[2] * s[2])
-        .sqrt();
+    let vm = (0.5 * ((s[0] - s[1]).powi(2) + (s[1] - szz).powi(2) + (szz - s[0]).powi(2)) + 3.0 * s[2] * s[2]).sqrt();
     assert!((strain.von_mises(s) - vm).abs() < 1e-12);
     // Complementary energy from SCIENCE.md §3, written out.
     let ws = (1.0 + nu) / (2.0 * e)
         * ((1.0 - nu) * (s[0] * s[0] + s[1] * s[1]) - 2.0 * nu * s[0] * s[1] + 2.0 * s[2] * s[2]);
     assert!((strain.complementary_energy_density(s) - ws).abs() < 1e-14 * ws);
-    let wp = (s[0] * s[0] + s[1] * s[1] - 2.0 * nu * s[0] * s[1] + 2.0 * (1.0 + nu) * s[2] * s[2])
-        / (2.0 * e);
+    let wp = (s[0] * s[0] + s[1] * s[1] - 2.0 * nu * s[0] * s[1] + 2.0 * (1.0 + nu) * s[2] * s[2]) / (2.0 * e);
     assert!((stress.complementary_energy_density(s) - wp).abs() < 1e-14 * wp);
 }
 
 #[test]
 fn material_check_rejects_bad_constants() {
     assert!(steel(PlaneModel::Strain).check().is_ok());
-    assert!(Material::new(1.0, -0.99, PlaneModel::Stress)
-        .check()
-        .is_ok());
+    assert!(Material::new(1.0, -0.99, PlaneModel::Stress).check().is_ok());
     for (e, nu, word) in [
         (0.0, 0.3, "Young"),
         (-1.0, 0.3, "Young"),
@@ -718,13 +592,8 @@ fn material_check_rejects_bad_constants() {
         (1.0, -1.0, "Poisson"),
         (1.0, f64::NAN, "Poisson"),
     ] {
-        let err = Material::new(e, nu, PlaneModel::Strain)
-            .check()
-            .expect_err("must be rejected");
-        assert!(
-            err.contains(word),
-            "message for E={e}, nu={nu} should mention {word}: {err}"
-        );
+        let err = Material::new(e, nu, PlaneModel::Strain).check().expect_err("must be rejected");
+        assert!(err.contains(word), "message for E={e}, nu={nu} should mention {word}: {err}");
     }
 }
 
@@ -737,39 +606,17 @@ fn check_element_stiffness(order: Order, x: &[[f64; 2]], what: &str) {
     let n = 2 * order.nodes_per_cell();
     let k = DMatrix::from_row_slice(n, n, &element_stiffness(order, x, &m));
     let scale = k.amax();
-    assert!(
-        (&k - k.transpose()).amax() <= 1e-14 * scale,
-        "{what}: not symmetric"
-    );
-    let mut eig: Vec<f64> = k
-        .clone()
-        .symmetric_eigen()
-        .eigenvalues
-        .iter()
-        .copied()
-        .collect();
+    assert!((&k - k.transpose()).amax() <= 1e-14 * scale, "{what}: not symmetric");
+    let mut eig: Vec<f64> = k.clone().symmetric_eigen().eigenvalues.iter().copied().collect();
     eig.sort_by(f64::total_cmp);
     let zero = 1e-10 * eig[n - 1];
     assert!(eig[0] > -zero, "{what}: negative eigenvalue {}", eig[0]);
-    assert!(
-        eig[..3].iter().all(|l| l.abs() < zero),
-        "{what}: eigenvalues {eig:?}"
-    );
-    assert!(
-        eig[3] > 1e-4 * eig[n - 1],
-        "{what}: more than 3 zero-energy modes: {eig:?}"
-    );
+    assert!(eig[..3].iter().all(|l| l.abs() < zero), "{what}: eigenvalues {eig:?}");
+    assert!(eig[3] > 1e-4 * eig[n - 1], "{what}: more than 3 zero-energy modes: {eig:?}");
     // The rigid motions are in the kernel.
     for r in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
-        let v = DVector::from_iterator(
-            n,
-            x.iter()
-                .flat_map(|p| [r[0] - r[2] * p[1], r[1] + r[2] * p[0]]),
-        );
-        assert!(
-            (&k * v).amax() < 1e-12 * scale,
-            "{what}: rigid motion {r:?} has energy"
-        );
+        let v = DVector::from_iterator(n, x.iter().flat_map(|p| [r[0] - r[2] * p[1], r[1] + r[2] * p[0]]));
+        assert!((&k * v).amax() < 1e-12 * scale, "{what}: rigid motion {r:?} has energy");
     }
 }
 
@@ -778,14 +625,7 @@ fn element_stiffness_is_symmetric_psd_with_three_rigid_modes() {
     check_element_stiffness(Order::P1, &[[0.1, 0.0], [1.3, 0.2], [0.4, 0.9]], "P1");
     let v = [[0.1, 0.0], [1.3, 0.2], [0.4, 0.9]];
     let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-    let straight = [
-        v[0],
-        v[1],
-        v[2],
-        mid(v[0], v[1]),
-        mid(v[1], v[2]),
-        mid(v[2], v[0]),
-    ];
+    let straight = [v[0], v[1], v[2], mid(v[0], v[1]), mid(v[1], v[2]), mid(v[2], v[0])];
     check_element_stiffness(Order::P2, &straight, "P2 straight");
     check_element_stiffness(Order::P2, &curved_p2_triangle(0.25), "P2 curved");
     // P1 against the closed form for the unit right triangle in plane stress, E = 1, ν = 0:
@@ -802,12 +642,7 @@ fn element_stiffness_is_symmetric_psd_with_three_rigid_modes() {
         0.0, -0.5, 0.0, 0.0, 0.0, 0.5,
     ];
     for i in 0..36 {
-        assert!(
-            (k[i] - expect[i]).abs() < 1e-15,
-            "entry {i}: {} vs {}",
-            k[i],
-            expect[i]
-        );
+        assert!((k[i] - expect[i]).abs() < 1e-15, "entry {i}: {} vs {}", k[i], expect[i]);
     }
 }
 
@@ -828,12 +663,7 @@ fn rigid_motion_check_names_the_free_motions() {
     let ndof = 2 * mesh.num_nodes();
     let none = Constraints::new(ndof);
     let msg = unconstrained_message(&mesh, &none);
-    for m in [
-        "translation in x",
-        "translation in y",
-        "rotation about z",
-        "3 rigid motions",
-    ] {
+    for m in ["translation in x", "translation in y", "rotation about z", "3 rigid motions"] {
         assert!(msg.contains(m), "{msg}");
     }
     // One x-fixed node: translation in y and a rotation remain.
@@ -841,9 +671,7 @@ fn rigid_motion_check_names_the_free_motions() {
     one.fix(0, 0.0);
     let msg = unconstrained_message(&mesh, &one);
     assert!(
-        msg.contains("translation in y")
-            && msg.contains("rotation about z")
-            && !msg.contains("translation in x"),
+        msg.contains("translation in y") && msg.contains("rotation about z") && !msg.contains("translation in x"),
         "{msg}"
     );
     assert!(msg.contains("2 rigid motions"), "{msg}");
@@ -854,9 +682,7 @@ fn rigid_motion_check_names_the_free_motions() {
     pin.fix(2 * node + 1, 0.0);
     let msg = unconstrained_message(&mesh, &pin);
     assert!(
-        msg.contains(
-            "1 rigid motion free: rotation about z (about the point (5.000000e-1, 2.500000e-1))"
-        ),
+        msg.contains("1 rigid motion free: rotation about z (about the point (5.000000e-1, 2.500000e-1))"),
         "{msg}"
     );
     // x fixed along the bottom, y at one bottom node: rotation about that node is still free.
@@ -865,10 +691,7 @@ fn rigid_motion_check_names_the_free_motions() {
     let node = 1; // (h, 0)
     rollers.fix(2 * node + 1, 0.0);
     let msg = unconstrained_message(&mesh, &rollers);
-    assert!(
-        msg.contains("rotation about z (about the point (2.500000e-1, 0.000000e0))"),
-        "{msg}"
-    );
+    assert!(msg.contains("rotation about z (about the point (2.500000e-1, 0.000000e0))"), "{msg}");
     // Rollers on two sides, or a clamped side: all blocked.
     let mut sym = Constraints::new(ndof);
     sym.fix_group(&mesh, BOTTOM, 1, |_| 0.0);
@@ -887,9 +710,7 @@ fn rigid_motion_check_names_the_free_motions() {
     line.fix_group(&far, BOTTOM, 1, |_| 0.0);
     let msg = unconstrained_message(&far, &line);
     assert!(
-        msg.contains("translation in x")
-            && !msg.contains("translation in y")
-            && !msg.contains("rotation"),
+        msg.contains("translation in x") && !msg.contains("translation in y") && !msg.contains("rotation"),
         "{msg}"
     );
 }
@@ -941,10 +762,7 @@ fn dense_stiffness(mesh: &Mesh, m: &Material) -> DMatrix<f64> {
 #[test]
 fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
     for (order, grid) in [(Order::P1, 4), (Order::P2, 3)] {
-        let mesh = Grid::new(grid, order)
-            .distorted(Distortion::Random(0.2))
-            .curved(0.1, 0.0)
-            .build();
+        let mesh = Grid::new(grid, order).distorted(Distortion::Random(0.2)).curved(0.1, 0.0).build();
         let m = steel(PlaneModel::Strain);
         let ndof = 2 * mesh.num_nodes();
         let mut c = Constraints::new(ndof);
@@ -954,10 +772,7 @@ fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
         let force = |x: [f64; 2]| [1e6 * x[1], -2e6];
         let loads = Loads {
             body_force: Some(&force),
-            edge_loads: vec![EdgeLoad {
-                group: TOP,
-                traction: Traction::Pressure(3e7),
-            }],
+            edge_loads: vec![EdgeLoad { group: TOP, traction: Traction::Pressure(3e7) }],
         };
         let system = assemble(&mesh, &m, &c, &loads, all_dofs(&mesh));
         let k = dense_stiffness(&mesh, &m);
@@ -973,10 +788,7 @@ fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
         assert_eq!((a.first_row, a.num_rows(), a.num_cols), (0, ndof, ndof));
         for i in 0..ndof {
             let (cols, vals) = a.row(i);
-            assert!(
-                cols.windows(2).all(|w| w[0] < w[1]),
-                "row {i}: columns not sorted"
-            );
+            assert!(cols.windows(2).all(|w| w[0] < w[1]), "row {i}: columns not sorted");
             match c.value(i) {
                 Some(g) => {
                     assert_eq!(cols, &[i]);
@@ -992,18 +804,11 @@ fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
                     expect.sort();
                     assert_eq!(cols, &expect[..], "row {i}: pattern");
                     for (&j, &v) in cols.iter().zip(vals) {
-                        assert!(
-                            (v - k[(i, j)]).abs() <= 1e-12 * k[(i, i)].abs(),
-                            "row {i} col {j}"
-                        );
+                        assert!((v - k[(i, j)]).abs() <= 1e-12 * k[(i, i)].abs(), "row {i} col {j}");
                     }
                     let lifted: f64 = c.fixed().map(|(j, g)| k[(i, j)] * g).sum();
                     let expect_rhs = f[i] - lifted;
-                    assert!(
-                        (system.rhs[i] - expect_rhs).abs()
-                            <= 1e-10 * (f[i].abs() + lifted.abs() + 1.0),
-                        "rhs {i}"
-                    );
+                    assert!((system.rhs[i] - expect_rhs).abs() <= 1e-10 * (f[i].abs() + lifted.abs() + 1.0), "rhs {i}");
                 }
             }
         }
@@ -1017,10 +822,7 @@ fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
         let ku = &k * DVector::from_column_slice(&u);
         let r = residual_forces(&mesh, &m, &u);
         for i in 0..ndof {
-            assert!(
-                (r[i] - ku[i]).abs() <= 1e-12 * k.amax() * 10.0,
-                "K u at {i}"
-            );
+            assert!((r[i] - ku[i]).abs() <= 1e-12 * k.amax() * 10.0, "K u at {i}");
         }
     }
 }
@@ -1028,9 +830,7 @@ fn assembly_eliminates_dirichlet_symmetrically_with_an_exact_pattern() {
 #[test]
 fn row_blocks_match_the_full_assembly() {
     for order in [Order::P1, Order::P2] {
-        let mesh = Grid::new(4, order)
-            .distorted(Distortion::Random(0.2))
-            .build();
+        let mesh = Grid::new(4, order).distorted(Distortion::Random(0.2)).build();
         let m = steel(PlaneModel::Stress);
         let ndof = 2 * mesh.num_nodes();
         let mut c = dirichlet(&mesh, &[LEFT], &|x| [0.0, 1e-3 * x[1]]);
@@ -1040,14 +840,8 @@ fn row_blocks_match_the_full_assembly() {
         let loads = Loads {
             body_force: Some(&force),
             edge_loads: vec![
-                EdgeLoad {
-                    group: RIGHT,
-                    traction: Traction::Constant([1e5, -3e4]),
-                },
-                EdgeLoad {
-                    group: TOP,
-                    traction: Traction::Field(&field),
-                },
+                EdgeLoad { group: RIGHT, traction: Traction::Constant([1e5, -3e4]) },
+                EdgeLoad { group: TOP, traction: Traction::Field(&field) },
             ],
         };
         let full = assemble(&mesh, &m, &c, &loads, 0..ndof);
@@ -1077,23 +871,14 @@ fn row_blocks_match_the_full_assembly() {
 
 #[test]
 fn load_vector_resultants() {
-    let mesh = Grid::new(5, Order::P2)
-        .distorted(Distortion::Random(0.2))
-        .curved(0.06, 0.1)
-        .build();
+    let mesh = Grid::new(5, Order::P2).distorted(Distortion::Random(0.2)).curved(0.06, 0.1).build();
     let force = |_: [f64; 2]| [2.0, -3.0];
     let p = 7.0;
     let loads = Loads {
         body_force: Some(&force),
         edge_loads: vec![
-            EdgeLoad {
-                group: BOTTOM,
-                traction: Traction::Pressure(p),
-            },
-            EdgeLoad {
-                group: LEFT,
-                traction: Traction::Constant([0.5, 0.25]),
-            },
+            EdgeLoad { group: BOTTOM, traction: Traction::Pressure(p) },
+            EdgeLoad { group: LEFT, traction: Traction::Constant([0.5, 0.25]) },
         ],
     };
     let f = load_vector(&mesh, &loads);
@@ -1111,14 +896,8 @@ fn load_vector_resultants() {
     // Pressure on the bottom (n = (0, −1)): t = (0, p); constant traction on the left (length 1).
     let ex = 2.0 * area + 0.5;
     let ey = -3.0 * area + p + 0.25;
-    assert!(
-        (fx - ex).abs() < 1e-13 && (fy - ey).abs() < 1e-13,
-        "({fx}, {fy}) vs ({ex}, {ey})"
-    );
-    assert!(
-        (area - 1.0).abs() > 1e-4,
-        "the curved boundary should change the area"
-    );
+    assert!((fx - ex).abs() < 1e-13 && (fy - ey).abs() < 1e-13, "({fx}, {fy}) vs ({ex}, {ey})");
+    assert!((area - 1.0).abs() > 1e-4, "the curved boundary should change the area");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1127,51 +906,23 @@ fn load_vector_resultants() {
 
 /// The linear field of the patch tests (uniform strain) and its stress.
 fn linear_field(x: [f64; 2]) -> [f64; 2] {
-    [
-        1e-3 + 2e-3 * x[0] - 1e-3 * x[1],
-        -5e-4 + 7e-4 * x[0] + 1.5e-3 * x[1],
-    ]
+    [1e-3 + 2e-3 * x[0] - 1e-3 * x[1], -5e-4 + 7e-4 * x[0] + 1.5e-3 * x[1]]
 }
 const LINEAR_STRAIN: [f64; 3] = [2e-3, 1.5e-3, -1e-3 + 7e-4];
 
 fn patch_meshes() -> Vec<(&'static str, Mesh)> {
     vec![
-        (
-            "P1 distorted",
-            Grid::new(5, Order::P1)
-                .distorted(Distortion::Random(0.2))
-                .build(),
-        ),
-        (
-            "P2 distorted",
-            Grid::new(4, Order::P2)
-                .distorted(Distortion::Random(0.2))
-                .build(),
-        ),
-        (
-            "P2 curved",
-            Grid::new(4, Order::P2)
-                .distorted(Distortion::Random(0.2))
-                .curved(0.06, 0.1)
-                .build(),
-        ),
+        ("P1 distorted", Grid::new(5, Order::P1).distorted(Distortion::Random(0.2)).build()),
+        ("P2 distorted", Grid::new(4, Order::P2).distorted(Distortion::Random(0.2)).build()),
+        ("P2 curved", Grid::new(4, Order::P2).distorted(Distortion::Random(0.2)).curved(0.06, 0.1).build()),
     ]
 }
 
 fn assert_uniform_stress(what: &str, mesh: &Mesh, m: &Material, u: &[f64], s: [f64; 3]) {
     let scale = s.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    for (k, cs) in cell_stress(mesh, m, u)
-        .iter()
-        .chain(nodal_stress(mesh, m, u).iter())
-        .enumerate()
-    {
+    for (k, cs) in cell_stress(mesh, m, u).iter().chain(nodal_stress(mesh, m, u).iter()).enumerate() {
         for i in 0..3 {
-            assert!(
-                (cs[i] - s[i]).abs() < 1e-9 * scale,
-                "{what}: stress {k} component {i}: {} vs {}",
-                cs[i],
-                s[i]
-            );
+            assert!((cs[i] - s[i]).abs() < 1e-9 * scale, "{what}: stress {k} component {i}: {} vs {}", cs[i], s[i]);
         }
     }
 }
@@ -1193,12 +944,8 @@ fn patch_test_dirichlet_all_around() {
             // Reactions balance: the sum of (K u − f) over all dofs is zero (no loads).
             let r = residual_forces(&mesh, &m, &u);
             let scale = r.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let (rx, ry): (f64, f64) =
-                (r.iter().step_by(2).sum(), r.iter().skip(1).step_by(2).sum());
-            assert!(
-                rx.abs() < 1e-10 * scale && ry.abs() < 1e-10 * scale,
-                "{what}: reactions ({rx}, {ry})"
-            );
+            let (rx, ry): (f64, f64) = (r.iter().step_by(2).sum(), r.iter().skip(1).step_by(2).sum());
+            assert!(rx.abs() < 1e-10 * scale && ry.abs() < 1e-10 * scale, "{what}: reactions ({rx}, {ry})");
         }
     }
 }
@@ -1207,26 +954,15 @@ fn patch_test_dirichlet_all_around() {
 fn patch_test_with_tractions() {
     let m = steel(PlaneModel::Strain);
     let s = m.stress(LINEAR_STRAIN);
-    let sigma_n =
-        move |_x: [f64; 2], n: [f64; 2]| [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]];
+    let sigma_n = move |_x: [f64; 2], n: [f64; 2]| [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]];
     for (what, mesh) in patch_meshes() {
         // Right (straight): constant traction σ (1, 0); top (curved for "P2 curved"): σ n.
-        let right = if what == "P2 curved" {
-            Traction::Field(&sigma_n)
-        } else {
-            Traction::Constant([s[0], s[2]])
-        };
+        let right = if what == "P2 curved" { Traction::Field(&sigma_n) } else { Traction::Constant([s[0], s[2]]) };
         let loads = Loads {
             body_force: None,
             edge_loads: vec![
-                EdgeLoad {
-                    group: RIGHT,
-                    traction: right,
-                },
-                EdgeLoad {
-                    group: TOP,
-                    traction: Traction::Field(&sigma_n),
-                },
+                EdgeLoad { group: RIGHT, traction: right },
+                EdgeLoad { group: TOP, traction: Traction::Field(&sigma_n) },
             ],
         };
         let c = dirichlet(&mesh, &[BOTTOM, LEFT], &linear_field);
@@ -1238,26 +974,15 @@ fn patch_test_with_tractions() {
         // Reactions on the fixed dofs balance the applied tractions.
         let r = residual_forces(&mesh, &m, &u);
         let f = load_vector(&mesh, &loads);
-        let total: [f64; 2] = [
-            (0..r.len()).step_by(2).map(|i| r[i] - f[i]).sum(),
-            (1..r.len()).step_by(2).map(|i| r[i] - f[i]).sum(),
-        ];
+        let total: [f64; 2] =
+            [(0..r.len()).step_by(2).map(|i| r[i] - f[i]).sum(), (1..r.len()).step_by(2).map(|i| r[i] - f[i]).sum()];
         let reactions: [f64; 2] = [
-            c.fixed()
-                .filter(|(d, _)| d % 2 == 0)
-                .map(|(d, _)| r[d] - f[d])
-                .sum(),
-            c.fixed()
-                .filter(|(d, _)| d % 2 == 1)
-                .map(|(d, _)| r[d] - f[d])
-                .sum(),
+            c.fixed().filter(|(d, _)| d % 2 == 0).map(|(d, _)| r[d] - f[d]).sum(),
+            c.fixed().filter(|(d, _)| d % 2 == 1).map(|(d, _)| r[d] - f[d]).sum(),
         ];
         let applied: [f64; 2] = [f.iter().step_by(2).sum(), f.iter().skip(1).step_by(2).sum()];
         for k in 0..2 {
-            assert!(
-                (reactions[k] + applied[k]).abs() < 1e-9 * applied[k].abs().max(1.0),
-                "{what}: equilibrium {k}"
-            );
+            assert!((reactions[k] + applied[k]).abs() < 1e-9 * applied[k].abs().max(1.0), "{what}: equilibrium {k}");
             assert!(
                 (total[k] - reactions[k]).abs() < 1e-9 * applied[k].abs().max(1.0),
                 "{what}: free dofs not in equilibrium"
@@ -1282,14 +1007,8 @@ fn patch_test_with_pressure() {
             let loads = Loads {
                 body_force: None,
                 edge_loads: vec![
-                    EdgeLoad {
-                        group: RIGHT,
-                        traction: Traction::Pressure(p),
-                    },
-                    EdgeLoad {
-                        group: TOP,
-                        traction: Traction::Pressure(p),
-                    },
+                    EdgeLoad { group: RIGHT, traction: Traction::Pressure(p) },
+                    EdgeLoad { group: TOP, traction: Traction::Pressure(p) },
                 ],
             };
             let u = solve(&assemble(&mesh, &m, &c, &loads, all_dofs(&mesh)));
@@ -1313,28 +1032,18 @@ fn p2_reproduces_a_quadratic_field_with_its_body_force() {
     };
     let (uxx, uxy, uyy) = (2e-3, -1e-3, 4e-3); // second derivatives of u_x
     let (vxx, vxy, vyy) = (-6e-3, 4e-3, 2e-3); // of u_y
-    let f = [
-        -(c11 * uxx + c12 * vxy + c33 * (uyy + vxy)),
-        -(c33 * (uxy + vxx) + c12 * uxy + c11 * vyy),
-    ];
+    let f = [-(c11 * uxx + c12 * vxy + c33 * (uyy + vxy)), -(c33 * (uxy + vxx) + c12 * uxy + c11 * vyy)];
     let force = move |_: [f64; 2]| f;
-    let mesh = Grid::new(4, Order::P2)
-        .distorted(Distortion::Random(0.2))
-        .build();
+    let mesh = Grid::new(4, Order::P2).distorted(Distortion::Random(0.2)).build();
     let c = dirichlet(&mesh, &[BOTTOM, RIGHT, TOP, LEFT], &exact);
-    let loads = Loads {
-        body_force: Some(&force),
-        edge_loads: vec![],
-    };
+    let loads = Loads { body_force: Some(&force), edge_loads: vec![] };
     let u = solve(&assemble(&mesh, &m, &c, &loads, all_dofs(&mesh)));
     let err = nodal_error(&mesh, &u, &exact);
     assert!(err < 1e-12, "nodal error {err:e}");
     let l2 = l2_error(&mesh, &u, exact);
     assert!(l2 < 1e-14, "L2 error {l2:e}");
     // P1 cannot: the same problem has a visible error.
-    let mesh1 = Grid::new(4, Order::P1)
-        .distorted(Distortion::Random(0.2))
-        .build();
+    let mesh1 = Grid::new(4, Order::P1).distorted(Distortion::Random(0.2)).build();
     let c1 = dirichlet(&mesh1, &[BOTTOM, RIGHT, TOP, LEFT], &exact);
     let u1 = solve(&assemble(&mesh1, &m, &c1, &loads, all_dofs(&mesh1)));
     assert!(l2_error(&mesh1, &u1, exact) > 1e-7);
@@ -1346,47 +1055,28 @@ fn p2_reproduces_a_quadratic_field_with_its_body_force() {
 
 fn manufactured(x: [f64; 2]) -> [f64; 2] {
     let (sx, sy) = ((PI * x[0]).sin(), (PI * x[1]).sin());
-    [
-        sx * sy + 0.2 * x[0] * x[1],
-        x[0] * x[0] * x[1] * (1.0 - x[1]) + 0.1 * sy,
-    ]
+    [sx * sy + 0.2 * x[0] * x[1], x[0] * x[0] * x[1] * (1.0 - x[1]) + 0.1 * sy]
 }
 
 fn manufactured_gradient(x: [f64; 2]) -> [[f64; 2]; 2] {
-    let (sx, sy, cx, cy) = (
-        (PI * x[0]).sin(),
-        (PI * x[1]).sin(),
-        (PI * x[0]).cos(),
-        (PI * x[1]).cos(),
-    );
+    let (sx, sy, cx, cy) = ((PI * x[0]).sin(), (PI * x[1]).sin(), (PI * x[0]).cos(), (PI * x[1]).cos());
     [
         [PI * cx * sy + 0.2 * x[1], PI * sx * cy + 0.2 * x[0]],
-        [
-            2.0 * x[0] * x[1] * (1.0 - x[1]),
-            x[0] * x[0] * (1.0 - 2.0 * x[1]) + 0.1 * PI * cy,
-        ],
+        [2.0 * x[0] * x[1] * (1.0 - x[1]), x[0] * x[0] * (1.0 - 2.0 * x[1]) + 0.1 * PI * cy],
     ]
 }
 
 /// −div σ(u) for the manufactured u.
 fn manufactured_force(m: &Material, x: [f64; 2]) -> [f64; 2] {
     let [[c11, c12, _], _, [_, _, c33]] = m.elasticity();
-    let (sx, sy, cx, cy) = (
-        (PI * x[0]).sin(),
-        (PI * x[1]).sin(),
-        (PI * x[0]).cos(),
-        (PI * x[1]).cos(),
-    );
+    let (sx, sy, cx, cy) = ((PI * x[0]).sin(), (PI * x[1]).sin(), (PI * x[0]).cos(), (PI * x[1]).cos());
     let uxx = -PI * PI * sx * sy;
     let uyy = -PI * PI * sx * sy;
     let uxy = PI * PI * cx * cy + 0.2;
     let vxx = 2.0 * x[1] * (1.0 - x[1]);
     let vyy = -2.0 * x[0] * x[0] - 0.1 * PI * PI * sy;
     let vxy = 2.0 * x[0] * (1.0 - 2.0 * x[1]);
-    [
-        -(c11 * uxx + c12 * vxy + c33 * (uyy + vxy)),
-        -(c33 * (uxy + vxx) + c12 * uxy + c11 * vyy),
-    ]
+    [-(c11 * uxx + c12 * vxy + c33 * (uyy + vxy)), -(c33 * (uxy + vxx) + c12 * uxy + c11 * vyy)]
 }
 
 fn manufactured_stress(m: &Material, x: [f64; 2]) -> [f64; 3] {
@@ -1404,31 +1094,20 @@ fn convergence(order: Order, sizes: &[usize], m: &Material, neumann: bool) -> Ve
     sizes
         .iter()
         .map(|&n| {
-            let mesh = Grid::new(n, order)
-                .distorted(Distortion::Smooth(0.04))
-                .build();
+            let mesh = Grid::new(n, order).distorted(Distortion::Smooth(0.04)).build();
             let (groups, edge_loads): (&[usize], _) = if neumann {
                 (
                     &[BOTTOM, LEFT],
                     vec![
-                        EdgeLoad {
-                            group: RIGHT,
-                            traction: Traction::Field(&traction),
-                        },
-                        EdgeLoad {
-                            group: TOP,
-                            traction: Traction::Field(&traction),
-                        },
+                        EdgeLoad { group: RIGHT, traction: Traction::Field(&traction) },
+                        EdgeLoad { group: TOP, traction: Traction::Field(&traction) },
                     ],
                 )
             } else {
                 (&[BOTTOM, RIGHT, TOP, LEFT], vec![])
             };
             let c = dirichlet(&mesh, groups, &manufactured);
-            let loads = Loads {
-                body_force: Some(&force),
-                edge_loads,
-            };
+            let loads = Loads { body_force: Some(&force), edge_loads };
             let u = solve_banded(&mesh, &assemble(&mesh, m, &c, &loads, all_dofs(&mesh)));
             let e = energy_error(&mesh, m, &u, manufactured_gradient);
             let l2 = l2_error(&mesh, &u, manufactured);
@@ -1448,14 +1127,8 @@ fn assert_rates(what: &str, results: &[(f64, f64, f64)], energy_rate: f64, l2_ra
     eprintln!("{what}: errors {results:?}, rates {rates:?}");
     // The last two refinements must show the asymptotic rates.
     for &(re, rl) in &rates[rates.len().saturating_sub(2)..] {
-        assert!(
-            re >= energy_rate,
-            "{what}: energy rate {re:.3} < {energy_rate} ({rates:?})"
-        );
-        assert!(
-            rl >= l2_rate,
-            "{what}: L2 rate {rl:.3} < {l2_rate} ({rates:?})"
-        );
+        assert!(re >= energy_rate, "{what}: energy rate {re:.3} < {energy_rate} ({rates:?})");
+        assert!(rl >= l2_rate, "{what}: L2 rate {rl:.3} < {l2_rate} ({rates:?})");
     }
 }
 
@@ -1490,17 +1163,12 @@ fn convergence_rates_with_traction_field() {
 fn banded_solver_agrees_with_dense_cholesky() {
     for order in [Order::P1, Order::P2] {
         let m = steel(PlaneModel::Strain);
-        let mesh = Grid::new(6, order)
-            .distorted(Distortion::Random(0.2))
-            .build();
+        let mesh = Grid::new(6, order).distorted(Distortion::Random(0.2)).build();
         let c = dirichlet(&mesh, &[LEFT, BOTTOM], &manufactured);
         let force = |x: [f64; 2]| manufactured_force(&m, x);
         let loads = Loads {
             body_force: Some(&force),
-            edge_loads: vec![EdgeLoad {
-                group: TOP,
-                traction: Traction::Pressure(1e8),
-            }],
+            edge_loads: vec![EdgeLoad { group: TOP, traction: Traction::Pressure(1e8) }],
         };
         let system = assemble(&mesh, &m, &c, &loads, all_dofs(&mesh));
         let (dense, banded) = (solve(&system), solve_banded(&mesh, &system));
@@ -1514,22 +1182,14 @@ fn banded_solver_agrees_with_dense_cholesky() {
 #[test]
 fn energy_norm_is_the_stiffness_energy() {
     for order in [Order::P1, Order::P2] {
-        let mesh = Grid::new(3, order)
-            .distorted(Distortion::Random(0.2))
-            .build();
+        let mesh = Grid::new(3, order).distorted(Distortion::Random(0.2)).build();
         let m = steel(PlaneModel::Stress);
         let mut rng = Random(11);
-        let u: Vec<f64> = (0..2 * mesh.num_nodes())
-            .map(|_| 1e-3 * rng.next())
-            .collect();
+        let u: Vec<f64> = (0..2 * mesh.num_nodes()).map(|_| 1e-3 * rng.next()).collect();
         let ku = residual_forces(&mesh, &m, &u);
         let utku: f64 = u.iter().zip(&ku).map(|(a, b)| a * b).sum();
         let e = energy_norm(&mesh, &m, &u);
-        assert!(
-            (e * e - utku).abs() < 1e-12 * utku,
-            "{order:?}: {} vs {utku}",
-            e * e
-        );
+        assert!((e * e - utku).abs() < 1e-12 * utku, "{order:?}: {} vs {utku}", e * e);
         assert!((energy_error(&mesh, &m, &u, |_| [[0.0; 2]; 2]) - e).abs() < 1e-12 * e);
         assert!((l2_error(&mesh, &u, |_| [0.0, 0.0]) > 0.0));
     }

@@ -25,29 +25,14 @@ fn scratch_dir(test: &str) -> PathBuf {
 }
 
 fn dir_entries(dir: &Path) -> BTreeSet<String> {
-    fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect()
+    fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect()
 }
 
 fn groups() -> Vec<PhysicalGroup> {
     vec![
-        PhysicalGroup {
-            name: "body".into(),
-            tag: 7,
-            dim: 2,
-        },
-        PhysicalGroup {
-            name: "bottom".into(),
-            tag: 3,
-            dim: 1,
-        },
-        PhysicalGroup {
-            name: "top".into(),
-            tag: 11,
-            dim: 1,
-        },
+        PhysicalGroup { name: "body".into(), tag: 7, dim: 2 },
+        PhysicalGroup { name: "bottom".into(), tag: 3, dim: 1 },
+        PhysicalGroup { name: "top".into(), tag: 11, dim: 1 },
     ]
 }
 
@@ -62,12 +47,7 @@ fn groups() -> Vec<PhysicalGroup> {
 fn p1_mesh() -> Mesh {
     Mesh {
         order: Order::P1,
-        nodes: vec![
-            [0.0, -0.0],
-            [1.0 / 3.0, 1e-300],
-            [0.1 + 0.2, 2.0f64.sqrt()],
-            [-7.25e-8, 1.0],
-        ],
+        nodes: vec![[0.0, -0.0], [1.0 / 3.0, 1e-300], [0.1 + 0.2, 2.0f64.sqrt()], [-7.25e-8, 1.0]],
         cells: vec![0, 1, 3, 1, 2, 3],
         cell_group: vec![0, NO_GROUP],
         edges: vec![0, 1, 2, 3, 3, 0],
@@ -87,12 +67,7 @@ fn p1_mesh() -> Mesh {
 /// ```
 fn p2_mesh() -> Mesh {
     let v = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-    let mid = |a: usize, b: usize| {
-        [
-            (v[a][0] + v[b][0]) / 2.0,
-            (v[a][1] + v[b][1]) / 2.0 + 1e-3 * a as f64,
-        ]
-    };
+    let mid = |a: usize, b: usize| [(v[a][0] + v[b][0]) / 2.0, (v[a][1] + v[b][1]) / 2.0 + 1e-3 * a as f64];
     let mut nodes = v.to_vec();
     nodes.extend([mid(0, 1), mid(1, 2), mid(1, 3), mid(2, 3), mid(3, 0)]);
     Mesh {
@@ -165,16 +140,11 @@ except BaseException as e:
         file.display(),
         out.status.code()
     );
-    serde_json::from_str(&stdout)
-        .unwrap_or_else(|e| panic!("bad JSON from the meshio script ({e}): {stdout}"))
+    serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("bad JSON from the meshio script ({e}): {stdout}"))
 }
 
 fn as_u64s(v: &Value) -> Vec<u64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_u64().unwrap())
-        .collect()
+    v.as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect()
 }
 
 fn bits_of(values: &[f64]) -> Vec<u64> {
@@ -197,18 +167,10 @@ fn expected_blocks(mesh: &Mesh, with_edges: bool) -> (Vec<Block>, Vec<i32>) {
             mesh.groups[g].tag
         }
     };
-    let mut blocks = vec![(
-        tri,
-        mesh.order.nodes_per_cell(),
-        mesh.cells.iter().map(|&n| n as u64).collect(),
-    )];
+    let mut blocks = vec![(tri, mesh.order.nodes_per_cell(), mesh.cells.iter().map(|&n| n as u64).collect())];
     let mut tags: Vec<i32> = mesh.cell_group.iter().map(|&g| tag(g)).collect();
     if with_edges {
-        blocks.push((
-            line,
-            mesh.order.nodes_per_edge(),
-            mesh.edges.iter().map(|&n| n as u64).collect(),
-        ));
+        blocks.push((line, mesh.order.nodes_per_edge(), mesh.edges.iter().map(|&n| n as u64).collect()));
         tags.extend(mesh.edge_group.iter().map(|&g| tag(g)));
     }
     (blocks, tags)
@@ -229,45 +191,22 @@ fn round_trip(mesh: &Mesh, with_edges: bool, test: &str) {
         &file,
         mesh,
         &[
-            Field {
-                name: "displacement",
-                components: 3,
-                values: &displacement,
-            },
-            Field {
-                name: "temperature",
-                components: 1,
-                values: &temperature,
-            },
+            Field { name: "displacement", components: 3, values: &displacement },
+            Field { name: "temperature", components: 1, values: &temperature },
         ],
         &[
-            Field {
-                name: "stress",
-                components: 3,
-                values: &stress,
-            },
-            Field {
-                name: weird_name,
-                components: 1,
-                values: &von_mises,
-            },
+            Field { name: "stress", components: 3, values: &stress },
+            Field { name: weird_name, components: 1, values: &von_mises },
         ],
         with_edges,
     )
     .unwrap();
-    assert_eq!(
-        dir_entries(&dir),
-        BTreeSet::from(["result.vtu".to_string()]),
-        "temporary left behind"
-    );
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["result.vtu".to_string()]), "temporary left behind");
 
     let m = read_with_meshio(&file);
 
     // Points: (x, y, 0), bit for bit (including -0.0 and 1e-300).
-    assert_eq!(
-        as_u64s(&m["points_shape"]),
-        vec![mesh.num_nodes() as u64, 3]
-    );
+    assert_eq!(as_u64s(&m["points_shape"]), vec![mesh.num_nodes() as u64, 3]);
     let expected_points: Vec<f64> = mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
     assert_eq!(as_u64s(&m["points"]), bits_of(&expected_points));
 
@@ -277,51 +216,28 @@ fn round_trip(mesh: &Mesh, with_edges: bool, test: &str) {
     assert_eq!(cells.len(), blocks.len(), "cell blocks: {cells:?}");
     for (got, (ty, per, data)) in cells.iter().zip(&blocks) {
         assert_eq!(got["type"], *ty);
-        assert_eq!(
-            as_u64s(&got["shape"]),
-            vec![(data.len() / per) as u64, *per as u64]
-        );
+        assert_eq!(as_u64s(&got["shape"]), vec![(data.len() / per) as u64, *per as u64]);
         assert_eq!(&as_u64s(&got["data"]), data, "{ty} connectivity");
     }
 
     // Point data.
     let pd = m["point_data"].as_object().unwrap();
-    assert_eq!(
-        pd.len(),
-        2,
-        "point data: {:?}",
-        pd.keys().collect::<Vec<_>>()
-    );
-    assert_eq!(
-        as_u64s(&pd["displacement"]["shape"]),
-        vec![mesh.num_nodes() as u64, 3]
-    );
+    assert_eq!(pd.len(), 2, "point data: {:?}", pd.keys().collect::<Vec<_>>());
+    assert_eq!(as_u64s(&pd["displacement"]["shape"]), vec![mesh.num_nodes() as u64, 3]);
     assert_eq!(as_u64s(&pd["displacement"]["bits"]), bits_of(&displacement));
-    assert_eq!(
-        as_u64s(&pd["temperature"]["shape"]),
-        vec![mesh.num_nodes() as u64]
-    );
+    assert_eq!(as_u64s(&pd["temperature"]["shape"]), vec![mesh.num_nodes() as u64]);
     assert_eq!(as_u64s(&pd["temperature"]["bits"]), bits_of(&temperature));
 
     // Cell data: split by meshio into the triangle block and the edge block.
     let cd = m["cell_data"].as_object().unwrap();
-    assert_eq!(
-        cd.len(),
-        3,
-        "cell data: {:?}",
-        cd.keys().collect::<Vec<_>>()
-    );
+    assert_eq!(cd.len(), 3, "cell data: {:?}", cd.keys().collect::<Vec<_>>());
     let joined = |name: &str, components: usize| -> Vec<u64> {
         let per_block = cd[name].as_array().unwrap();
         assert_eq!(per_block.len(), blocks.len(), "{name} blocks");
         let mut all = Vec::new();
         for (b, (_, per, data)) in per_block.iter().zip(&blocks) {
             let n = (data.len() / per) as u64;
-            let shape = if components == 1 {
-                vec![n]
-            } else {
-                vec![n, components as u64]
-            };
+            let shape = if components == 1 { vec![n] } else { vec![n, components as u64] };
             assert_eq!(as_u64s(&b["shape"]), shape, "{name} shape");
             all.extend(as_u64s(&b["bits"]));
         }
@@ -369,14 +285,7 @@ fn vtu_of_a_larger_mesh_reads_back_in_meshio() {
     let mut cells = Vec::new();
     for j in 0..ny {
         for i in 0..nx {
-            cells.extend([
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j),
-                id(i + 1, j + 1),
-                id(i, j + 1),
-            ]);
+            cells.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
     let mut edges = Vec::new();
@@ -410,18 +319,8 @@ fn field_length_mismatch_names_the_field_and_writes_nothing() {
     let ok = vec![0.0; 12];
     let short = vec![0.0; 11];
 
-    let err = write_vtu(
-        &file,
-        &mesh,
-        &[Field {
-            name: "displacement",
-            components: 3,
-            values: &short,
-        }],
-        &[],
-        true,
-    )
-    .unwrap_err();
+    let err = write_vtu(&file, &mesh, &[Field { name: "displacement", components: 3, values: &short }], &[], true)
+        .unwrap_err();
     let (path, message) = output_message(err);
     assert_eq!(path, file);
     assert!(message.contains("point field 'displacement'"), "{message}");
@@ -433,96 +332,32 @@ fn field_length_mismatch_names_the_field_and_writes_nothing() {
     let err = write_vtu(
         &file,
         &mesh,
-        &[Field {
-            name: "u",
-            components: 3,
-            values: &ok,
-        }],
-        &[Field {
-            name: "gap",
-            components: 1,
-            values: &two,
-        }],
+        &[Field { name: "u", components: 3, values: &ok }],
+        &[Field { name: "gap", components: 1, values: &two }],
         true,
     )
     .unwrap_err();
     let (_, message) = output_message(err);
-    assert!(
-        message.contains("cell field 'gap'") && message.contains("2 values, expected 5"),
-        "{message}"
-    );
-    assert!(
-        message.contains("2 triangles + 3 boundary edges"),
-        "{message}"
-    );
-    let err = write_vtu(
-        &file,
-        &mesh,
-        &[],
-        &[Field {
-            name: "gap",
-            components: 1,
-            values: &five,
-        }],
-        false,
-    )
-    .unwrap_err();
+    assert!(message.contains("cell field 'gap'") && message.contains("2 values, expected 5"), "{message}");
+    assert!(message.contains("2 triangles + 3 boundary edges"), "{message}");
+    let err = write_vtu(&file, &mesh, &[], &[Field { name: "gap", components: 1, values: &five }], false).unwrap_err();
     let (_, message) = output_message(err);
-    assert!(
-        message.contains("cell field 'gap'") && message.contains("5 values, expected 2"),
-        "{message}"
-    );
+    assert!(message.contains("cell field 'gap'") && message.contains("5 values, expected 2"), "{message}");
 
-    let err = write_vtu(
-        &file,
-        &mesh,
-        &[],
-        &[Field {
-            name: "part_id",
-            components: 1,
-            values: &five,
-        }],
-        true,
-    )
-    .unwrap_err();
+    let err =
+        write_vtu(&file, &mesh, &[], &[Field { name: "part_id", components: 1, values: &five }], true).unwrap_err();
     assert!(output_message(err).1.contains("'part_id'"));
     let err = write_vtu(
         &file,
         &mesh,
-        &[
-            Field {
-                name: "u",
-                components: 3,
-                values: &ok,
-            },
-            Field {
-                name: "u",
-                components: 3,
-                values: &ok,
-            },
-        ],
+        &[Field { name: "u", components: 3, values: &ok }, Field { name: "u", components: 3, values: &ok }],
         &[],
         true,
     )
     .unwrap_err();
-    assert!(output_message(err)
-        .1
-        .contains("point field 'u': given twice"));
-    let err = write_vtu(
-        &file,
-        &mesh,
-        &[Field {
-            name: "empty",
-            components: 0,
-            values: &[],
-        }],
-        &[],
-        true,
-    )
-    .unwrap_err();
-    assert!(output_message(err)
-        .1
-        .contains("point field 'empty': 0 components"));
+    assert!(output_message(err).1.contains("point field 'u': given twice"));
+    let err = write_vtu(&file, &mesh, &[Field { name: "empty", components: 0, values: &[] }], &[], true).unwrap_err();
+    assert!(output_message(err).1.contains("point field 'empty': 0 components"));
 
     // Inconsistent meshes name the entity.
     let mut bad = p1_mesh();
@@ -532,15 +367,9 @@ fn field_length_mismatch_names_the_field_and_writes_nothing() {
     let mut bad = p1_mesh();
     bad.edge_group[2] = 5;
     let err = write_vtu(&file, &bad, &[], &[], true).unwrap_err();
-    assert!(output_message(err)
-        .1
-        .contains("boundary edge 2 is in group 5"));
+    assert!(output_message(err).1.contains("boundary edge 2 is in group 5"));
 
-    assert!(
-        dir_entries(&dir).is_empty(),
-        "files left: {:?}",
-        dir_entries(&dir)
-    );
+    assert!(dir_entries(&dir).is_empty(), "files left: {:?}", dir_entries(&dir));
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -564,18 +393,12 @@ fn uncreatable_path_is_an_error_and_leaves_nothing() {
     fs::write(target.join("inside"), "x").unwrap();
     let err = write_json(&target, &vec![1, 2, 3]).unwrap_err();
     assert!(output_message(err).1.contains("renaming"));
-    assert_eq!(
-        dir_entries(&dir),
-        BTreeSet::from(["a-file".to_string(), "a-directory".to_string()])
-    );
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["a-file".to_string(), "a-directory".to_string()]));
     assert_eq!(fs::read_to_string(&blocker).unwrap(), "not a directory");
     assert_eq!(fs::read_to_string(target.join("inside")).unwrap(), "x");
 
     // A path without a file name.
-    assert!(matches!(
-        write_json(Path::new("/"), &1),
-        Err(Error::Output { .. })
-    ));
+    assert!(matches!(write_json(Path::new("/"), &1), Err(Error::Output { .. })));
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -593,15 +416,9 @@ fn failed_writer_leaves_the_old_file_intact() {
     .unwrap_err();
     let (path, message) = output_message(err);
     assert_eq!(path, file);
-    assert!(
-        message.contains("simulated failure after 3 MiB"),
-        "{message}"
-    );
+    assert!(message.contains("simulated failure after 3 MiB"), "{message}");
     assert_eq!(fs::read_to_string(&file).unwrap(), "old contents\n");
-    assert_eq!(
-        dir_entries(&dir),
-        BTreeSet::from(["report.json".to_string()])
-    );
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["report.json".to_string()]));
 
     // A panicking writer also leaves the old file and no temporary.
     let result = std::panic::catch_unwind(|| {
@@ -612,24 +429,15 @@ fn failed_writer_leaves_the_old_file_intact() {
     });
     assert!(result.is_err());
     assert_eq!(fs::read_to_string(&file).unwrap(), "old contents\n");
-    assert_eq!(
-        dir_entries(&dir),
-        BTreeSet::from(["report.json".to_string()])
-    );
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["report.json".to_string()]));
 
     // Success replaces the contents; missing parents are created.
     write_atomically(&file, |w| w.write_all(b"new")).unwrap();
     assert_eq!(fs::read_to_string(&file).unwrap(), "new");
     let nested = dir.join("a/b/c.json");
     write_json(&nested, &serde_json::json!({"k": [1.5, 2]})).unwrap();
-    assert_eq!(
-        fs::read_to_string(&nested).unwrap(),
-        "{\n  \"k\": [\n    1.5,\n    2\n  ]\n}\n"
-    );
-    assert_eq!(
-        dir_entries(&dir),
-        BTreeSet::from(["a".to_string(), "report.json".to_string()])
-    );
+    assert_eq!(fs::read_to_string(&nested).unwrap(), "{\n  \"k\": [\n    1.5,\n    2\n  ]\n}\n");
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["a".to_string(), "report.json".to_string()]));
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -656,10 +464,7 @@ fn timings_keep_order_accumulate_and_serialize() {
     assert_eq!(t.total(), 2.375);
     let names: Vec<&str> = t.phases().iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["solve", "assemble", "write"]);
-    assert_eq!(
-        serde_json::to_string(&t).unwrap(),
-        r#"{"solve":2.0,"assemble":0.25,"write":0.125,"total":2.375}"#
-    );
+    assert_eq!(serde_json::to_string(&t).unwrap(), r#"{"solve":2.0,"assemble":0.25,"write":0.125,"total":2.375}"#);
 }
 
 #[test]
@@ -672,10 +477,7 @@ fn memory_is_reported_in_bytes() {
     let current = current_memory_bytes().expect("VmRSS in /proc/self/status");
     let peak = peak_memory_bytes().unwrap();
     assert!(current >= 64 << 20, "current {current}");
-    assert!(
-        peak >= current && peak >= before,
-        "peak {peak}, current {current}, before {before}"
-    );
+    assert!(peak >= current && peak >= before, "peak {peak}, current {current}, before {before}");
     assert!(peak < 1 << 40, "peak {peak}: kB not converted once?");
     drop(block);
 }
@@ -697,25 +499,12 @@ print(json.dumps({"root": root.tag, "paths": len(root.findall(".//" + ns + "path
         .arg(file)
         .output()
         .unwrap_or_else(|e| panic!("cannot run python3 ({e}): needed to check the SVG"));
-    assert!(
-        out.status.success(),
-        "SVG is not well-formed XML: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "SVG is not well-formed XML: {}", String::from_utf8_lossy(&out.stderr));
     let v: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["width"], "800");
     assert_eq!(v["height"], "560");
-    let texts = v["texts"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t.as_str().unwrap().to_string())
-        .collect();
-    (
-        v["root"].as_str().unwrap().to_string(),
-        v["paths"].as_u64().unwrap() as usize,
-        texts,
-    )
+    let texts = v["texts"].as_array().unwrap().iter().map(|t| t.as_str().unwrap().to_string()).collect();
+    (v["root"].as_str().unwrap().to_string(), v["paths"].as_u64().unwrap() as usize, texts)
 }
 
 #[test]
@@ -724,120 +513,46 @@ fn loglog_svg_is_well_formed_with_labels_and_legend() {
     let file = dir.join("plots/time.svg");
     let sizes: [f64; 6] = [1e3, 4e3, 1.6e4, 6.4e4, 2.56e5, 1.024e6];
     let series = vec![
-        Series {
-            label: "MUMPS <LU> & co".into(),
-            points: sizes.iter().map(|&n| (n, 2e-6 * n.powf(1.3))).collect(),
-        },
-        Series {
-            label: "CG + AMG".into(),
-            points: sizes.iter().map(|&n| (n, 1e-6 * n)).collect(),
-        },
+        Series { label: "MUMPS <LU> & co".into(), points: sizes.iter().map(|&n| (n, 2e-6 * n.powf(1.3))).collect() },
+        Series { label: "CG + AMG".into(), points: sizes.iter().map(|&n| (n, 1e-6 * n)).collect() },
         // A zero and a NaN are skipped and split the line into two paths.
         Series {
             label: "with gaps".into(),
-            points: vec![
-                (1e3, 0.5),
-                (4e3, 0.0),
-                (1.6e4, 0.7),
-                (6.4e4, 0.9),
-                (f64::NAN, 1.0),
-                (1e6, 3.0),
-            ],
+            points: vec![(1e3, 0.5), (4e3, 0.0), (1.6e4, 0.7), (6.4e4, 0.9), (f64::NAN, 1.0), (1e6, 3.0)],
         },
     ];
     write_loglog_svg(&file, "Solve time", "unknowns", "seconds", &series).unwrap();
     let svg = fs::read_to_string(&file).unwrap();
     let (root, _, texts) = parse_svg(&file);
     assert_eq!(root, "{http://www.w3.org/2000/svg}svg");
-    for expected in [
-        "Solve time",
-        "unknowns",
-        "seconds",
-        "MUMPS <LU> & co",
-        "CG + AMG",
-        "with gaps",
-    ] {
-        assert!(
-            texts.iter().any(|t| t == expected),
-            "missing text {expected:?} in {texts:?}"
-        );
+    for expected in ["Solve time", "unknowns", "seconds", "MUMPS <LU> & co", "CG + AMG", "with gaps"] {
+        assert!(texts.iter().any(|t| t == expected), "missing text {expected:?} in {texts:?}");
     }
     // x spans 10^3..10^7 (1.024e6 > 10^6), y spans 10^-3..10^2 (2e-6·(1.024e6)^1.3 ≈ 13.7).
-    for decade in [
-        "103",
-        "104",
-        "105",
-        "106",
-        "107",
-        "10\u{2212}3",
-        "100",
-        "101",
-        "102",
-    ] {
-        assert!(
-            texts.iter().any(|t| t == decade),
-            "missing tick label {decade:?} in {texts:?}"
-        );
+    for decade in ["103", "104", "105", "106", "107", "10\u{2212}3", "100", "101", "102"] {
+        assert!(texts.iter().any(|t| t == decade), "missing tick label {decade:?} in {texts:?}");
     }
-    assert!(
-        !texts.iter().any(|t| t == "108" || t == "10\u{2212}4"),
-        "{texts:?}"
-    );
+    assert!(!texts.iter().any(|t| t == "108" || t == "10\u{2212}4"), "{texts:?}");
     // One line per series; the third is broken into "M .. M .." with its NaN/zero points dropped.
-    let line_paths: Vec<&str> = svg
-        .lines()
-        .filter(|l| l.contains("stroke-linejoin"))
-        .collect();
+    let line_paths: Vec<&str> = svg.lines().filter(|l| l.contains("stroke-linejoin")).collect();
     assert_eq!(line_paths.len(), 3);
     assert_eq!(line_paths[2].matches('M').count(), 3, "{}", line_paths[2]);
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
-    assert_eq!(
-        dir_entries(&dir.join("plots")),
-        BTreeSet::from(["time.svg".to_string()])
-    );
+    assert_eq!(dir_entries(&dir.join("plots")), BTreeSet::from(["time.svg".to_string()]));
 
     // One decade on each axis: 2 and 5 × 10^k are labelled too.
     let narrow = dir.join("narrow.svg");
     let points = vec![(2e-3, 3e-6), (3e-3, 4e-6), (5e-3, 4.5e-6)];
-    write_loglog_svg(
-        &narrow,
-        "narrow",
-        "x",
-        "y",
-        &[Series {
-            label: "s".into(),
-            points,
-        }],
-    )
-    .unwrap();
+    write_loglog_svg(&narrow, "narrow", "x", "y", &[Series { label: "s".into(), points }]).unwrap();
     let (_, _, texts) = parse_svg(&narrow);
-    for label in [
-        "0.002",
-        "0.005",
-        "10\u{2212}3",
-        "10\u{2212}2",
-        "2×10\u{2212}6",
-        "5×10\u{2212}6",
-    ] {
-        assert!(
-            texts.iter().any(|t| t == label),
-            "missing tick label {label:?} in {texts:?}"
-        );
+    for label in ["0.002", "0.005", "10\u{2212}3", "10\u{2212}2", "2×10\u{2212}6", "5×10\u{2212}6"] {
+        assert!(texts.iter().any(|t| t == label), "missing tick label {label:?} in {texts:?}");
     }
 
     // No plottable data at all still gives a valid file.
     let empty = dir.join("empty.svg");
-    write_loglog_svg(
-        &empty,
-        "nothing",
-        "x",
-        "y",
-        &[Series {
-            label: "zeros".into(),
-            points: vec![(0.0, 1.0)],
-        }],
-    )
-    .unwrap();
+    write_loglog_svg(&empty, "nothing", "x", "y", &[Series { label: "zeros".into(), points: vec![(0.0, 1.0)] }])
+        .unwrap();
     let (_, _, texts) = parse_svg(&empty);
     assert!(texts.iter().any(|t| t == "no positive data to plot"));
     write_loglog_svg(&empty, "", "", "", &[]).unwrap();

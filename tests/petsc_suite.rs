@@ -21,7 +21,9 @@ fn main() {
     let exact = args.iter().any(|a| a == "--exact");
     let selected: Vec<_> = petsc_cases::TESTS
         .iter()
-        .filter(|(name, _)| filters.is_empty() || filters.iter().any(|f| if exact { name == f } else { name.contains(f.as_str()) }))
+        .filter(|(name, _)| {
+            filters.is_empty() || filters.iter().any(|f| if exact { name == f } else { name.contains(f.as_str()) })
+        })
         .collect();
     let session = Session::init(&["petsc_suite".to_string()]).expect("PETSc session");
     println!("\nrunning {} tests", selected.len());

@@ -72,9 +72,7 @@ pub struct Constraints {
 impl Constraints {
     /// No dof fixed among `num_dofs` (`2 * mesh.num_nodes()`).
     pub fn new(num_dofs: usize) -> Self {
-        Constraints {
-            values: vec![None; num_dofs],
-        }
+        Constraints { values: vec![None; num_dofs] }
     }
 
     pub fn num_dofs(&self) -> usize {
@@ -104,10 +102,7 @@ impl Constraints {
 
     /// The fixed dofs and their values, in increasing dof order.
     pub fn fixed(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.values
-            .iter()
-            .enumerate()
-            .filter_map(|(d, v)| v.map(|g| (d, g)))
+        self.values.iter().enumerate().filter_map(|(d, v)| v.map(|g| (d, g)))
     }
 
     /// Fix component `comp` (0 = x, 1 = y) of every node on the edges of `group` (incl. P2 mid
@@ -115,17 +110,8 @@ impl Constraints {
     ///
     /// # Panics
     /// If `comp > 1` or the constraints were made for fewer dofs than the mesh has.
-    pub fn fix_group(
-        &mut self,
-        mesh: &Mesh,
-        group: usize,
-        comp: usize,
-        f: impl Fn([f64; 2]) -> f64,
-    ) {
-        assert!(
-            comp < 2,
-            "displacement component must be 0 (x) or 1 (y), got {comp}"
-        );
+    pub fn fix_group(&mut self, mesh: &Mesh, group: usize, comp: usize, f: impl Fn([f64; 2]) -> f64) {
+        assert!(comp < 2, "displacement component must be 0 (x) or 1 (y), got {comp}");
         for e in mesh.edges_in_group(group) {
             for &n in mesh.edge(e) {
                 self.fix(2 * n + comp, f(mesh.nodes[n]));
@@ -150,11 +136,7 @@ impl Constraints {
                 hi[k] = hi[k].max(p[k]);
             }
         }
-        let centre = if mesh.nodes.is_empty() {
-            [0.0; 2]
-        } else {
-            [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]
-        };
+        let centre = if mesh.nodes.is_empty() { [0.0; 2] } else { [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])] };
         let mut scale = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         if !(scale.is_finite() && scale > 0.0) {
             scale = 1.0;
@@ -176,13 +158,8 @@ impl Constraints {
             gram += row * row.transpose();
         }
         let eigen = nalgebra::SymmetricEigen::new(gram);
-        let largest = eigen
-            .eigenvalues
-            .iter()
-            .fold(0.0f64, |m, &l| m.max(l.abs()));
-        let null: Vec<usize> = (0..3)
-            .filter(|&k| largest == 0.0 || eigen.eigenvalues[k] <= 1e-10 * largest)
-            .collect();
+        let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+        let null: Vec<usize> = (0..3).filter(|&k| largest == 0.0 || eigen.eigenvalues[k] <= 1e-10 * largest).collect();
         if null.is_empty() {
             return Ok(());
         }
@@ -202,9 +179,7 @@ impl Constraints {
                 let snap = |v: f64| if v.abs() <= 1e-12 * scale { 0.0 } else { v };
                 let px = snap(centre[0] - scale * b);
                 let py = snap(centre[1] + scale * a);
-                free.push(format!(
-                    "rotation about z (about the point ({px:.6e}, {py:.6e}))"
-                ));
+                free.push(format!("rotation about z (about the point ({px:.6e}, {py:.6e}))"));
             } else {
                 free.push("rotation about z".to_string());
             }
@@ -321,16 +296,8 @@ impl ReferenceTable {
     fn new(order: Order, degree: usize) -> Self {
         let rule = quadrature::triangle(degree);
         ReferenceTable {
-            values: rule
-                .points
-                .iter()
-                .map(|&p| lagrange::shape_values(order, p))
-                .collect(),
-            grads: rule
-                .points
-                .iter()
-                .map(|&p| lagrange::shape_gradients(order, p))
-                .collect(),
+            values: rule.points.iter().map(|&p| lagrange::shape_values(order, p)).collect(),
+            grads: rule.points.iter().map(|&p| lagrange::shape_gradients(order, p)).collect(),
             weights: rule.weights,
         }
     }
@@ -342,16 +309,8 @@ fn add_btcb(block: &mut Block, c: &[[f64; 3]; 3], ga: [f64; 2], gb: [f64; 2], w:
     let (ax, ay) = (ga[0], ga[1]);
     let (bx, by) = (gb[0], gb[1]);
     // Columns of C B_b for the x and y displacement of node b: C (bx, 0, by) and C (0, by, bx).
-    let cx = [
-        c[0][0] * bx + c[0][2] * by,
-        c[1][0] * bx + c[1][2] * by,
-        c[2][0] * bx + c[2][2] * by,
-    ];
-    let cy = [
-        c[0][1] * by + c[0][2] * bx,
-        c[1][1] * by + c[1][2] * bx,
-        c[2][1] * by + c[2][2] * bx,
-    ];
+    let cx = [c[0][0] * bx + c[0][2] * by, c[1][0] * bx + c[1][2] * by, c[2][0] * bx + c[2][2] * by];
+    let cy = [c[0][1] * by + c[0][2] * bx, c[1][1] * by + c[1][2] * bx, c[2][1] * by + c[2][2] * bx];
     block[0][0] += w * (ax * cx[0] + ay * cx[2]);
     block[0][1] += w * (ax * cy[0] + ay * cy[2]);
     block[1][0] += w * (ay * cx[1] + ax * cx[2]);
@@ -382,10 +341,7 @@ impl StiffnessKernel {
     /// P1: gradients are constant, `K_ab = area · B_aᵀ C B_b`.
     #[inline(always)]
     fn p1(&self, x: &[[f64; 2]; 3]) -> [[Block; 3]; 3] {
-        let j = [
-            [x[1][0] - x[0][0], x[2][0] - x[0][0]],
-            [x[1][1] - x[0][1], x[2][1] - x[0][1]],
-        ];
+        let j = [[x[1][0] - x[0][0], x[2][0] - x[0][0]], [x[1][1] - x[0][1], x[2][1] - x[0][1]]];
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         let inv = 1.0 / det;
         // ∇N1 = (J11, −J01)/det, ∇N2 = (−J10, J00)/det, ∇N0 = −∇N1 − ∇N2.
@@ -405,11 +361,7 @@ impl StiffnessKernel {
 
     /// P2 (straight or curved): quadrature on the reference triangle.
     fn p2(&self, x: &[[f64; 2]; 6]) -> [[Block; 6]; 6] {
-        let table = if lagrange::is_affine(x) {
-            &self.straight
-        } else {
-            &self.curved
-        };
+        let table = if lagrange::is_affine(x) { &self.straight } else { &self.curved };
         let mut k = [[[[0.0; 2]; 2]; 6]; 6];
         for (w, rg) in table.weights.iter().zip(&table.grads) {
             let j = lagrange::jacobian(x, rg);
@@ -456,12 +408,7 @@ fn blocks_to_dense<const N: usize>(k: &[[Block; N]; N]) -> Vec<f64> {
 /// Loads integrated cell by cell and edge by edge; `sink(dof, value)` receives each contribution.
 /// `touches(node)` selects the cells / edges to visit (those with at least one such node).
 #[allow(clippy::needless_range_loop)] // local node indices address several arrays
-fn integrate_loads(
-    mesh: &Mesh,
-    loads: &Loads,
-    touches: impl Fn(usize) -> bool,
-    mut sink: impl FnMut(usize, f64),
-) {
+fn integrate_loads(mesh: &Mesh, loads: &Loads, touches: impl Fn(usize) -> bool, mut sink: impl FnMut(usize, f64)) {
     let order = mesh.order;
     let npc = order.nodes_per_cell();
     if let Some(force) = loads.body_force {
@@ -479,8 +426,7 @@ fn integrate_loads(
             for q in 0..table.weights.len() {
                 let rg = &table.grads[q][..npc];
                 let det = if order == Order::P1 {
-                    (x[1][0] - x[0][0]) * (x[2][1] - x[0][1])
-                        - (x[2][0] - x[0][0]) * (x[1][1] - x[0][1])
+                    (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[2][0] - x[0][0]) * (x[1][1] - x[0][1])
                 } else {
                     lagrange::determinant(&lagrange::jacobian(&x[..npc], rg))
                 };
@@ -583,12 +529,7 @@ struct RowPattern {
 }
 
 impl RowPattern {
-    fn new(
-        mesh: &Mesh,
-        fixed: &[Option<f64>],
-        node_lo: usize,
-        node_hi: usize,
-    ) -> (Self, Vec<usize>) {
+    fn new(mesh: &Mesh, fixed: &[Option<f64>], node_lo: usize, node_hi: usize) -> (Self, Vec<usize>) {
         let npc = mesh.order.nodes_per_cell();
         let nloc = node_hi - node_lo;
         // Node -> cells, for the owned nodes.
@@ -640,16 +581,7 @@ impl RowPattern {
             }
             free_len[k] = count;
         }
-        (
-            RowPattern {
-                node_lo,
-                node_hi,
-                adj_ptr,
-                adj,
-                offset,
-            },
-            free_len,
-        )
+        (RowPattern { node_lo, node_hi, adj_ptr, adj, offset }, free_len)
     }
 
     fn neighbours(&self, n: usize) -> (usize, &[usize]) {
@@ -682,22 +614,14 @@ pub fn assemble(
         Cow::Owned(v)
     };
     let fixed: &[Option<f64>] = &fixed;
-    let (node_lo, node_hi) = if num_rows == 0 {
-        (0, 0)
-    } else {
-        (start / 2, end.div_ceil(2))
-    };
+    let (node_lo, node_hi) = if num_rows == 0 { (0, 0) } else { (start / 2, end.div_ceil(2)) };
     let (pattern, free_len) = RowPattern::new(mesh, fixed, node_lo, node_hi);
 
     // Row pointers and column indices.
     let mut indptr = Vec::with_capacity(num_rows + 1);
     indptr.push(0usize);
     for i in start..end {
-        let len = if fixed[i].is_some() {
-            1
-        } else {
-            free_len[i / 2 - node_lo]
-        };
+        let len = if fixed[i].is_some() { 1 } else { free_len[i / 2 - node_lo] };
         indptr.push(indptr[indptr.len() - 1] + len);
     }
     let nnz = indptr[num_rows];
@@ -728,15 +652,8 @@ pub fn assemble(
 
     // Element matrices, scattered into the owned free rows.
     let kernel = StiffnessKernel::new(material);
-    let mut scatter = Scatter {
-        pattern: &pattern,
-        fixed,
-        start,
-        end,
-        indptr: &indptr,
-        values: &mut values,
-        rhs: &mut rhs,
-    };
+    let mut scatter =
+        Scatter { pattern: &pattern, fixed, start, end, indptr: &indptr, values: &mut values, rhs: &mut rhs };
     match mesh.order {
         Order::P1 => scatter.cells::<3>(mesh, |x| kernel.p1(x)),
         Order::P2 => scatter.cells::<6>(mesh, |x| kernel.p2(x)),
@@ -754,16 +671,7 @@ pub fn assemble(
         },
     );
 
-    LinearSystem {
-        matrix: CsrRows {
-            first_row: start,
-            num_cols: num_dofs,
-            indptr,
-            indices,
-            values,
-        },
-        rhs,
-    }
+    LinearSystem { matrix: CsrRows { first_row: start, num_cols: num_dofs, indptr, indices, values }, rhs }
 }
 
 struct Scatter<'a> {
@@ -777,11 +685,7 @@ struct Scatter<'a> {
 }
 
 impl Scatter<'_> {
-    fn cells<const N: usize>(
-        &mut self,
-        mesh: &Mesh,
-        element: impl Fn(&[[f64; 2]; N]) -> [[Block; N]; N],
-    ) {
+    fn cells<const N: usize>(&mut self, mesh: &Mesh, element: impl Fn(&[[f64; 2]; N]) -> [[Block; N]; N]) {
         let (lo, hi) = (self.pattern.node_lo, self.pattern.node_hi);
         if lo == hi {
             return;

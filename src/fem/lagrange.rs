@@ -55,14 +55,7 @@ pub const MAX_EDGE_NODES: usize = 3;
 
 /// Reference coordinates of the cell nodes, in the mesh's node order.
 pub fn reference_nodes(order: Order) -> &'static [[f64; 2]] {
-    const NODES: [[f64; 2]; 6] = [
-        [0.0, 0.0],
-        [1.0, 0.0],
-        [0.0, 1.0],
-        [0.5, 0.0],
-        [0.5, 0.5],
-        [0.0, 0.5],
-    ];
+    const NODES: [[f64; 2]; 6] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]];
     &NODES[..order.nodes_per_cell()]
 }
 
@@ -88,14 +81,7 @@ pub fn shape_gradients(order: Order, xi: [f64; 2]) -> [[f64; 2]; MAX_CELL_NODES]
     let (l1, l2) = (xi[0], xi[1]);
     let l0 = 1.0 - l1 - l2;
     match order {
-        Order::P1 => [
-            [-1.0, -1.0],
-            [1.0, 0.0],
-            [0.0, 1.0],
-            [0.0; 2],
-            [0.0; 2],
-            [0.0; 2],
-        ],
+        Order::P1 => [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0], [0.0; 2], [0.0; 2], [0.0; 2]],
         Order::P2 => {
             // ∇λ0 = (−1, −1), ∇λ1 = (1, 0), ∇λ2 = (0, 1).
             let a0 = 4.0 * l0 - 1.0;
@@ -139,11 +125,7 @@ pub fn determinant(j: &[[f64; 2]; 2]) -> f64 {
 }
 
 /// Physical gradients `∇_x N_k = J^{-T} ∇_ξ N_k` for the first `ref_grads.len()` functions.
-pub fn physical_gradients(
-    j: &[[f64; 2]; 2],
-    det: f64,
-    ref_grads: &[[f64; 2]],
-) -> [[f64; 2]; MAX_CELL_NODES] {
+pub fn physical_gradients(j: &[[f64; 2]; 2], det: f64, ref_grads: &[[f64; 2]]) -> [[f64; 2]; MAX_CELL_NODES] {
     let inv = 1.0 / det;
     let mut g = [[0.0; 2]; MAX_CELL_NODES];
     for (gk, r) in g.iter_mut().zip(ref_grads) {
@@ -174,13 +156,7 @@ pub fn map_cell_point(order: Order, coords: &[[f64; 2]], xi: [f64; 2]) -> Mapped
     let jacobian = jacobian(&coords[..n], &ref_grads[..n]);
     let det = determinant(&jacobian);
     let gradients = physical_gradients(&jacobian, det, &ref_grads[..n]);
-    MappedPoint {
-        x: map_point(&coords[..n], &values[..n]),
-        values,
-        jacobian,
-        det,
-        gradients,
-    }
+    MappedPoint { x: map_point(&coords[..n], &values[..n]), values, jacobian, det, gradients }
 }
 
 /// True when every P2 mid node lies at the midpoint of its vertex chord (to `1e-12` relative to
@@ -202,11 +178,7 @@ pub fn is_affine(coords: &[[f64; 2]]) -> bool {
 /// Edge shape function values at `t ∈ [0, 1]` for an edge of `nodes` (2 or 3) nodes.
 pub fn edge_shape_values(nodes: usize, t: f64) -> [f64; MAX_EDGE_NODES] {
     if nodes >= 3 {
-        [
-            (1.0 - t) * (1.0 - 2.0 * t),
-            t * (2.0 * t - 1.0),
-            4.0 * t * (1.0 - t),
-        ]
+        [(1.0 - t) * (1.0 - 2.0 * t), t * (2.0 * t - 1.0), 4.0 * t * (1.0 - t)]
     } else {
         [1.0 - t, t, 0.0]
     }
@@ -248,16 +220,7 @@ pub fn map_edge_point(coords: &[[f64; 2]], t: f64) -> EdgePoint {
         tangent[1] += dn[k] * coords[k][1];
     }
     let length_element = tangent[0].hypot(tangent[1]);
-    let normal = if length_element > 0.0 {
-        [tangent[1] / length_element, -tangent[0] / length_element]
-    } else {
-        [0.0, 0.0]
-    };
-    EdgePoint {
-        x,
-        values,
-        tangent,
-        length_element,
-        normal,
-    }
+    let normal =
+        if length_element > 0.0 { [tangent[1] / length_element, -tangent[0] / length_element] } else { [0.0, 0.0] };
+    EdgePoint { x, values, tangent, length_element, normal }
 }

@@ -58,11 +58,7 @@ pub struct Material {
 
 impl Material {
     pub fn new(young: f64, poisson: f64, plane: PlaneModel) -> Self {
-        Material {
-            young,
-            poisson,
-            plane,
-        }
+        Material { young, poisson, plane }
     }
 
     /// `Ok` when `E > 0` is finite and `−1 < ν < 0.5`; otherwise what is wrong and what to do.
@@ -101,11 +97,7 @@ impl Material {
     /// Elasticity matrix `C` (σ = C e in Voigt notation, engineering shear strain).
     pub fn elasticity(&self) -> [[f64; 3]; 3] {
         let (lambda, mu) = self.lame();
-        [
-            [lambda + 2.0 * mu, lambda, 0.0],
-            [lambda, lambda + 2.0 * mu, 0.0],
-            [0.0, 0.0, mu],
-        ]
+        [[lambda + 2.0 * mu, lambda, 0.0], [lambda, lambda + 2.0 * mu, 0.0], [0.0, 0.0, mu]]
     }
 
     /// Compliance matrix `C⁻¹` (e = C⁻¹ σ).
@@ -114,17 +106,9 @@ impl Material {
         match self.plane {
             PlaneModel::Strain => {
                 let f = (1.0 + nu) / e;
-                [
-                    [f * (1.0 - nu), -f * nu, 0.0],
-                    [-f * nu, f * (1.0 - nu), 0.0],
-                    [0.0, 0.0, 2.0 * f],
-                ]
+                [[f * (1.0 - nu), -f * nu, 0.0], [-f * nu, f * (1.0 - nu), 0.0], [0.0, 0.0, 2.0 * f]]
             }
-            PlaneModel::Stress => [
-                [1.0 / e, -nu / e, 0.0],
-                [-nu / e, 1.0 / e, 0.0],
-                [0.0, 0.0, 2.0 * (1.0 + nu) / e],
-            ],
+            PlaneModel::Stress => [[1.0 / e, -nu / e, 0.0], [-nu / e, 1.0 / e, 0.0], [0.0, 0.0, 2.0 * (1.0 + nu) / e]],
         }
     }
 
@@ -150,8 +134,7 @@ impl Material {
     pub fn von_mises(&self, s: [f64; 3]) -> f64 {
         let szz = self.sigma_zz(s);
         let (sxx, syy, sxy) = (s[0], s[1], s[2]);
-        (0.5 * ((sxx - syy).powi(2) + (syy - szz).powi(2) + (szz - sxx).powi(2)) + 3.0 * sxy * sxy)
-            .sqrt()
+        (0.5 * ((sxx - syy).powi(2) + (syy - szz).powi(2) + (szz - sxx).powi(2)) + 3.0 * sxy * sxy).sqrt()
     }
 
     /// Complementary (compliance) energy density `w*(σ) = ½ σ : C⁻¹ σ` (SCIENCE.md §3).
@@ -160,13 +143,10 @@ impl Material {
         let (sxx, syy, sxy) = (s[0], s[1], s[2]);
         match self.plane {
             PlaneModel::Strain => {
-                (1.0 + nu) / (2.0 * e)
-                    * ((1.0 - nu) * (sxx * sxx + syy * syy) - 2.0 * nu * sxx * syy
-                        + 2.0 * sxy * sxy)
+                (1.0 + nu) / (2.0 * e) * ((1.0 - nu) * (sxx * sxx + syy * syy) - 2.0 * nu * sxx * syy + 2.0 * sxy * sxy)
             }
             PlaneModel::Stress => {
-                (sxx * sxx + syy * syy - 2.0 * nu * sxx * syy + 2.0 * (1.0 + nu) * sxy * sxy)
-                    / (2.0 * e)
+                (sxx * sxx + syy * syy - 2.0 * nu * sxx * syy + 2.0 * (1.0 + nu) * sxy * sxy) / (2.0 * e)
             }
         }
     }

@@ -17,8 +17,8 @@ pub mod postprocess;
 pub mod quadrature;
 
 pub use assembly::{
-    assemble, element_stiffness, load_vector, residual_forces, Constraints, CsrRows, EdgeLoad,
-    LinearSystem, Loads, Traction,
+    assemble, element_stiffness, load_vector, residual_forces, Constraints, CsrRows, EdgeLoad, LinearSystem, Loads,
+    Traction,
 };
 pub use material::{Material, PlaneModel};
 pub use postprocess::{cell_stress, energy_error, energy_norm, l2_error, nodal_stress};

@@ -62,9 +62,7 @@ fn stress_at(mesh: &Mesh, material: &Material, u: &[f64], c: usize, xi: [f64; 2]
 
 /// Stress `(σxx, σyy, σxy)` of each cell at its centroid (reference point (1/3, 1/3)).
 pub fn cell_stress(mesh: &Mesh, material: &Material, u: &[f64]) -> Vec<[f64; 3]> {
-    (0..mesh.num_cells())
-        .map(|c| stress_at(mesh, material, u, c, [1.0 / 3.0, 1.0 / 3.0]))
-        .collect()
+    (0..mesh.num_cells()).map(|c| stress_at(mesh, material, u, c, [1.0 / 3.0, 1.0 / 3.0])).collect()
 }
 
 /// Stress at each node: the average over the cells sharing the node of the cell's stress
@@ -94,23 +92,12 @@ pub fn nodal_stress(mesh: &Mesh, material: &Material, u: &[f64]) -> Vec<[f64; 3]
 
 /// Visit every quadrature point of every cell: `visit(x, weight · det J, shape values,
 /// physical gradients, cell nodes)`.
-fn for_each_point(
-    mesh: &Mesh,
-    mut visit: impl FnMut([f64; 2], f64, &[f64], &[[f64; 2]], &[usize]),
-) {
+fn for_each_point(mesh: &Mesh, mut visit: impl FnMut([f64; 2], f64, &[f64], &[[f64; 2]], &[usize])) {
     let order = mesh.order;
     let npc = order.nodes_per_cell();
     let rule = quadrature::triangle(NORM_DEGREE);
-    let values: Vec<_> = rule
-        .points
-        .iter()
-        .map(|&p| lagrange::shape_values(order, p))
-        .collect();
-    let grads: Vec<_> = rule
-        .points
-        .iter()
-        .map(|&p| lagrange::shape_gradients(order, p))
-        .collect();
+    let values: Vec<_> = rule.points.iter().map(|&p| lagrange::shape_values(order, p)).collect();
+    let grads: Vec<_> = rule.points.iter().map(|&p| lagrange::shape_gradients(order, p)).collect();
     for c in 0..mesh.num_cells() {
         let nodes = mesh.cell(c);
         let x = cell_coords(mesh, nodes);
@@ -119,13 +106,7 @@ fn for_each_point(
             let det = lagrange::determinant(&j);
             let g = lagrange::physical_gradients(&j, det, &grads[q][..npc]);
             let xq = lagrange::map_point(&x[..npc], &values[q][..npc]);
-            visit(
-                xq,
-                rule.weights[q] * det,
-                &values[q][..npc],
-                &g[..npc],
-                nodes,
-            );
+            visit(xq, rule.weights[q] * det, &values[q][..npc], &g[..npc], nodes);
         }
     }
 }
@@ -138,9 +119,7 @@ fn energy(material: &Material, e: [f64; 3]) -> f64 {
 /// Energy norm `(∫ ε(u) : C ε(u))^½`.
 pub fn energy_norm(mesh: &Mesh, material: &Material, u: &[f64]) -> f64 {
     let mut total = 0.0;
-    for_each_point(mesh, |_, w, _, g, nodes| {
-        total += w * energy(material, strain(g, nodes, u))
-    });
+    for_each_point(mesh, |_, w, _, g, nodes| total += w * energy(material, strain(g, nodes, u)));
     total.max(0.0).sqrt()
 }
 
@@ -156,11 +135,7 @@ pub fn energy_error(
     for_each_point(mesh, |x, w, _, g, nodes| {
         let eh = strain(g, nodes, u);
         let grad = exact_displacement_gradient(x);
-        let d = [
-            eh[0] - grad[0][0],
-            eh[1] - grad[1][1],
-            eh[2] - grad[0][1] - grad[1][0],
-        ];
+        let d = [eh[0] - grad[0][0], eh[1] - grad[1][1], eh[2] - grad[0][1] - grad[1][0]];
         total += w * energy(material, d);
     });
     total.max(0.0).sqrt()

@@ -92,11 +92,7 @@ fn push_orbit3(rule: &mut TriangleRule, a: f64, w: f64) {
 
 /// The cheapest rule of the table above that is exact for polynomials of total degree `degree`.
 pub fn triangle(degree: usize) -> TriangleRule {
-    let mut rule = TriangleRule {
-        points: Vec::new(),
-        weights: Vec::new(),
-        degree: 0,
-    };
+    let mut rule = TriangleRule { points: Vec::new(), weights: Vec::new(), degree: 0 };
     match degree {
         0 | 1 => {
             rule.points.push([1.0 / 3.0, 1.0 / 3.0]);
@@ -109,11 +105,7 @@ pub fn triangle(degree: usize) -> TriangleRule {
         }
         3 | 4 => {
             push_orbit3(&mut rule, 0.445_948_490_915_964_9, 0.111_690_794_839_005_74);
-            push_orbit3(
-                &mut rule,
-                0.091_576_213_509_770_74,
-                0.054_975_871_827_660_935,
-            );
+            push_orbit3(&mut rule, 0.091_576_213_509_770_74, 0.054_975_871_827_660_935);
             rule.degree = 4;
         }
         5 => {
@@ -170,11 +162,7 @@ pub fn gauss_legendre(n: usize) -> LineRule {
     if n % 2 == 1 {
         points[n / 2] = 0.5;
     }
-    LineRule {
-        points,
-        weights,
-        degree: 2 * n - 1,
-    }
+    LineRule { points, weights, degree: 2 * n - 1 }
 }
 
 /// Gauss–Legendre rule on `[0, 1]` exact for polynomials of degree `degree`.

@@ -50,9 +50,7 @@ impl Drop for TemporaryFile {
 fn output_error(path: &Path, step: &str, err: impl std::fmt::Display) -> Error {
     Error::Output {
         path: path.to_path_buf(),
-        message: format!(
-            "{step}: {err} (nothing was written; an existing file at this path is unchanged)"
-        ),
+        message: format!("{step}: {err} (nothing was written; an existing file at this path is unchanged)"),
     }
 }
 
@@ -64,17 +62,10 @@ fn output_error(path: &Path, step: &str, err: impl std::fmt::Display) -> Error {
 /// the closure, the flush, the sync or the rename — the temporary is removed and the previous
 /// contents of `path` (if any) are left untouched; the error is [`Error::Output`] naming `path`
 /// and the step that failed.
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> Result<()> {
-    let file_name = path.file_name().ok_or_else(|| {
-        output_error(
-            path,
-            "choosing the file name",
-            "the path does not end in a file name",
-        )
-    })?;
+pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| output_error(path, "choosing the file name", "the path does not end in a file name"))?;
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -86,39 +77,20 @@ pub fn write_atomically(
     let mut temporary_name = std::ffi::OsString::from(".");
     temporary_name.push(file_name);
     temporary_name.push(format!(".{}.{}.tmp", std::process::id(), counter));
-    let mut temporary = TemporaryFile {
-        path: parent.join(temporary_name),
-        renamed: false,
-    };
+    let mut temporary = TemporaryFile { path: parent.join(temporary_name), renamed: false };
 
     let file = OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(&temporary.path)
-        .map_err(|e| {
-            output_error(
-                path,
-                &format!("creating temporary file {}", temporary.path.display()),
-                e,
-            )
-        })?;
+        .map_err(|e| output_error(path, &format!("creating temporary file {}", temporary.path.display()), e))?;
     let mut buffered = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
     write(&mut buffered).map_err(|e| output_error(path, "writing", e))?;
-    let file: File = buffered
-        .into_inner()
-        .map_err(|e| output_error(path, "flushing", e.error()))?;
-    file.sync_all()
-        .map_err(|e| output_error(path, "syncing to disk", e))?;
+    let file: File = buffered.into_inner().map_err(|e| output_error(path, "flushing", e.error()))?;
+    file.sync_all().map_err(|e| output_error(path, "syncing to disk", e))?;
     drop(file);
     fs::rename(&temporary.path, path).map_err(|e| {
-        output_error(
-            path,
-            &format!(
-                "renaming temporary file {} over the target",
-                temporary.path.display()
-            ),
-            e,
-        )
+        output_error(path, &format!("renaming temporary file {} over the target", temporary.path.display()), e)
     })?;
     temporary.renamed = true;
     // Make the rename itself durable. Best effort: not every platform can open a directory.

@@ -47,9 +47,7 @@ const FONT: f64 = 14.0;
 
 /// Okabe & Ito's colour-blind-safe palette (Okabe, Ito, "Color Universal Design", 2008), without
 /// the yellow that is unreadable on white.
-const COLOURS: [&str; 7] = [
-    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000",
-];
+const COLOURS: [&str; 7] = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"];
 
 #[derive(Debug, Clone, Copy)]
 enum Marker {
@@ -61,14 +59,8 @@ enum Marker {
     Cross,
 }
 
-const MARKERS: [Marker; 6] = [
-    Marker::Circle,
-    Marker::Square,
-    Marker::TriangleUp,
-    Marker::Diamond,
-    Marker::TriangleDown,
-    Marker::Cross,
-];
+const MARKERS: [Marker; 6] =
+    [Marker::Circle, Marker::Square, Marker::TriangleUp, Marker::Diamond, Marker::TriangleDown, Marker::Cross];
 
 /// A log10 axis over whole decades.
 #[derive(Debug, Clone, Copy)]
@@ -83,10 +75,7 @@ impl LogAxis {
         let lo = min.log10().floor();
         let hi = max.log10().ceil();
         // Clamp so that extreme but finite inputs cannot overflow the integer conversion.
-        let (mut lo, mut hi) = (
-            lo.clamp(-400.0, 400.0) as i32,
-            hi.clamp(-400.0, 400.0) as i32,
-        );
+        let (mut lo, mut hi) = (lo.clamp(-400.0, 400.0) as i32, hi.clamp(-400.0, 400.0) as i32);
         if lo == hi {
             lo -= 1;
             hi += 1;
@@ -131,39 +120,24 @@ fn escape_text(s: &str) -> String {
 /// Each series gets its own colour and marker; the legend goes in the corner of the plot area
 /// that overlaps the fewest data. Points with a coordinate `<= 0`, NaN or infinite are skipped
 /// (a log axis cannot show them); if no point is left the axes span 1..10 and the plot says so.
-pub fn write_loglog_svg(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-) -> Result<()> {
+pub fn write_loglog_svg(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<()> {
     let svg = render(title, x_label, y_label, series);
     write_atomically(path, |w| w.write_all(svg.as_bytes()))
 }
 
 /// The SVG document as a string (`write!` into a `String` cannot fail, hence the `let _`).
 fn render(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {
-    let valid = || {
-        series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|p| plottable(p))
-    };
+    let valid = || series.iter().flat_map(|s| s.points.iter()).filter(|p| plottable(p));
     let any_data = valid().next().is_some();
     let (x_axis, y_axis) = if any_data {
-        let (mut xmin, mut xmax, mut ymin, mut ymax) =
-            (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64);
         for &(x, y) in valid() {
             xmin = xmin.min(x);
             xmax = xmax.max(x);
             ymin = ymin.min(y);
             ymax = ymax.max(y);
         }
-        (
-            LogAxis::enclosing(xmin, xmax),
-            LogAxis::enclosing(ymin, ymax),
-        )
+        (LogAxis::enclosing(xmin, xmax), LogAxis::enclosing(ymin, ymax))
     } else {
         (LogAxis { lo: 0, hi: 1 }, LogAxis { lo: 0, hi: 1 })
     };
@@ -273,10 +247,7 @@ fn render(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Strin
     let pixels: Vec<Vec<Option<(f64, f64)>>> = series
         .iter()
         .map(|se| {
-            se.points
-                .iter()
-                .map(|p| plottable(p).then(|| (x_pixel(&x_axis, p.0), y_pixel(&y_axis, p.1))))
-                .collect()
+            se.points.iter().map(|p| plottable(p).then(|| (x_pixel(&x_axis, p.0), y_pixel(&y_axis, p.1)))).collect()
         })
         .collect();
     for (i, pts) in pixels.iter().enumerate() {
@@ -294,11 +265,7 @@ fn render(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Strin
         }
         let _ = writeln!(s, r#"<g fill="{colour}" stroke="{colour}">"#);
         if !d.is_empty() {
-            let _ = writeln!(
-                s,
-                r#"<path d="{}" fill="none" stroke-width="2" stroke-linejoin="round"/>"#,
-                d.trim_end()
-            );
+            let _ = writeln!(s, r#"<path d="{}" fill="none" stroke-width="2" stroke-linejoin="round"/>"#, d.trim_end());
         }
         for &(x, y) in pts.iter().flatten() {
             draw_marker(&mut s, MARKERS[i % MARKERS.len()], x, y);
@@ -327,33 +294,16 @@ fn mantissa_times_decade(m: u32, k: i32) -> String {
 }
 
 fn draw_tick(s: &mut String, axis: &LogAxis, is_x: bool, v: f64, major: bool) {
-    let (grid, tick) = if major {
-        ("#d0d0d0", 7.0)
-    } else {
-        ("#eeeeee", 4.0)
-    };
+    let (grid, tick) = if major { ("#d0d0d0", 7.0) } else { ("#eeeeee", 4.0) };
     if is_x {
         let x = x_pixel(axis, v);
-        let _ = writeln!(
-            s,
-            r#"<line x1="{x:.2}" y1="{TOP}" x2="{x:.2}" y2="{BOTTOM}" stroke="{grid}"/>"#
-        );
-        let _ = writeln!(
-            s,
-            r#"<line x1="{x:.2}" y1="{BOTTOM}" x2="{x:.2}" y2="{:.2}" stroke="black"/>"#,
-            BOTTOM - tick
-        );
+        let _ = writeln!(s, r#"<line x1="{x:.2}" y1="{TOP}" x2="{x:.2}" y2="{BOTTOM}" stroke="{grid}"/>"#);
+        let _ =
+            writeln!(s, r#"<line x1="{x:.2}" y1="{BOTTOM}" x2="{x:.2}" y2="{:.2}" stroke="black"/>"#, BOTTOM - tick);
     } else {
         let y = y_pixel(axis, v);
-        let _ = writeln!(
-            s,
-            r#"<line x1="{LEFT}" y1="{y:.2}" x2="{RIGHT}" y2="{y:.2}" stroke="{grid}"/>"#
-        );
-        let _ = writeln!(
-            s,
-            r#"<line x1="{LEFT}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke="black"/>"#,
-            LEFT + tick
-        );
+        let _ = writeln!(s, r#"<line x1="{LEFT}" y1="{y:.2}" x2="{RIGHT}" y2="{y:.2}" stroke="{grid}"/>"#);
+        let _ = writeln!(s, r#"<line x1="{LEFT}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke="black"/>"#, LEFT + tick);
     }
 }
 
@@ -363,14 +313,7 @@ fn draw_marker(s: &mut String, marker: Marker, x: f64, y: f64) {
         Marker::Circle => writeln!(s, r#"<circle cx="{x:.2}" cy="{y:.2}" r="{R}"/>"#),
         Marker::Square => {
             let a = R * 0.85;
-            writeln!(
-                s,
-                r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}"/>"#,
-                x - a,
-                y - a,
-                2.0 * a,
-                2.0 * a
-            )
+            writeln!(s, r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}"/>"#, x - a, y - a, 2.0 * a, 2.0 * a)
         }
         Marker::TriangleUp => writeln!(
             s,
@@ -418,11 +361,7 @@ fn draw_marker(s: &mut String, marker: Marker, x: f64, y: f64) {
 fn draw_legend(s: &mut String, series: &[Series], pixels: &[Vec<Option<(f64, f64)>>]) {
     const ROW: f64 = 20.0;
     const PAD: f64 = 10.0;
-    let longest = series
-        .iter()
-        .map(|se| se.label.chars().count())
-        .max()
-        .unwrap_or(0) as f64;
+    let longest = series.iter().map(|se| se.label.chars().count()).max().unwrap_or(0) as f64;
     let width = 52.0 + longest * FONT * 0.6 + PAD;
     let height = series.len() as f64 * ROW + PAD;
 
@@ -450,10 +389,7 @@ fn draw_legend(s: &mut String, series: &[Series], pixels: &[Vec<Option<(f64, f64
         samples
             .iter()
             .filter(|&&(x, y)| {
-                x >= x0 - margin
-                    && x <= x0 + width + margin
-                    && y >= y0 - margin
-                    && y <= y0 + height + margin
+                x >= x0 - margin && x <= x0 + width + margin && y >= y0 - margin && y <= y0 + height + margin
             })
             .count()
     };
@@ -483,12 +419,6 @@ fn draw_legend(s: &mut String, series: &[Series], pixels: &[Vec<Option<(f64, f64
         );
         draw_marker(s, MARKERS[i % MARKERS.len()], x0 + 24.0, y);
         let _ = writeln!(s, "</g>");
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.2}" y="{:.2}">{}</text>"#,
-            x0 + 48.0,
-            y + 5.0,
-            escape_text(&se.label)
-        );
+        let _ = writeln!(s, r#"<text x="{:.2}" y="{:.2}">{}</text>"#, x0 + 48.0, y + 5.0, escape_text(&se.label));
     }
 }

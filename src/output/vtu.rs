@@ -71,30 +71,17 @@ pub fn write_vtu(
     cell_data: &[Field],
     with_boundary_edges: bool,
 ) -> Result<()> {
-    let fail = |message: String| Error::Output {
-        path: path.to_path_buf(),
-        message,
-    };
+    let fail = |message: String| Error::Output { path: path.to_path_buf(), message };
     check_mesh(mesh).map_err(fail)?;
     let num_points = mesh.num_nodes();
     let num_cells = mesh.num_cells();
-    let num_edges = if with_boundary_edges {
-        mesh.num_edges()
-    } else {
-        0
-    };
+    let num_edges = if with_boundary_edges { mesh.num_edges() } else { 0 };
     let cells_desc = if with_boundary_edges {
         format!("{num_cells} triangles + {num_edges} boundary edges")
     } else {
         format!("{num_cells} triangles")
     };
-    check_fields(
-        "point",
-        point_data,
-        num_points,
-        &format!("{num_points} points"),
-    )
-    .map_err(fail)?;
+    check_fields("point", point_data, num_points, &format!("{num_points} points")).map_err(fail)?;
     check_fields("cell", cell_data, num_cells + num_edges, &cells_desc).map_err(fail)?;
     if let Some(f) = cell_data.iter().find(|f| f.name == PART_ID) {
         return Err(fail(format!(
@@ -106,13 +93,7 @@ pub fn write_vtu(
     let part_id: Vec<i32> = mesh.cell_group[..num_cells]
         .iter()
         .chain(mesh.edge_group[..num_edges].iter())
-        .map(|&g| {
-            if g == NO_GROUP {
-                -1
-            } else {
-                mesh.groups[g].tag
-            }
-        })
+        .map(|&g| if g == NO_GROUP { -1 } else { mesh.groups[g].tag })
         .collect();
 
     write_atomically(path, |w| {
@@ -122,53 +103,23 @@ pub fn write_vtu(
             "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
         )?;
         writeln!(w, "  <UnstructuredGrid>")?;
-        writeln!(
-            w,
-            "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
-            num_points,
-            num_cells + num_edges
-        )?;
+        writeln!(w, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", num_points, num_cells + num_edges)?;
 
         writeln!(w, "      <PointData>")?;
         for f in point_data {
-            write_f64_array(
-                w,
-                Some(f.name),
-                f.components,
-                f.values.len(),
-                f.values.iter().copied(),
-            )?;
+            write_f64_array(w, Some(f.name), f.components, f.values.len(), f.values.iter().copied())?;
         }
         writeln!(w, "      </PointData>")?;
 
         writeln!(w, "      <CellData>")?;
-        write_array(
-            w,
-            "Int32",
-            Some(PART_ID),
-            1,
-            part_id.len(),
-            part_id.iter().map(|v| v.to_le_bytes()),
-        )?;
+        write_array(w, "Int32", Some(PART_ID), 1, part_id.len(), part_id.iter().map(|v| v.to_le_bytes()))?;
         for f in cell_data {
-            write_f64_array(
-                w,
-                Some(f.name),
-                f.components,
-                f.values.len(),
-                f.values.iter().copied(),
-            )?;
+            write_f64_array(w, Some(f.name), f.components, f.values.len(), f.values.iter().copied())?;
         }
         writeln!(w, "      </CellData>")?;
 
         writeln!(w, "      <Points>")?;
-        write_f64_array(
-            w,
-            None,
-            3,
-            3 * num_points,
-            mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]),
-        )?;
+        write_f64_array(w, None, 3, 3 * num_points, mesh.nodes.iter().flat_map(|p| [p[0], p[1], 0.0]))?;
         writeln!(w, "      </Points>")?;
 
         let cell_len = mesh.order.nodes_per_cell();
@@ -177,14 +128,10 @@ pub fn write_vtu(
             Order::P1 => (VTK_TRIANGLE, VTK_LINE),
             Order::P2 => (VTK_QUADRATIC_TRIANGLE, VTK_QUADRATIC_EDGE),
         };
-        let connectivity = mesh.cells[..num_cells * cell_len]
-            .iter()
-            .chain(mesh.edges[..num_edges * edge_len].iter());
-        let offsets = (1..=num_cells)
-            .map(|c| c * cell_len)
-            .chain((1..=num_edges).map(|e| num_cells * cell_len + e * edge_len));
-        let types = std::iter::repeat_n(cell_type, num_cells)
-            .chain(std::iter::repeat_n(edge_type, num_edges));
+        let connectivity = mesh.cells[..num_cells * cell_len].iter().chain(mesh.edges[..num_edges * edge_len].iter());
+        let offsets =
+            (1..=num_cells).map(|c| c * cell_len).chain((1..=num_edges).map(|e| num_cells * cell_len + e * edge_len));
+        let types = std::iter::repeat_n(cell_type, num_cells).chain(std::iter::repeat_n(edge_type, num_edges));
         let num_connectivity = num_cells * cell_len + num_edges * edge_len;
         writeln!(w, "      <Cells>")?;
         write_array(
@@ -195,22 +142,8 @@ pub fn write_vtu(
             num_connectivity,
             connectivity.map(|&n| (n as i64).to_le_bytes()),
         )?;
-        write_array(
-            w,
-            "Int64",
-            Some("offsets"),
-            1,
-            num_cells + num_edges,
-            offsets.map(|o| (o as i64).to_le_bytes()),
-        )?;
-        write_array(
-            w,
-            "UInt8",
-            Some("types"),
-            1,
-            num_cells + num_edges,
-            types.map(|t| [t]),
-        )?;
+        write_array(w, "Int64", Some("offsets"), 1, num_cells + num_edges, offsets.map(|o| (o as i64).to_le_bytes()))?;
+        write_array(w, "UInt8", Some("types"), 1, num_cells + num_edges, types.map(|t| [t]))?;
         writeln!(w, "      </Cells>")?;
 
         writeln!(w, "    </Piece>")?;
@@ -245,54 +178,34 @@ fn check_mesh(mesh: &Mesh) -> std::result::Result<(), String> {
         ));
     }
     if mesh.edge_group.len() != mesh.num_edges() {
-        return Err(format!(
-            "mesh: {} edge group entries for {} edges",
-            mesh.edge_group.len(),
-            mesh.num_edges()
-        ));
+        return Err(format!("mesh: {} edge group entries for {} edges", mesh.edge_group.len(), mesh.num_edges()));
     }
     let groups = mesh.groups.len();
     for c in 0..mesh.num_cells() {
         if let Some(&v) = mesh.cell(c).iter().find(|&&v| v >= n) {
-            return Err(format!(
-                "mesh: triangle {c} uses node {v}, but the mesh has {n} nodes"
-            ));
+            return Err(format!("mesh: triangle {c} uses node {v}, but the mesh has {n} nodes"));
         }
         let g = mesh.cell_group[c];
         if g != NO_GROUP && g >= groups {
-            return Err(format!(
-                "mesh: triangle {c} is in group {g}, but the mesh has {groups} groups"
-            ));
+            return Err(format!("mesh: triangle {c} is in group {g}, but the mesh has {groups} groups"));
         }
     }
     for e in 0..mesh.num_edges() {
         if let Some(&v) = mesh.edge(e).iter().find(|&&v| v >= n) {
-            return Err(format!(
-                "mesh: boundary edge {e} uses node {v}, but the mesh has {n} nodes"
-            ));
+            return Err(format!("mesh: boundary edge {e} uses node {v}, but the mesh has {n} nodes"));
         }
         let g = mesh.edge_group[e];
         if g != NO_GROUP && g >= groups {
-            return Err(format!(
-                "mesh: boundary edge {e} is in group {g}, but the mesh has {groups} groups"
-            ));
+            return Err(format!("mesh: boundary edge {e} is in group {g}, but the mesh has {groups} groups"));
         }
     }
     Ok(())
 }
 
-fn check_fields(
-    kind: &str,
-    fields: &[Field],
-    count: usize,
-    count_desc: &str,
-) -> std::result::Result<(), String> {
+fn check_fields(kind: &str, fields: &[Field], count: usize, count_desc: &str) -> std::result::Result<(), String> {
     for (i, f) in fields.iter().enumerate() {
         if f.components == 0 {
-            return Err(format!(
-                "{kind} field '{}': 0 components; a field needs at least one",
-                f.name
-            ));
+            return Err(format!("{kind} field '{}': 0 components; a field needs at least one", f.name));
         }
         let expected = f.components * count;
         if f.values.len() != expected {
@@ -304,10 +217,7 @@ fn check_fields(
             ));
         }
         if fields[..i].iter().any(|g| g.name == f.name) {
-            return Err(format!(
-                "{kind} field '{}': given twice; field names must be unique",
-                f.name
-            ));
+            return Err(format!("{kind} field '{}': given twice; field names must be unique", f.name));
         }
     }
     Ok(())
@@ -320,14 +230,7 @@ fn write_f64_array(
     count: usize,
     values: impl Iterator<Item = f64>,
 ) -> io::Result<()> {
-    write_array(
-        w,
-        "Float64",
-        name,
-        components,
-        count,
-        values.map(f64::to_le_bytes),
-    )
+    write_array(w, "Float64", name, components, count, values.map(f64::to_le_bytes))
 }
 
 /// One `<DataArray>` of `count` items of `N` bytes each (already little-endian).
@@ -358,10 +261,7 @@ fn write_array<const N: usize>(
         // Only reachable through a bug in this module; never leave a file with a wrong header.
         return Err(io::Error::new(
             io::ErrorKind::InvalidData,
-            format!(
-                "internal error: array '{}' has {written} items, header says {count}",
-                name.unwrap_or("")
-            ),
+            format!("internal error: array '{}' has {written} items, header says {count}", name.unwrap_or("")),
         ));
     }
     stream.finish()?;
@@ -400,11 +300,7 @@ const BASE64_CHUNK: usize = 3 * 16 * 1024;
 
 impl<'w> Base64Stream<'w> {
     fn new(out: &'w mut dyn Write) -> Self {
-        Base64Stream {
-            out,
-            pending: Vec::with_capacity(BASE64_CHUNK + 16),
-            encoded: vec![0; BASE64_CHUNK / 3 * 4 + 8],
-        }
+        Base64Stream { out, pending: Vec::with_capacity(BASE64_CHUNK + 16), encoded: vec![0; BASE64_CHUNK / 3 * 4 + 8] }
     }
 
     fn push(&mut self, bytes: &[u8]) -> io::Result<()> {

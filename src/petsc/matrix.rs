@@ -42,7 +42,10 @@ impl<'s> Matrix<'s> {
             )));
         }
         if first_row + nrows > global {
-            return Err(Error::PetscUsage(format!("rows {first_row}..{} exceed the matrix order {global}", first_row + nrows)));
+            return Err(Error::PetscUsage(format!(
+                "rows {first_row}..{} exceed the matrix order {global}",
+                first_row + nrows
+            )));
         }
         if block_size == 0 || nrows % block_size != 0 || first_row % block_size != 0 {
             return Err(Error::PetscUsage(format!(
@@ -61,10 +64,16 @@ impl<'s> Matrix<'s> {
             let mut d = 0;
             for (k, &c) in cols.iter().enumerate() {
                 if c >= global {
-                    return Err(Error::PetscUsage(format!("row {}: column {c} out of range (order {global})", first_row + r)));
+                    return Err(Error::PetscUsage(format!(
+                        "row {}: column {c} out of range (order {global})",
+                        first_row + r
+                    )));
                 }
                 if k > 0 && cols[k - 1] >= c {
-                    return Err(Error::PetscUsage(format!("row {}: column indices not strictly increasing", first_row + r)));
+                    return Err(Error::PetscUsage(format!(
+                        "row {}: column indices not strictly increasing",
+                        first_row + r
+                    )));
                 }
                 if owned.contains(&c) {
                     d += 1;

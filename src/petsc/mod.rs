@@ -204,6 +204,10 @@ impl Session {
                 ))
             }
         }
+        if let Err(e) = check_option_values(args.get(1..).unwrap_or(&[]), "command line") {
+            SESSION_STATE.store(0, Ordering::SeqCst);
+            return Err(e);
+        }
         let program = args.first().cloned().unwrap_or_else(|| "signorini".to_string());
         let mut c_args = Vec::with_capacity(args.len().max(1));
         c_args.push(cstring(&program)?);
@@ -259,7 +263,14 @@ impl Session {
         let n = cstring(name)?;
         let mut buf = vec![0 as c_char; 4096];
         let mut set = sys::PetscBool::PETSC_FALSE;
-        petsc!(PetscOptionsGetString(std::ptr::null_mut(), std::ptr::null(), n.as_ptr(), buf.as_mut_ptr(), buf.len(), &mut set))?;
+        petsc!(PetscOptionsGetString(
+            std::ptr::null_mut(),
+            std::ptr::null(),
+            n.as_ptr(),
+            buf.as_mut_ptr(),
+            buf.len(),
+            &mut set
+        ))?;
         if set != sys::PetscBool::PETSC_TRUE {
             return Ok(None);
         }
@@ -270,12 +281,17 @@ impl Session {
     pub fn set_option(&self, name: &str, value: Option<&str>) -> Result<()> {
         let n = cstring(name)?;
         let v = value.map(cstring).transpose()?;
-        petsc!(PetscOptionsSetValue(std::ptr::null_mut(), n.as_ptr(), v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr())))
+        petsc!(PetscOptionsSetValue(
+            std::ptr::null_mut(),
+            n.as_ptr(),
+            v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr())
+        ))
     }
 
     /// Insert options given as tokens (`["-ksp_type", "cg", "-ksp_monitor"]`) as *defaults*: an
     /// option already in the database (from the command line) wins. Returns the options it set.
     pub fn insert_default_options(&self, tokens: &[String]) -> Result<Vec<String>> {
+        check_option_values(tokens, "scene [solver] petsc_options")?;
         let mut inserted = Vec::new();
         let mut i = 0;
         while i < tokens.len() {
@@ -314,6 +330,84 @@ impl Session {
     }
 }
 
+/// Suffixes of PETSc options that always take a value. PETSc 3.18 silently ignores an integer,
+/// real or string option given without its value (`-pc_factor_levels` alone leaves the default
+/// in place), so such a token is refused here instead of giving a silently different solver.
+const VALUE_SUFFIXES: &[&str] = &[
+    "_type",
+    "_levels",
+    "_rtol",
+    "_atol",
+    "_dtol",
+    "_divtol",
+    "_max_it",
+    "_maxit",
+    "_max_iter",
+    "_omega",
+    "_its",
+    "_lits",
+    "_fill",
+    "_restart",
+    "_tol",
+    "_threshold",
+    "_ordering",
+    "_shift_amount",
+    "_max_funcs",
+    "_gatol",
+    "_grtol",
+    "_gttol",
+    "_agg_nsmooths",
+    "_max_levels",
+    "_coarse_eq_limit",
+    "_blocks",
+    "_local_blocks",
+];
+
+/// Does this option name need a value (see [`VALUE_SUFFIXES`]; also `..._icntl_N`, `..._cntl_N`)?
+fn needs_value(name: &str) -> bool {
+    let bare = name.trim_start_matches('-');
+    if VALUE_SUFFIXES.iter().any(|s| bare.ends_with(s)) {
+        return true;
+    }
+    match bare.rsplit_once('_') {
+        Some((head, num)) if num.chars().all(|c| c.is_ascii_digit()) && !num.is_empty() => {
+            head.ends_with("_icntl") || head.ends_with("_cntl")
+        }
+        _ => false,
+    }
+}
+
+/// Check a PETSc option token list (`["-ksp_type", "cg", "-ksp_monitor"]`): every option that
+/// needs a value has one. `source` says where the list came from (for the message).
+pub fn check_option_values(tokens: &[String], source: &str) -> Result<()> {
+    for (i, t) in tokens.iter().enumerate() {
+        if is_option_name(t) && needs_value(t) {
+            let has_value = tokens.get(i + 1).is_some_and(|v| !is_option_name(v));
+            if !has_value {
+                return Err(Error::PetscOption {
+                    option: t.clone(),
+                    message: format!(
+                        "{source}: PETSc option {t} needs a value (PETSc would silently ignore it), e.g. {}",
+                        example_value(t)
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn example_value(name: &str) -> String {
+    let v = if name.ends_with("_type") {
+        "cg"
+    } else if name.ends_with("tol") {
+        "1e-8"
+    } else {
+        "2"
+    };
+    format!("{name} {v}")
+}
+
 /// `-ksp_type` is an option name; `-1e-3` and `-5` are values.
 fn is_option_name(token: &str) -> bool {
     token.starts_with('-') && token[1..].chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
@@ -340,6 +434,17 @@ pub(crate) fn to_petsc_int(value: usize, what: &str) -> Result<sys::PetscInt> {
 #[cfg(test)]
 mod tests {
     use super::is_option_name;
+    #[test]
+    fn options_that_need_values() {
+        use super::{check_option_values, needs_value};
+        assert!(needs_value("-pc_factor_levels") && needs_value("-ksp_type") && needs_value("-mat_mumps_icntl_7"));
+        assert!(!needs_value("-ksp_monitor") && !needs_value("-pc_sor_symmetric") && !needs_value("-log_view"));
+        let t = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert!(check_option_values(&t(&["-pc_factor_levels", "2", "-ksp_monitor"]), "x").is_ok());
+        assert!(check_option_values(&t(&["-ksp_rtol", "-ksp_monitor"]), "x").is_err());
+        assert!(check_option_values(&t(&["-ksp_monitor", "-pc_factor_levels"]), "x").is_err());
+    }
+
     #[test]
     fn option_names_versus_negative_values() {
         assert!(is_option_name("-ksp_type"));

@@ -21,7 +21,11 @@ impl<'s> Vector<'s> {
         let mut raw: sys::Vec = std::ptr::null_mut();
         petsc!(VecCreate(comm.raw(), &mut raw))?;
         let mut v = Vector { raw, global, range: 0..0, _session: PhantomData };
-        petsc!(VecSetSizes(v.raw, to_petsc_int(local, "local vector size")?, to_petsc_int(global, "global vector size")?))?;
+        petsc!(VecSetSizes(
+            v.raw,
+            to_petsc_int(local, "local vector size")?,
+            to_petsc_int(global, "global vector size")?
+        ))?;
         petsc!(VecSetFromOptions(v.raw))?;
         v.range = v.query_range()?;
         Ok(v)
@@ -70,7 +74,11 @@ impl<'s> Vector<'s> {
         let mut ptr: *const f64 = std::ptr::null();
         petsc!(VecGetArrayRead(self.raw, &mut ptr))?;
         // SAFETY: the owned block has range.len() entries.
-        let out = if self.range.is_empty() { Vec::new() } else { unsafe { std::slice::from_raw_parts(ptr, self.range.len()) }.to_vec() };
+        let out = if self.range.is_empty() {
+            Vec::new()
+        } else {
+            unsafe { std::slice::from_raw_parts(ptr, self.range.len()) }.to_vec()
+        };
         petsc!(VecRestoreArrayRead(self.raw, &mut ptr))?;
         Ok(out)
     }
@@ -82,8 +90,20 @@ impl<'s> Vector<'s> {
         petsc!(VecScatterCreateToAll(self.raw, &mut scatter, &mut all))?;
         let all = Vector::from_raw(all)?;
         let result = (|| {
-            petsc!(VecScatterBegin(scatter, self.raw, all.raw, sys::InsertMode::INSERT_VALUES, sys::ScatterMode::SCATTER_FORWARD))?;
-            petsc!(VecScatterEnd(scatter, self.raw, all.raw, sys::InsertMode::INSERT_VALUES, sys::ScatterMode::SCATTER_FORWARD))?;
+            petsc!(VecScatterBegin(
+                scatter,
+                self.raw,
+                all.raw,
+                sys::InsertMode::INSERT_VALUES,
+                sys::ScatterMode::SCATTER_FORWARD
+            ))?;
+            petsc!(VecScatterEnd(
+                scatter,
+                self.raw,
+                all.raw,
+                sys::InsertMode::INSERT_VALUES,
+                sys::ScatterMode::SCATTER_FORWARD
+            ))?;
             all.owned_values()
         })();
         let _ = unsafe { sys::VecScatterDestroy(&mut scatter) };

@@ -35,17 +35,8 @@ impl<'a> Source<'a> {
         self.text.get(v.span()).unwrap_or("").trim()
     }
 
-    pub fn error(
-        &self,
-        span: &Range<usize>,
-        message: impl Into<String>,
-        hint: impl Into<String>,
-    ) -> Error {
-        Error::Scene {
-            location: self.location(span.start),
-            message: message.into(),
-            hint: hint.into(),
-        }
+    pub fn error(&self, span: &Range<usize>, message: impl Into<String>, hint: impl Into<String>) -> Error {
+        Error::Scene { location: self.location(span.start), message: message.into(), hint: hint.into() }
     }
 
     /// The span of the `occurrence`-th (0-based) header `[name]` (or `[[name]]` when `array`),
@@ -59,24 +50,14 @@ impl<'a> Source<'a> {
             let trimmed = line.trim_start();
             let indent = line.len() - trimmed.len();
             let body = match array {
-                true => trimmed
-                    .strip_prefix("[[")
-                    .and_then(|r| r.split_once("]]"))
-                    .map(|(b, _)| b),
+                true => trimmed.strip_prefix("[[").and_then(|r| r.split_once("]]")).map(|(b, _)| b),
                 false => match trimmed.starts_with("[[") {
                     true => None,
-                    false => trimmed
-                        .strip_prefix('[')
-                        .and_then(|r| r.split_once(']'))
-                        .map(|(b, _)| b),
+                    false => trimmed.strip_prefix('[').and_then(|r| r.split_once(']')).map(|(b, _)| b),
                 },
             };
             let Some(body) = body else { continue };
-            let header: String = body
-                .split('.')
-                .map(|p| p.trim().trim_matches('"'))
-                .collect::<Vec<_>>()
-                .join(".");
+            let header: String = body.split('.').map(|p| p.trim().trim_matches('"')).collect::<Vec<_>>().join(".");
             if header == name {
                 if seen == occurrence {
                     let end = here + line.trim_end().len();
@@ -92,12 +73,7 @@ impl<'a> Source<'a> {
     pub fn toml_error(&self, e: &toml::de::Error) -> Error {
         let span = e.span().unwrap_or(0..0);
         let raw = e.message().trim();
-        let one_line = raw
-            .split('\n')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-            .collect::<Vec<_>>()
-            .join(": ");
+        let one_line = raw.split('\n').map(str::trim).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(": ");
 
         if let Some(rest) = raw.strip_prefix("unknown field ") {
             // serde: "unknown field `k`, expected one of `a`, `b`" / "expected `a` or `b`"
@@ -114,14 +90,11 @@ impl<'a> Source<'a> {
                 return self.unknown_key(&span, &unknown, &allowed);
             }
         }
-        let wrong_type = match (
-            raw.strip_prefix("invalid type: "),
-            raw.strip_prefix("invalid length "),
-        ) {
-            (Some(rest), _) => Some(rest.replacen(", expected ", ", but expected ", 1).replace(
-                "expected a sequence",
-                "expected an array of tables ([[name]] headers)",
-            )),
+        let wrong_type = match (raw.strip_prefix("invalid type: "), raw.strip_prefix("invalid length ")) {
+            (Some(rest), _) => Some(
+                rest.replacen(", expected ", ", but expected ", 1)
+                    .replace("expected a sequence", "expected an array of tables ([[name]] headers)"),
+            ),
             (None, Some(rest)) => rest.split_once(", expected ").map(|(n, expected)| {
                 let plural = if n == "1" { "" } else { "s" };
                 format!("an array of {n} table{plural}, but expected {expected}")
@@ -141,11 +114,7 @@ impl<'a> Source<'a> {
             );
         }
         if raw.starts_with("duplicate key") {
-            return self.error(
-                &span,
-                one_line,
-                "a key may appear only once per table: remove the repeated one",
-            );
+            return self.error(&span, one_line, "a key may appear only once per table: remove the repeated one");
         }
         self.error(
             &span,
@@ -158,9 +127,7 @@ impl<'a> Source<'a> {
     fn unknown_key(&self, span: &Range<usize>, unknown: &str, allowed: &[String]) -> Error {
         let table = TABLE_KEYS
             .iter()
-            .find(|(_, keys)| {
-                keys.len() == allowed.len() && keys.iter().all(|k| allowed.iter().any(|a| a == k))
-            })
+            .find(|(_, keys)| keys.len() == allowed.len() && keys.iter().all(|k| allowed.iter().any(|a| a == k)))
             .map(|(name, _)| *name);
         let message = match table {
             Some("the top level") => format!("unknown table or key `{unknown}` at the top level"),
@@ -270,22 +237,13 @@ impl<'a> Source<'a> {
     pub fn nonempty_string<'v>(&self, v: &'v Spanned<Value>, key: &str) -> Result<&'v str> {
         let s = self.string(v, key)?;
         if s.trim().is_empty() {
-            return Err(self.error(
-                &v.span(),
-                format!("`{key}` is empty"),
-                format!("give a value for `{key}`"),
-            ));
+            return Err(self.error(&v.span(), format!("`{key}` is empty"), format!("give a value for `{key}`")));
         }
         Ok(s)
     }
 
     /// One of `choices`, with a did-you-mean on a near miss.
-    pub fn choice(
-        &self,
-        v: &Spanned<Value>,
-        key: &str,
-        choices: &[&'static str],
-    ) -> Result<&'static str> {
+    pub fn choice(&self, v: &Spanned<Value>, key: &str, choices: &[&'static str]) -> Result<&'static str> {
         let quoted: Vec<String> = choices.iter().map(|c| format!("\"{c}\"")).collect();
         let list = quoted.join(", ");
         let s = match v.get_ref() {
@@ -294,10 +252,7 @@ impl<'a> Source<'a> {
                 return Err(self.error(
                     &v.span(),
                     format!("`{key}` must be one of {list}, found {}", describe(other)),
-                    format!(
-                        "write the name in double quotes, e.g. `{key} = \"{}\"`",
-                        choices[0]
-                    ),
+                    format!("write the name in double quotes, e.g. `{key} = \"{}\"`", choices[0]),
                 ))
             }
         };
@@ -314,11 +269,7 @@ impl<'a> Source<'a> {
 
 /// The `...` quoted names in a serde message, in order.
 fn backticked(s: &str) -> Vec<String> {
-    s.split('`')
-        .skip(1)
-        .step_by(2)
-        .map(str::to_string)
-        .collect()
+    s.split('`').skip(1).step_by(2).map(str::to_string).collect()
 }
 
 /// A short description of a value for messages: `the string "steel"`, `the integer 3`...
@@ -333,12 +284,9 @@ pub(super) fn describe(v: &Value) -> String {
         Value::Float(x) => format!("the number {x}"),
         Value::Boolean(b) => format!("the boolean {b}"),
         Value::Datetime(d) => format!("the date-time {d}"),
-        Value::Array(a) => format!(
-            "an array of {} item{} {}",
-            a.len(),
-            if a.len() == 1 { "" } else { "s" },
-            shown(v.to_string())
-        ),
+        Value::Array(a) => {
+            format!("an array of {} item{} {}", a.len(), if a.len() == 1 { "" } else { "s" }, shown(v.to_string()))
+        }
         Value::Table(_) => "a table".to_string(),
     }
 }
@@ -397,10 +345,7 @@ mod tests {
 
     #[test]
     fn location_counts_lines_and_characters() {
-        let src = Source {
-            file: Path::new("s.toml"),
-            text: "a = 1\nb = \"é\"x\n",
-        };
+        let src = Source { file: Path::new("s.toml"), text: "a = 1\nb = \"é\"x\n" };
         let l = src.location(0);
         assert_eq!((l.line, l.column), (1, 1));
         let l = src.location(6);
@@ -415,27 +360,12 @@ mod tests {
     #[test]
     fn headers_are_found_in_order() {
         let text = "[mesh]\n  [[traction]] # first\nx=1\n[[ traction ]]\n[mesh.refine]\n";
-        let src = Source {
-            file: Path::new("s.toml"),
-            text,
-        };
+        let src = Source { file: Path::new("s.toml"), text };
         assert_eq!(src.table_header("mesh", false, 0), Some(0..6));
-        assert_eq!(
-            src.table_header("traction", true, 0)
-                .map(|r| src.location(r.start).line),
-            Some(2)
-        );
-        assert_eq!(
-            src.table_header("traction", true, 1)
-                .map(|r| src.location(r.start).line),
-            Some(4)
-        );
+        assert_eq!(src.table_header("traction", true, 0).map(|r| src.location(r.start).line), Some(2));
+        assert_eq!(src.table_header("traction", true, 1).map(|r| src.location(r.start).line), Some(4));
         assert_eq!(src.table_header("traction", true, 2), None);
         assert_eq!(src.table_header("traction", false, 0), None);
-        assert_eq!(
-            src.table_header("mesh.refine", false, 0)
-                .map(|r| src.location(r.start).line),
-            Some(5)
-        );
+        assert_eq!(src.table_header("mesh.refine", false, 0).map(|r| src.location(r.start).line), Some(5));
     }
 }

@@ -85,28 +85,12 @@ pub struct Scene {
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshSpec {
     /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
-    Rectangle {
-        origin: [f64; 2],
-        size: [f64; 2],
-        cell_size: f64,
-        mesher: Mesher,
-        refine: Option<RefineSpec>,
-    },
+    Rectangle { origin: [f64; 2], size: [f64; 2], cell_size: f64, mesher: Mesher, refine: Option<RefineSpec> },
     /// Full disc; boundary part `boundary`. Always meshed by gmsh.
-    Disc {
-        center: [f64; 2],
-        radius: f64,
-        cell_size: f64,
-        refine: Option<RefineSpec>,
-    },
+    Disc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
     /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `top`.
     /// Always meshed by gmsh.
-    HalfDisc {
-        center: [f64; 2],
-        radius: f64,
-        cell_size: f64,
-        refine: Option<RefineSpec>,
-    },
+    HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
     File { path: PathBuf },
 }
@@ -176,8 +160,7 @@ pub enum Load {
 impl Scene {
     /// Read and parse a scene file.
     pub fn from_file(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::io(path, "reading the scene file", e))?;
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, "reading the scene file", e))?;
         Scene::from_str(&text, path)
     }
 
@@ -189,11 +172,7 @@ impl Scene {
         let raw: RawScene = toml::from_str(text).map_err(|e| src.toml_error(&e))?;
         let scene_dir = source.parent().unwrap_or(Path::new(""));
 
-        let title = raw
-            .title
-            .as_ref()
-            .map(|v| src.string(v, "title").map(str::to_string))
-            .transpose()?;
+        let title = raw.title.as_ref().map(|v| src.string(v, "title").map(str::to_string)).transpose()?;
         let Some(raw_mesh) = &raw.mesh else {
             return Err(src.error(
                 &(0..0),
@@ -202,10 +181,7 @@ impl Scene {
             ));
         };
         let mesh = mesh_spec(&src, raw_mesh, scene_dir)?;
-        let order = order(
-            &src,
-            raw.discretization.as_ref().and_then(|d| d.order.as_ref()),
-        )?;
+        let order = order(&src, raw.discretization.as_ref().and_then(|d| d.order.as_ref()))?;
         let Some(raw_material) = &raw.material else {
             return Err(src.error(
                 &(0..0),
@@ -218,18 +194,10 @@ impl Scene {
             Some(v) => src.vector(v, "body_force")?,
             None => [0.0; 2],
         };
-        let tractions = raw
-            .traction
-            .iter()
-            .enumerate()
-            .map(|(i, t)| traction_spec(&src, t, i))
-            .collect::<Result<Vec<_>>>()?;
-        let dirichlet = raw
-            .dirichlet
-            .iter()
-            .enumerate()
-            .map(|(i, d)| dirichlet_spec(&src, d, i))
-            .collect::<Result<Vec<_>>>()?;
+        let tractions =
+            raw.traction.iter().enumerate().map(|(i, t)| traction_spec(&src, t, i)).collect::<Result<Vec<_>>>()?;
+        let dirichlet =
+            raw.dirichlet.iter().enumerate().map(|(i, d)| dirichlet_spec(&src, d, i)).collect::<Result<Vec<_>>>()?;
         let petsc_options = match raw.solver.as_ref().and_then(|s| s.petsc_options.as_ref()) {
             Some(v) => petsc_options(&src, v)?,
             None => Vec::new(),
@@ -272,12 +240,7 @@ impl Scene {
             if mesh.group_index(part, 1).is_some() {
                 continue;
             }
-            let names: Vec<&str> = mesh
-                .groups
-                .iter()
-                .filter(|g| g.dim == 1)
-                .map(|g| g.name.as_str())
-                .collect();
+            let names: Vec<&str> = mesh.groups.iter().filter(|g| g.dim == 1).map(|g| g.name.as_str()).collect();
             let message = match mesh.group_index(part, 2) {
                 Some(_) => {
                     format!("`{part}` is a region (surface group) of the mesh, not a boundary part")
@@ -285,21 +248,14 @@ impl Scene {
                 None => format!("the mesh has no boundary part named `{part}`"),
             };
             let known = match names.is_empty() {
-                true => {
-                    "the mesh has no named boundary parts: give its boundary curves physical names"
-                        .to_string()
-                }
+                true => "the mesh has no named boundary parts: give its boundary curves physical names".to_string(),
                 false => format!("the mesh's boundary parts are: {}", names.join(", ")),
             };
             let hint = match closest(part, &names) {
                 Some(guess) => format!("did you mean `{guess}`? {known}"),
                 None => known,
             };
-            return Err(Error::Scene {
-                location: at.clone(),
-                message,
-                hint,
-            });
+            return Err(Error::Scene { location: at.clone(), message, hint });
         }
         Ok(())
     }
@@ -324,24 +280,13 @@ impl<'s, 'a> Table<'s, 'a> {
         first_key: Option<Range<usize>>,
         fallback: Range<usize>,
     ) -> Self {
-        let span = src
-            .table_header(header.0, header.1, header.2)
-            .or(first_key)
-            .unwrap_or(fallback);
-        Table {
-            src,
-            name: name.into(),
-            span,
-        }
+        let span = src.table_header(header.0, header.1, header.2).or(first_key).unwrap_or(fallback);
+        Table { src, name: name.into(), span }
     }
 
     fn require<'v>(&self, leaf: &'v Leaf, key: &str, example: &str) -> Result<&'v Spanned<Value>> {
         leaf.as_ref().ok_or_else(|| {
-            self.src.error(
-                &self.span,
-                format!("{} is missing `{key}`", self.name),
-                format!("add `{example}`"),
-            )
+            self.src.error(&self.span, format!("{} is missing `{key}`", self.name), format!("add `{example}`"))
         })
     }
 }
@@ -354,55 +299,29 @@ const FILE_KEYS: &[&str] = &["shape", "file"];
 
 fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
     let table = Table::locate(src, "[mesh]", ("mesh", false, 0), m.first_span(), 0..0);
-    let shape_v = table.require(
-        &m.shape,
-        "shape",
-        "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"file\")",
-    )?;
+    let shape_v = table.require(&m.shape, "shape", "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"file\")")?;
     let shape = src.choice(shape_v, "shape", SHAPES)?;
     let allowed = match shape {
         "rectangle" => RECTANGLE_KEYS,
         "disc" | "half_disc" => DISC_KEYS,
         _ => FILE_KEYS,
     };
-    if let Some((key, span)) = m
-        .present_keys()
-        .into_iter()
-        .find(|(k, _)| !allowed.contains(k))
-    {
+    if let Some((key, span)) = m.present_keys().into_iter().find(|(k, _)| !allowed.contains(k)) {
         let hint = match (shape, key) {
-            ("file", _) => format!(
-                "a mesh file is used as it is: remove `{key}` (refine the mesh in gmsh instead)"
-            ),
-            (_, "mesher") => {
-                "disc and half_disc meshes are always made by gmsh: remove `mesher`".to_string()
-            }
-            _ => format!(
-                "remove `{key}`; shape = \"{shape}\" takes {}",
-                allowed.join(", ")
-            ),
+            ("file", _) => format!("a mesh file is used as it is: remove `{key}` (refine the mesh in gmsh instead)"),
+            (_, "mesher") => "disc and half_disc meshes are always made by gmsh: remove `mesher`".to_string(),
+            _ => format!("remove `{key}`; shape = \"{shape}\" takes {}", allowed.join(", ")),
         };
-        return Err(src.error(
-            &span,
-            format!("`{key}` does not apply to shape = \"{shape}\""),
-            hint,
-        ));
+        return Err(src.error(&span, format!("`{key}` does not apply to shape = \"{shape}\""), hint));
     }
-    let table = Table {
-        name: format!("[mesh] with shape = \"{shape}\""),
-        ..table
-    };
+    let table = Table { name: format!("[mesh] with shape = \"{shape}\""), ..table };
 
     if shape == "file" {
         let v = table.require(&m.file, "file", "file = \"part.msh\" (a Gmsh MSH 4.1 file)")?;
         let name = src.nonempty_string(v, "file")?;
         let path = scene_dir.join(name);
         if !path.is_file() {
-            let what = if path.is_dir() {
-                "is a directory"
-            } else {
-                "does not exist"
-            };
+            let what = if path.is_dir() { "is a directory" } else { "does not exist" };
             return Err(src.error(
                 &v.span(),
                 format!("mesh file `{name}` {what} (looked for {})", path.display()),
@@ -412,11 +331,7 @@ fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
         return Ok(MeshSpec::File { path });
     }
 
-    let cell_v = table.require(
-        &m.cell_size,
-        "cell_size",
-        "cell_size = 0.05 (target edge length)",
-    )?;
+    let cell_v = table.require(&m.cell_size, "cell_size", "cell_size = 0.05 (target edge length)")?;
     let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
     let vector_or_zero = |leaf: &Leaf, key| leaf.as_ref().map(|v| src.vector(v, key)).transpose();
     let mut spec = match shape {
@@ -435,31 +350,15 @@ fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
                 Some(v) if src.choice(v, "mesher", MESHERS)? == "gmsh" => Mesher::Gmsh,
                 _ => Mesher::Structured,
             };
-            MeshSpec::Rectangle {
-                origin,
-                size,
-                cell_size,
-                mesher,
-                refine: None,
-            }
+            MeshSpec::Rectangle { origin, size, cell_size, mesher, refine: None }
         }
         _ => {
             let center = vector_or_zero(&m.center, "center")?.unwrap_or([0.0; 2]);
             let radius_v = table.require(&m.radius, "radius", "radius = 1.0")?;
             let radius = src.positive(radius_v, "radius", "a radius")?;
             match shape {
-                "disc" => MeshSpec::Disc {
-                    center,
-                    radius,
-                    cell_size,
-                    refine: None,
-                },
-                _ => MeshSpec::HalfDisc {
-                    center,
-                    radius,
-                    cell_size,
-                    refine: None,
-                },
+                "disc" => MeshSpec::Disc { center, radius, cell_size, refine: None },
+                _ => MeshSpec::HalfDisc { center, radius, cell_size, refine: None },
             }
         }
     };
@@ -472,18 +371,8 @@ fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
     check_cell_count(src, cell_v, "cell_size", cell_size, area)?;
     if let Some(r) = &m.refine {
         let fallback = table.span.clone();
-        let rt = Table::locate(
-            src,
-            "mesh.refine",
-            ("mesh.refine", false, 0),
-            r.first_span(),
-            fallback,
-        );
-        if let MeshSpec::Rectangle {
-            mesher: Mesher::Structured,
-            ..
-        } = spec
-        {
+        let rt = Table::locate(src, "mesh.refine", ("mesh.refine", false, 0), r.first_span(), fallback);
+        if let MeshSpec::Rectangle { mesher: Mesher::Structured, .. } = spec {
             return Err(src.error(
                 &rt.span,
                 "`refine` needs mesher = \"gmsh\"",
@@ -492,27 +381,18 @@ fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
         }
         let parsed = refine_spec(src, r, rt, cell_size)?;
         match &mut spec {
-            MeshSpec::Rectangle { refine, .. }
-            | MeshSpec::Disc { refine, .. }
-            | MeshSpec::HalfDisc { refine, .. } => *refine = Some(parsed),
+            MeshSpec::Rectangle { refine, .. } | MeshSpec::Disc { refine, .. } | MeshSpec::HalfDisc { refine, .. } => {
+                *refine = Some(parsed)
+            }
             MeshSpec::File { .. } => {}
         }
     }
     Ok(spec)
 }
 
-fn refine_spec(
-    src: &Source,
-    r: &RawRefine,
-    table: Table,
-    mesh_cell_size: f64,
-) -> Result<RefineSpec> {
+fn refine_spec(src: &Source, r: &RawRefine, table: Table, mesh_cell_size: f64) -> Result<RefineSpec> {
     let point = src.vector(table.require(&r.point, "point", "point = [x, y]")?, "point")?;
-    let cell_v = table.require(
-        &r.cell_size,
-        "cell_size",
-        "cell_size = 0.01 (the edge length near point)",
-    )?;
+    let cell_v = table.require(&r.cell_size, "cell_size", "cell_size = 0.01 (the edge length near point)")?;
     let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
     if cell_size > mesh_cell_size {
         return Err(src.error(
@@ -524,28 +404,14 @@ fn refine_spec(
             "a refinement needs a smaller cell_size than [mesh] cell_size",
         ));
     }
-    let radius_v = table.require(
-        &r.radius,
-        "radius",
-        "radius = 0.1 (the size of the refined zone)",
-    )?;
+    let radius_v = table.require(&r.radius, "radius", "radius = 0.1 (the size of the refined zone)")?;
     let radius = src.positive(radius_v, "radius", "the radius of the refined zone")?;
     let area = std::f64::consts::PI * radius * radius;
     check_cell_count(src, cell_v, "refine's cell_size", cell_size, area)?;
-    Ok(RefineSpec {
-        point,
-        cell_size,
-        radius,
-    })
+    Ok(RefineSpec { point, cell_size, radius })
 }
 
-fn check_cell_count(
-    src: &Source,
-    cell_v: &Spanned<Value>,
-    key: &str,
-    cell_size: f64,
-    area: f64,
-) -> Result<()> {
+fn check_cell_count(src: &Source, cell_v: &Spanned<Value>, key: &str, cell_size: f64, area: f64) -> Result<()> {
     let estimate = 2.0 * area / (cell_size * cell_size);
     if estimate > MAX_TRIANGLES {
         return Err(src.error(
@@ -584,11 +450,7 @@ fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
             "Young's modulus is in Pa and must be > 0, e.g. young = 210e9 for steel, 70e9 for aluminium",
         ));
     }
-    let poisson_v = table.require(
-        &m.poisson,
-        "poisson",
-        "poisson = 0.3 (Poisson's ratio, in (-1, 0.5))",
-    )?;
+    let poisson_v = table.require(&m.poisson, "poisson", "poisson = 0.3 (Poisson's ratio, in (-1, 0.5))")?;
     let poisson = src.number(poisson_v, "poisson")?;
     if poisson >= 0.5 {
         return Err(src.error(
@@ -601,10 +463,7 @@ fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
     if poisson <= -1.0 {
         return Err(src.error(
             &poisson_v.span(),
-            format!(
-                "`poisson` must be above -1, found {}",
-                src.written(poisson_v)
-            ),
+            format!("`poisson` must be above -1, found {}", src.written(poisson_v)),
             "a stable isotropic material has -1 < poisson < 0.5 (metals: about 0.3)",
         ));
     }
@@ -612,34 +471,17 @@ fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
         Some(v) if src.choice(v, "plane", &["strain", "stress"])? == "stress" => PlaneSpec::Stress,
         _ => PlaneSpec::Strain,
     };
-    Ok(MaterialSpec {
-        young,
-        poisson,
-        plane,
-    })
+    Ok(MaterialSpec { young, poisson, plane })
 }
 
 fn part_name(src: &Source, table: &Table, leaf: &Leaf) -> Result<(String, Location)> {
-    let v = table.require(
-        leaf,
-        "part",
-        "part = \"left\" (a boundary physical name of the mesh)",
-    )?;
-    Ok((
-        src.nonempty_string(v, "part")?.to_string(),
-        src.location(v.span().start),
-    ))
+    let v = table.require(leaf, "part", "part = \"left\" (a boundary physical name of the mesh)")?;
+    Ok((src.nonempty_string(v, "part")?.to_string(), src.location(v.span().start)))
 }
 
 fn traction_spec(src: &Source, t: &RawTraction, index: usize) -> Result<TractionSpec> {
     let first = first_span(&[&t.part, &t.traction, &t.pressure]);
-    let table = Table::locate(
-        src,
-        "this [[traction]] table",
-        ("traction", true, index),
-        first,
-        0..0,
-    );
+    let table = Table::locate(src, "this [[traction]] table", ("traction", true, index), first, 0..0);
     let (part, at) = part_name(src, &table, &t.part)?;
     let load = match (&t.traction, &t.pressure) {
         (Some(v), None) => Load::Traction(src.vector(v, "traction")?),
@@ -665,13 +507,7 @@ fn traction_spec(src: &Source, t: &RawTraction, index: usize) -> Result<Traction
 
 fn dirichlet_spec(src: &Source, d: &RawDirichlet, index: usize) -> Result<DirichletSpec> {
     let first = first_span(&[&d.part, &d.ux, &d.uy]);
-    let table = Table::locate(
-        src,
-        "this [[dirichlet]] table",
-        ("dirichlet", true, index),
-        first,
-        0..0,
-    );
+    let table = Table::locate(src, "this [[dirichlet]] table", ("dirichlet", true, index), first, 0..0);
     let (part, at) = part_name(src, &table, &d.part)?;
     let ux = d.ux.as_ref().map(|v| src.number(v, "ux")).transpose()?;
     let uy = d.uy.as_ref().map(|v| src.number(v, "uy")).transpose()?;
@@ -686,11 +522,7 @@ fn dirichlet_spec(src: &Source, d: &RawDirichlet, index: usize) -> Result<Dirich
 }
 
 fn petsc_options(src: &Source, v: &Spanned<Value>) -> Result<Vec<String>> {
-    let options: Vec<String> = src
-        .string(v, "petsc_options")?
-        .split_whitespace()
-        .map(str::to_string)
-        .collect();
+    let options: Vec<String> = src.string(v, "petsc_options")?.split_whitespace().map(str::to_string).collect();
     if let Some(first) = options.first() {
         if !first.starts_with('-') {
             return Err(src.error(

@@ -47,10 +47,7 @@ pub(super) struct RawMesh {
 }
 
 #[derive(Deserialize)]
-#[serde(
-    deny_unknown_fields,
-    expecting = "a table { point = [x, y], cell_size = h, radius = r }"
-)]
+#[serde(deny_unknown_fields, expecting = "a table { point = [x, y], cell_size = h, radius = r }")]
 pub(super) struct RawRefine {
     pub point: Leaf,
     pub cell_size: Leaf,
@@ -111,32 +108,9 @@ pub(super) struct RawOutput {
 pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     (
         "the top level",
-        &[
-            "title",
-            "mesh",
-            "discretization",
-            "material",
-            "loads",
-            "traction",
-            "dirichlet",
-            "solver",
-            "output",
-        ],
+        &["title", "mesh", "discretization", "material", "loads", "traction", "dirichlet", "solver", "output"],
     ),
-    (
-        "[mesh]",
-        &[
-            "shape",
-            "origin",
-            "size",
-            "center",
-            "radius",
-            "file",
-            "cell_size",
-            "mesher",
-            "refine",
-        ],
-    ),
+    ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
     ("[discretization]", &["order"]),
     ("[material]", &["young", "poisson", "plane"]),
@@ -153,10 +127,7 @@ fn span_of(leaf: &Leaf) -> Option<Range<usize>> {
 
 /// The first present key's span among `leaves`, in file order.
 pub(super) fn first_span(leaves: &[&Leaf]) -> Option<Range<usize>> {
-    leaves
-        .iter()
-        .filter_map(|l| span_of(l))
-        .min_by_key(|s| s.start)
+    leaves.iter().filter_map(|l| span_of(l)).min_by_key(|s| s.start)
 }
 
 impl RawMesh {
