@@ -73,6 +73,11 @@ fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
                 if let Some(v) = args.get(i) {
                     let is_name =
                         v.starts_with('-') && v[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
+                    if !is_name && v.ends_with(".toml") {
+                        return Err(Error::Usage(format!(
+                            "{v:?} follows the PETSc option {a}: the scene file comes first, before PETSc options"
+                        )));
+                    }
                     if !is_name {
                         r.petsc.push(v.clone());
                         i += 1;

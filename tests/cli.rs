@@ -1,0 +1,305 @@
+//! The `signorini` program end to end: each test spawns it (one PETSc session per process),
+//! then checks exit codes, messages and the files it wrote — `solution.vtu` read back with
+//! Python meshio, the independent reader (installed by ./setup.sh).
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_signorini"));
+    c.env("OMP_NUM_THREADS", "1").env("OPENBLAS_NUM_THREADS", "1");
+    c
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("signorini-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn scene(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+fn run_ok(cmd: &mut Command) -> Output {
+    let out = cmd.output().expect("spawn signorini");
+    assert!(
+        out.status.success(),
+        "signorini failed ({:?}):\nstdout: {}\nstderr: {}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn run_err(cmd: &mut Command, code: i32) -> String {
+    let out = cmd.output().expect("spawn signorini");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(out.status.code(), Some(code), "expected exit {code}, stderr: {stderr}");
+    assert!(stderr.starts_with("error: "), "stderr: {stderr}");
+    stderr
+}
+
+fn report(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+/// Run a Python script with meshio; its stdout. Fails (not skips) without python3 or meshio.
+fn python(script: &str) -> String {
+    let full = format!("import sys\ntry:\n    import meshio, numpy as np\nexcept BaseException as e:\n    print('NO MESHIO', e); sys.exit(3)\n{script}");
+    let out = Command::new("python3").arg("-c").arg(&full).output().expect("python3 is needed (run ./setup.sh)");
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "python failed (meshio installed? run ./setup.sh): {stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+fn relative_difference(a: &Path, b: &Path) -> f64 {
+    let s = python(&format!(
+        "a = meshio.read(r'{}').point_data['displacement']\nb = meshio.read(r'{}').point_data['displacement']\nprint(np.linalg.norm(a - b) / np.linalg.norm(a))",
+        a.display(),
+        b.display()
+    ));
+    s.trim().parse().unwrap()
+}
+
+#[test]
+fn default_scene_writes_report_and_solution() {
+    let dir = scratch("default");
+    let out = run_ok(bin().args(["run", "--out"]).arg(&dir));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("wrote") && stderr.contains("equilibrium residual"), "{stderr}");
+    let r = report(&dir);
+    for key in ["nodes", "elements", "dofs", "formulation", "timings", "solver", "memory", "results"] {
+        assert!(r.get(key).is_some(), "report.json lacks {key}: {r}");
+    }
+    assert_eq!(r["dofs"], 2 * r["nodes"].as_u64().unwrap());
+    assert_eq!(r["formulation"], "primal");
+    assert_eq!(r["solver"]["ksp_type"], "preonly");
+    assert_eq!(r["solver"]["factor_package"], "mumps");
+    assert!(r["solver"]["relative_residual"].as_f64().unwrap() < 1e-8);
+    for phase in ["mesh", "assemble", "solve", "output", "total"] {
+        assert!(r["timings"][phase].as_f64().unwrap() >= 0.0, "timings.{phase}");
+    }
+    assert!(r["memory"]["peak_bytes"].as_u64().unwrap() > 1_000_000);
+    assert!(r["results"]["equilibrium_residual"].as_f64().unwrap() < 1e-9);
+    // No temporary files left next to the outputs.
+    let names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn petsc_options_on_the_command_line_select_the_solver() {
+    let reference = scratch("opts-ref");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&reference));
+    let cases: &[(&str, &[&str], &str)] = &[
+        ("icc2", &["-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels", "2"], "icc"),
+        ("amg", &["-ksp_type", "cg", "-pc_type", "hypre", "-pc_hypre_type", "boomeramg"], "hypre"),
+        ("ssor", &["-ksp_type", "symmlq", "-pc_type", "sor", "-pc_sor_symmetric", "-ksp_max_it", "50000"], "sor"),
+    ];
+    for (name, options, pc) in cases {
+        let dir = scratch(&format!("opts-{name}"));
+        run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir).args(*options));
+        let r = report(&dir);
+        assert_eq!(r["solver"]["pc_type"], *pc, "{name}");
+        assert!(r["solver"]["iterations"].as_u64().unwrap() > 1, "{name}: {r}");
+        let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
+        assert!(d < 1e-6, "{name}: relative difference {d:e} from MUMPS");
+    }
+}
+
+#[test]
+fn scene_petsc_options_are_defaults_the_command_line_overrides() {
+    let dir = scratch("scene-opts");
+    let text = std::fs::read_to_string(scene("examples/scenes/default.toml")).unwrap()
+        + "\n[solver]\npetsc_options = \"-ksp_type cg -pc_type jacobi\"\n";
+    let path = dir.join("s.toml");
+    std::fs::write(&path, text).unwrap();
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(dir.join("a")));
+    assert_eq!(report(&dir.join("a"))["solver"]["pc_type"], "jacobi");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(dir.join("b")).args(["-pc_type", "icc"]));
+    assert_eq!(report(&dir.join("b"))["solver"]["pc_type"], "icc");
+}
+
+#[test]
+fn mpirun_two_ranks_equals_serial() {
+    let serial = scratch("mpi-serial");
+    let cantilever = scene("examples/scenes/cantilever.toml");
+    run_ok(bin().arg("run").arg(&cantilever).args(["--quiet", "--out"]).arg(&serial));
+    for (name, extra) in [
+        ("direct", &[][..]),
+        ("cg-bjacobi-icc", &["-ksp_type", "cg", "-pc_type", "bjacobi", "-sub_pc_type", "icc"][..]),
+    ] {
+        let parallel = scratch(&format!("mpi-{name}"));
+        let out = Command::new("mpirun")
+            .args(["-n", "2", "--oversubscribe"])
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .env("OMP_NUM_THREADS", "1")
+            .env("OPENBLAS_NUM_THREADS", "1")
+            .arg(env!("CARGO_BIN_EXE_signorini"))
+            .arg("run")
+            .arg(&cantilever)
+            .args(["--quiet", "--out"])
+            .arg(&parallel)
+            .args(extra)
+            .output()
+            .expect("mpirun (openmpi-bin, installed by ./setup.sh)");
+        assert!(out.status.success(), "mpirun failed: {}", String::from_utf8_lossy(&out.stderr));
+        let r = report(&parallel);
+        assert_eq!(r["mpi_ranks"], 2);
+        assert_eq!(r["dofs"], report(&serial)["dofs"]);
+        let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+        assert!(d < 1e-8, "{name}: MPI answer differs from serial by {d:e}");
+    }
+}
+
+#[test]
+fn solution_vtu_reads_back_in_meshio_with_exact_patch_values() {
+    // The patch test: uniform stress, exact for P1 and P2; check the file, not our memory.
+    for order in [1, 2] {
+        let dir = scratch(&format!("meshio-p{order}"));
+        let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
+            .unwrap()
+            .replace("order = 1", &format!("order = {order}"));
+        let path = dir.join("patch.toml");
+        std::fs::write(&path, text).unwrap();
+        run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&dir));
+        let r = report(&dir);
+        let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);
+        let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (e * (1.0 - nu));
+        let sxx = -nu * p / (1.0 - nu);
+        let tri = if order == 1 { "triangle" } else { "triangle6" };
+        let line = if order == 1 { "line" } else { "line3" };
+        let out = python(&format!(
+            r#"
+m = meshio.read(r'{vtu}')
+pts, u, s = m.points, m.point_data['displacement'], m.point_data['stress']
+types = [c.type for c in m.cells]
+assert types == ['{tri}', '{line}'], types
+assert len(pts) == {nodes}, len(pts)
+assert m.cells[0].data.shape == ({elements}, {npc}), m.cells[0].data.shape
+assert len(m.cells[1].data) == {edges}
+err_u = max(np.abs(u[:, 0]).max(), np.abs(u[:, 1] - {k:e} * pts[:, 1]).max(), np.abs(u[:, 2]).max())
+err_s = max(np.abs(s[:, 0] - {sxx:e}).max(), np.abs(s[:, 1] + {p:e}).max(), np.abs(s[:, 3]).max())
+zz = {nu:e} * ({sxx:e} - {p:e})
+err_s = max(err_s, np.abs(s[:, 2] - zz).max())
+ids = set(int(v) for block in m.cell_data['part_id'] for v in np.asarray(block).ravel())
+print(err_u / abs({k:e}), err_s / {p:e}, sorted(ids))
+"#,
+            vtu = dir.join("solution.vtu").display(),
+            nodes = r["nodes"],
+            elements = r["elements"],
+            edges = r["boundary_edges"],
+            npc = if order == 1 { 3 } else { 6 },
+        ));
+        let fields: Vec<&str> = out.split_whitespace().collect();
+        let err_u: f64 = fields[0].parse().unwrap();
+        let err_s: f64 = fields[1].parse().unwrap();
+        assert!(err_u < 1e-10, "P{order}: displacement error {err_u:e} (relative to the slope)");
+        assert!(err_s < 1e-8, "P{order}: stress error {err_s:e}");
+        let parts = r["parts"].as_object().unwrap();
+        for name in ["bottom", "right", "top", "left", "domain"] {
+            let tag = parts[name].as_i64().unwrap();
+            assert!(out.contains(&tag.to_string()), "part_id lacks {name} ({tag}): {out}");
+        }
+    }
+}
+
+#[test]
+fn bench_elasticity_small_writes_table_and_plot() {
+    let dir = scratch("bench");
+    let out = run_ok(bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir));
+    let table = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
+    assert!(table.contains("MUMPS") && table.contains("SYMMLQ + SSOR") && table.contains("BoomerAMG"), "{table}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("| dofs |"));
+    let svg = std::fs::read_to_string(dir.join("bench_elasticity.svg")).unwrap();
+    assert!(svg.starts_with("<?xml") || svg.starts_with("<svg"), "not an SVG");
+}
+
+// ------------------------------------------------------------------ errors: clear, typed, no partial output
+
+#[test]
+fn missing_scene_file_names_the_file() {
+    let msg = run_err(bin().args(["run", "/nonexistent/scene.toml"]), 1);
+    assert!(msg.contains("/nonexistent/scene.toml"), "{msg}");
+}
+
+#[test]
+fn scene_syntax_error_names_file_and_line() {
+    let dir = scratch("syntax");
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, "[mesh]\nshape = \"rectangle\"\nsize = [1.0, 1.0]\ncell_size = 0.1 0.2\n").unwrap();
+    let msg = run_err(bin().arg("run").arg(&path).arg("--out").arg(dir.join("out")), 1);
+    assert!(msg.contains("bad.toml:4:"), "{msg}");
+    assert!(!dir.join("out").exists(), "output written despite the error");
+}
+
+#[test]
+fn negative_young_modulus_names_the_line() {
+    let dir = scratch("young");
+    let path = dir.join("s.toml");
+    let text = std::fs::read_to_string(scene("examples/scenes/default.toml"))
+        .unwrap()
+        .replace("young = 210e9", "young = -210e9");
+    let line = text.lines().position(|l| l.contains("young = -210e9")).unwrap() + 1;
+    std::fs::write(&path, text).unwrap();
+    let msg = run_err(bin().arg("run").arg(&path), 1);
+    assert!(msg.contains(&format!("s.toml:{line}:")) && msg.contains("young"), "{msg}");
+}
+
+#[test]
+fn missing_petsc_option_value_is_refused() {
+    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels"]), 1);
+    assert!(msg.contains("-pc_factor_levels") && msg.contains("needs a value"), "{msg}");
+}
+
+#[test]
+fn unknown_petsc_type_reports_petsc_message() {
+    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "no_such_method"]), 1);
+    assert!(msg.contains("PETSc error") && msg.contains("no_such_method"), "{msg}");
+}
+
+#[test]
+fn diverging_solver_says_what_it_tried() {
+    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "none", "-ksp_max_it", "5"]), 1);
+    assert!(msg.contains("did not converge") && msg.contains("DIVERGED_ITS") && msg.contains("tried"), "{msg}");
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    let msg = run_err(bin().args(["run", "--bogus"]), 2);
+    assert!(msg.contains("--bogus"), "{msg}");
+    let msg = run_err(bin().args(["frobnicate"]), 2);
+    assert!(msg.contains("frobnicate"), "{msg}");
+    let msg = run_err(bin().args(["run", "--out"]), 2);
+    assert!(msg.contains("--out needs a value"), "{msg}");
+    let msg = run_err(bin().args(["run", "-ksp_monitor", "scene.toml"]), 2);
+    assert!(msg.contains("scene file comes first"), "{msg}");
+}
+
+#[test]
+fn unwritable_output_leaves_nothing_half_written() {
+    let dir = scratch("unwritable");
+    let blocker = dir.join("file");
+    std::fs::write(&blocker, "not a directory").unwrap();
+    let msg = run_err(bin().args(["run", "--quiet", "--out"]).arg(blocker.join("out")), 1);
+    assert!(msg.contains("cannot write output") || msg.contains("failed"), "{msg}");
+    let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 1, "stray files: {names:?}");
+}
+
+#[test]
+fn unused_petsc_option_is_reported_as_a_warning() {
+    let dir = scratch("unused");
+    let out = run_ok(bin().args(["run", "--out"]).arg(&dir).args(["-ksp_tyep", "cg"]));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("-ksp_tyep") && stderr.contains("never used"), "{stderr}");
+    let r = report(&dir);
+    assert!(r["solver"]["unused_options"].to_string().contains("ksp_tyep"), "{r}");
+}
