@@ -15,6 +15,7 @@
 #![deny(unsafe_code)]
 
 pub mod bench;
+pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod mesh;
