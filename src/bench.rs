@@ -4,8 +4,9 @@
 //! `elasticity`: a plane-strain square clamped on its left side and loaded on its right side,
 //! P1 on structured meshes of 1e4 → 1e6 dofs. For each size: mesh generation, assembly
 //! (pattern + values + PETSc matrix), `.vtu` output, and for each linear solver the
-//! factorisation/setup + solve time (PETSc's `KSPSolve`), iterations, and the peak memory the
-//! solve added. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
+//! factorisation/setup + solve time (PETSc's `KSPSolve`), iterations, and the memory the
+//! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
+//! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -54,7 +55,7 @@ pub const SOLVERS: &[BenchSolver] = &[
     },
 ];
 
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct BenchRow {
     pub dofs: usize,
     pub mesh_seconds: f64,
@@ -79,133 +80,96 @@ pub fn sizes(max_dofs: usize) -> Vec<usize> {
     s
 }
 
-fn reset_peak_memory() {
-    // Linux: writing 5 to clear_refs resets VmHWM to the current RSS (best effort).
-    let _ = std::fs::write("/proc/self/clear_refs", "5");
-}
-
 fn mb(b: Option<u64>) -> f64 {
     b.map_or(f64::NAN, |b| b as f64 / 1e6)
 }
 
-pub fn elasticity(session: &Session, max_dofs: usize, progress: &mut dyn FnMut(&str)) -> Result<Vec<BenchRow>> {
+/// One benchmark case — one size, one solver — meant to run in a process of its own, so that
+/// the memory it reports is its own (freed heap of an earlier solver would hide it otherwise).
+/// `scratch` receives the solution file whose writing is timed.
+pub fn elasticity_case(session: &Session, target_dofs: usize, solver: &BenchSolver, scratch: &Path) -> Result<BenchRow> {
     let material = Material { young: 2.0e11, poisson: 0.3, plane: PlaneModel::Strain };
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}", std::process::id()));
-    for solver in SOLVERS {
-        for (k, v) in solver.options {
-            session.set_option(&format!("-{}{k}", solver.prefix), *v)?;
-        }
+    for (k, v) in solver.options {
+        session.set_option(&format!("-{}{k}", solver.prefix), *v)?;
     }
-    let mut rows = Vec::new();
-    for target in sizes(max_dofs) {
-        let n = (((target / 2) as f64).sqrt().round() as usize).max(2); // nodes per side
-        let t = Instant::now();
-        let mesh = structured::rectangle([0.0, 0.0], [1.0, 1.0], n - 1, n - 1, Order::P1)?;
-        let mesh_seconds = t.elapsed().as_secs_f64();
-        let dofs = 2 * mesh.num_nodes();
-        progress(&format!("bench elasticity: {dofs} dofs ({} triangles), mesh {mesh_seconds:.3} s", mesh.num_cells()));
+    let n = (((target_dofs / 2) as f64).sqrt().round() as usize).max(2); // nodes per side
+    let t = Instant::now();
+    let mesh = structured::rectangle([0.0, 0.0], [1.0, 1.0], n - 1, n - 1, Order::P1)?;
+    let mesh_seconds = t.elapsed().as_secs_f64();
+    let dofs = 2 * mesh.num_nodes();
 
-        let t = Instant::now();
-        let mut constraints = Constraints::new(dofs);
-        let left = mesh.require_group("left", 1)?;
-        constraints.fix_group(&mesh, left, 0, |_| 0.0);
-        constraints.fix_group(&mesh, left, 1, |_| 0.0);
-        let loads = Loads {
-            body_force: None,
-            edge_loads: vec![EdgeLoad {
-                group: mesh.require_group("right", 1)?,
-                traction: Traction::Constant([0.0, -1.0e6]),
-            }],
-        };
-        let (size, rank) = (session.size(), session.rank());
-        let nn = mesh.num_nodes();
-        let rows_range = 2 * (nn * rank / size)..2 * (nn * (rank + 1) / size);
-        let system = assembly::assemble(&mesh, &material, &constraints, &loads, rows_range);
-        let m = &system.matrix;
-        let matrix = Matrix::from_csr_rows(
-            session,
-            session.world(),
-            dofs,
-            m.first_row,
-            &m.indptr,
-            &m.indices,
-            &m.values,
-            2,
+    let t = Instant::now();
+    let mut constraints = Constraints::new(dofs);
+    let left = mesh.require_group("left", 1)?;
+    constraints.fix_group(&mesh, left, 0, |_| 0.0);
+    constraints.fix_group(&mesh, left, 1, |_| 0.0);
+    let loads = Loads {
+        body_force: None,
+        edge_loads: vec![EdgeLoad { group: mesh.require_group("right", 1)?, traction: Traction::Constant([0.0, -1.0e6]) }],
+    };
+    let (size, rank) = (session.size(), session.rank());
+    let nn = mesh.num_nodes();
+    let rows_range = 2 * (nn * rank / size)..2 * (nn * (rank + 1) / size);
+    let system = assembly::assemble(&mesh, &material, &constraints, &loads, rows_range);
+    let m = &system.matrix;
+    let matrix = Matrix::from_csr_rows(session, session.world(), dofs, m.first_row, &m.indptr, &m.indices, &m.values, 2, true)?;
+    let mut rhs = matrix.create_vector()?;
+    rhs.set_owned(&system.rhs)?;
+    drop(system);
+    let assemble_seconds = t.elapsed().as_secs_f64();
+
+    let before = resources::current_memory_bytes();
+    let mut ksp = LinearSolver::new(session, session.world(), solver.prefix)?;
+    let t = Instant::now();
+    ksp.set_operator(&matrix)?;
+    let mut x = matrix.create_vector()?;
+    let stats = ksp.solve(&matrix, &rhs, &mut x)?;
+    let solve_seconds = t.elapsed().as_secs_f64();
+    let peak = resources::peak_memory_bytes();
+    let u = x.gather_all()?;
+
+    let t = Instant::now();
+    if rank == 0 {
+        let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
+        vtu::write_vtu(
+            &scratch.join("solution.vtu"),
+            &mesh,
+            &[vtu::Field { name: "displacement", components: 3, values: &disp3 }],
+            &[],
             true,
         )?;
-        let mut rhs = matrix.create_vector()?;
-        rhs.set_owned(&system.rhs)?;
-        drop(system);
-        let assemble_seconds = t.elapsed().as_secs_f64();
-        progress(&format!("  assemble {assemble_seconds:.3} s"));
-
-        let mut solution = None;
-        let mut size_rows = Vec::new();
-        for solver in SOLVERS.iter().filter(|s| dofs <= s.max_dofs) {
-            let before = resources::current_memory_bytes();
-            reset_peak_memory();
-            let mut ksp = LinearSolver::new(session, session.world(), solver.prefix)?;
-            let t = Instant::now();
-            ksp.set_operator(&matrix)?;
-            let mut x = matrix.create_vector()?;
-            let stats = ksp.solve(&matrix, &rhs, &mut x);
-            let solve_seconds = t.elapsed().as_secs_f64();
-            let peak = resources::peak_memory_bytes();
-            let stats = match stats {
-                Ok(s) => s,
-                Err(e) => {
-                    progress(&format!("  {:<26} failed: {e}", solver.name));
-                    continue;
-                }
-            };
-            if solution.is_none() {
-                solution = Some(x.gather_all()?);
-            }
-            progress(&format!(
-                "  {:<26} {:>8.3} s, {:>5} iterations, residual {:.1e}",
-                solver.name, solve_seconds, stats.iterations, stats.relative_residual
-            ));
-            size_rows.push(BenchRow {
-                dofs,
-                mesh_seconds,
-                assemble_seconds,
-                output_seconds: 0.0,
-                solver: solver.name.to_string(),
-                solve_seconds,
-                iterations: stats.iterations,
-                solve_memory_mb: mb(peak) - mb(before),
-                peak_memory_mb: mb(peak),
-                relative_residual: stats.relative_residual,
-            });
-        }
-        // Output cost: the solution file a run would write.
-        let t = Instant::now();
-        if let (Some(u), 0) = (&solution, rank) {
-            let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
-            vtu::write_vtu(
-                &scratch.join("solution.vtu"),
-                &mesh,
-                &[vtu::Field { name: "displacement", components: 3, values: &disp3 }],
-                &[],
-                true,
-            )?;
-        }
-        let output_seconds = t.elapsed().as_secs_f64();
-        progress(&format!("  output {output_seconds:.3} s"));
-        for r in &mut size_rows {
-            r.output_seconds = output_seconds;
-        }
-        rows.extend(size_rows);
     }
-    let _ = std::fs::remove_dir_all(&scratch);
-    Ok(rows)
+    let output_seconds = t.elapsed().as_secs_f64();
+    Ok(BenchRow {
+        dofs,
+        mesh_seconds,
+        assemble_seconds,
+        output_seconds,
+        solver: solver.name.to_string(),
+        solve_seconds,
+        iterations: stats.iterations,
+        solve_memory_mb: mb(peak) - mb(before),
+        peak_memory_mb: mb(peak),
+        relative_residual: stats.relative_residual,
+    })
+}
+
+/// The (size, solver) cases of the benchmark up to `max_dofs`.
+pub fn elasticity_cases(max_dofs: usize) -> Vec<(usize, &'static BenchSolver)> {
+    let mut cases = Vec::new();
+    for target in sizes(max_dofs) {
+        for solver in SOLVERS.iter().filter(|s| target <= s.max_dofs) {
+            cases.push((target, solver));
+        }
+    }
+    cases
 }
 
 /// The results as a Markdown table (one row per size × solver) plus the overhead ratios.
 pub fn elasticity_table(rows: &[BenchRow]) -> String {
     let mut s = String::from(
-        "| dofs | solver | solve (s) | iterations | solve memory (MB) | assembly (s) | mesh (s) | output (s) | overhead / MUMPS solve | total / KSPSolve |\n\
-         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| dofs | solver | solve (s) | iterations | solve memory (MB) | peak memory (MB) | assembly (s) | mesh (s) | output (s) | overhead / MUMPS solve | total / KSPSolve |\n\
+         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let mumps = rows
@@ -214,12 +178,13 @@ pub fn elasticity_table(rows: &[BenchRow]) -> String {
             .map_or(f64::NAN, |m| m.solve_seconds);
         let overhead = r.mesh_seconds + r.assemble_seconds + r.output_seconds;
         s.push_str(&format!(
-            "| {} | {} | {:.3} | {} | {:.0} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} |\n",
+            "| {} | {} | {:.3} | {} | {:.0} | {:.0} | {:.3} | {:.3} | {:.3} | {:.2} | {:.2} |\n",
             r.dofs,
             r.solver,
             r.solve_seconds,
             r.iterations,
             r.solve_memory_mb,
+            r.peak_memory_mb,
             r.assemble_seconds,
             r.mesh_seconds,
             r.output_seconds,

@@ -63,6 +63,11 @@ pub enum Error {
     )]
     SolverDiverged { solver: String, reason: String, iterations: usize, residual: f64, tried: String },
 
+    /// The loads cannot be balanced: e.g. a tangential load above what friction can hold
+    /// (the body slides), or a body pushed away from the only obstacle holding it.
+    #[error("{0}")]
+    NoEquilibrium(String),
+
     /// The problem has no unique solution: the boundary conditions leave a rigid motion free.
     #[error("the problem is singular: {0}")]
     Unconstrained(String),

@@ -31,11 +31,13 @@ struct RunArgs {
     out: Option<PathBuf>,
     quiet: bool,
     max_dofs: usize,
+    /// bench elasticity-case: the size and the solver index.
+    case: Option<(usize, usize)>,
     petsc: Vec<String>,
 }
 
 fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
-    let mut r = RunArgs { scene: None, out: None, quiet: false, max_dofs: 1_000_000, petsc: Vec::new() };
+    let mut r = RunArgs { scene: None, out: None, quiet: false, max_dofs: 1_000_000, case: None, petsc: Vec::new() };
     let mut i = 0;
     while i < args.len() {
         let a = &args[i];
@@ -55,6 +57,18 @@ fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
                         .ok_or_else(|| Error::Usage(format!("--max-dofs expects a positive number, got {v:?}")))?
                         as usize;
                 }
+                i += 2;
+            }
+            "--case" => {
+                let parse_case = |v: &str| -> Option<(usize, usize)> {
+                    let (d, k) = v.split_once(',')?;
+                    Some((d.parse().ok()?, k.parse().ok()?))
+                };
+                r.case = Some(
+                    args.get(i + 1)
+                        .and_then(|v| parse_case(v))
+                        .ok_or_else(|| Error::Usage("--case needs DOFS,SOLVER_INDEX".into()))?,
+                );
                 i += 2;
             }
             "--quiet" => {
@@ -113,7 +127,8 @@ fn main() -> ExitCode {
         }
         Some("run") => with_session(&program, &args[2..], true, run),
         Some("bench") => match args.get(2).map(String::as_str) {
-            Some("elasticity") => with_session(&program, &args[3..], false, bench_elasticity),
+            Some("elasticity") => bench_elasticity(&args[3..]),
+            Some("elasticity-case") => with_session(&program, &args[3..], false, bench_elasticity_case),
             other => usage_error(&format!(
                 "bench needs a benchmark name: `signorini bench elasticity` (got {})",
                 other.map(|o| format!("{o:?}")).unwrap_or_else(|| "nothing".into())
@@ -235,18 +250,73 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
     eprintln!("  wrote     {}", files.join(", "));
 }
 
-fn bench_elasticity(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let rank0 = session.rank() == 0;
-    let rows = bench::elasticity(session, args.max_dofs, &mut |line: &str| {
-        if rank0 {
-            eprintln!("{line}");
+/// `bench elasticity`: runs every (size, solver) case in a child process of its own (so that
+/// each reports its own memory) and collects their rows.
+fn bench_elasticity(args: &[String]) -> ExitCode {
+    let parsed = match parse(args, false) {
+        Ok(p) => p,
+        Err(e) => return usage_error(&e.to_string()),
+    };
+    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}", std::process::id()));
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
+            return ExitCode::FAILURE;
         }
-    })?;
-    if rank0 {
-        let (md, svg) = bench::write_elasticity_outputs(&rows, &out)?;
-        println!("{}", bench::elasticity_table(&rows));
-        eprintln!("wrote {}, {}", md.display(), svg.display());
+    };
+    let mut rows: Vec<bench::BenchRow> = Vec::new();
+    let cases = bench::elasticity_cases(parsed.max_dofs);
+    for (k, (dofs, solver)) in cases.iter().enumerate() {
+        let index = bench::SOLVERS.iter().position(|s| std::ptr::eq(s, *solver)).unwrap_or(0);
+        eprint!("[{}/{}] {dofs} dofs, {:<26} ", k + 1, cases.len(), solver.name);
+        let child = std::process::Command::new(&exe)
+            .args(["bench", "elasticity-case", "--case", &format!("{dofs},{index}"), "--out"])
+            .arg(&scratch)
+            .args(&parsed.petsc)
+            .output();
+        match child {
+            Ok(o) if o.status.success() => match serde_json::from_slice::<bench::BenchRow>(&o.stdout) {
+                Ok(row) => {
+                    eprintln!(
+                        "{:>8.3} s, {:>5} iterations, {:>6.0} MB",
+                        row.solve_seconds, row.iterations, row.solve_memory_mb
+                    );
+                    rows.push(row);
+                }
+                Err(e) => eprintln!("unreadable result: {e}"),
+            },
+            Ok(o) => eprintln!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()),
+            Err(e) => eprintln!("could not start: {e}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    if rows.is_empty() {
+        eprintln!("error: no benchmark case succeeded");
+        return ExitCode::FAILURE;
+    }
+    match bench::write_elasticity_outputs(&rows, &out) {
+        Ok((md, svg)) => {
+            println!("{}", bench::elasticity_table(&rows));
+            eprintln!("wrote {}, {}", md.display(), svg.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.
+fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let (dofs, index) = args.case.ok_or_else(|| Error::Usage("bench elasticity-case needs --case DOFS,SOLVER_INDEX".into()))?;
+    let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
+    let scratch = args.out.clone().unwrap_or_else(std::env::temp_dir);
+    let row = bench::elasticity_case(session, dofs, solver, &scratch)?;
+    if session.rank() == 0 {
+        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }
     Ok(())
 }

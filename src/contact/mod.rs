@@ -76,7 +76,7 @@ mod semismooth_newton;
 mod tresca_fixed_point;
 mod uzawa;
 
-pub use residuals::{ContactResiduals, ResidualScale};
+pub use residuals::{evaluate as evaluate_residuals, ContactResiduals, ResidualScale};
 
 use std::fmt;
 use std::sync::Arc;
@@ -468,6 +468,22 @@ impl CondensedProblem {
         self.check_force(force, "force")?;
         let u = self.displacement_unchecked(force);
         Ok(residuals::compute(self, force, &u))
+    }
+
+    /// The residuals of a force against displacements obtained some other way — e.g. `B u` of
+    /// the displacement field recomputed from `K u = f + Bᵀ r` by a separate linear solve —
+    /// so that the check does not trust `W` either.
+    pub fn residuals_at(&self, force: &[f64], displacement: &[f64]) -> Result<ContactResiduals> {
+        self.check_force(force, "force")?;
+        self.check_force(displacement, "displacement")?;
+        Ok(residuals::compute(self, force, displacement))
+    }
+
+    /// Per point status of `force` against given displacements (see [`Self::status`]).
+    pub fn status_at(&self, force: &[f64], displacement: &[f64]) -> Result<Vec<PointStatus>> {
+        self.check_force(force, "force")?;
+        self.check_force(displacement, "displacement")?;
+        Ok(classify(self, force, displacement).iter().map(|c| c.point_status()).collect())
     }
 
     /// Per point status of a force (open / stick / slip), classified with the Alart–Curnier

@@ -129,6 +129,19 @@ pub(crate) fn scale(problem: &CondensedProblem, r: &[f64], u: &[f64]) -> Residua
 /// The residuals at `(r, u)` with `u = W r + u_free` supplied by the caller.
 pub(crate) fn compute(problem: &CondensedProblem, r: &[f64], u: &[f64]) -> ContactResiduals {
     let scale = scale(problem, r, u);
+    evaluate(r, u, problem.gap(), &|i, rn| problem.threshold_at(i, rn), scale)
+}
+
+/// The five residuals of forces `r` and relative displacements `u` (both `(N_i, T_i)`
+/// interleaved) against the gaps, the friction threshold `threshold(i, rN_i)` and the given
+/// scales — for callers that have no flexibility operator (full-space solvers).
+pub fn evaluate(
+    r: &[f64],
+    u: &[f64],
+    gap: &[f64],
+    threshold: &dyn Fn(usize, f64) -> f64,
+    scale: ResidualScale,
+) -> ContactResiduals {
     let (f_scale, u_scale) = (scale.force, scale.displacement);
     let c = f_scale / u_scale;
     let mut out = ContactResiduals {
@@ -142,11 +155,11 @@ pub(crate) fn compute(problem: &CondensedProblem, r: &[f64], u: &[f64]) -> Conta
     };
     let mut worst = -1.0;
     let nan_to_inf = |v: f64| if v.is_nan() { f64::INFINITY } else { v };
-    for i in 0..problem.points() {
+    for i in 0..gap.len() {
         let (rn, rt) = (r[2 * i], r[2 * i + 1]);
         let (un, ut) = (u[2 * i], u[2 * i + 1]);
-        let d = un - problem.gap()[i];
-        let s = problem.threshold_at(i, rn);
+        let d = un - gap[i];
+        let s = threshold(i, rn);
         let penetration = nan_to_inf(d.max(0.0) / u_scale);
         let wrong_sign = nan_to_inf(rn.max(0.0) / f_scale);
         let cone = nan_to_inf((rt.abs() - s).max(0.0) / f_scale);

@@ -37,6 +37,7 @@ pub struct SolveStats {
 
 pub struct LinearSolver<'s> {
     raw: sys::KSP,
+    last: Option<SolveStats>,
     prefix: String,
     session: &'s Session,
     _p: PhantomData<&'s Session>,
@@ -50,7 +51,7 @@ impl<'s> LinearSolver<'s> {
     pub fn new(session: &'s Session, comm: Comm, prefix: &str) -> Result<Self> {
         let mut raw: sys::KSP = std::ptr::null_mut();
         petsc!(KSPCreate(comm.raw(), &mut raw))?;
-        let ksp = LinearSolver { raw, prefix: prefix.to_string(), session, _p: PhantomData };
+        let ksp = LinearSolver { raw, last: None, prefix: prefix.to_string(), session, _p: PhantomData };
         if !prefix.is_empty() {
             let p = cstring(prefix)?;
             petsc!(KSPSetOptionsPrefix(ksp.raw, p.as_ptr()))?;
@@ -197,7 +198,13 @@ impl<'s> LinearSolver<'s> {
                         .into(),
             });
         }
+        self.last = Some(stats.clone());
         Ok(stats)
+    }
+
+    /// What the last successful solve did (for the report when one KSP serves many solves).
+    pub fn last_stats(&self) -> Option<SolveStats> {
+        self.last.clone()
     }
 }
 

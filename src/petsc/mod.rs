@@ -19,6 +19,7 @@ use std::sync::Mutex;
 use crate::error::{Error, Result};
 use signorini_sys as sys;
 
+pub mod bounded;
 mod linear_solver;
 mod matrix;
 mod vector;

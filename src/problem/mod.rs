@@ -2,9 +2,10 @@
 //!
 //! ```text
 //! ElasticityProblem::setup_system   mesh (generate or read), material, Dirichlet constraints,
-//!                                   rigid-motion check, row partition over MPI ranks
+//!                                   contact points, rigid-motion check, row partition over MPI ranks
 //!                   ::assemble      stiffness rows and load vector of this rank -> PETSc AIJ
-//!                   ::solve         KSP (MUMPS Cholesky by default, any PETSc option), checked
+//!                   ::solve         KSP (MUMPS Cholesky by default, any PETSc option), checked;
+//!                                   with a [contact] section: solve_contact (see contact.rs)
 //!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
 //!                   ::write_output  solution.vtu + report.json (rank 0, atomic)
 //! ```
@@ -15,6 +16,9 @@
 //! rank for post-processing; rank 0 writes the files.
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+
+mod contact;
+pub use contact::{ContactOutcome, ContactReport, ContactSetup};
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
@@ -47,6 +51,9 @@ pub struct Report {
     pub results: ResultsReport,
     /// Physical group name -> tag (the `part_id` cell data of solution.vtu).
     pub parts: std::collections::BTreeMap<String, i32>,
+    /// Contact: solver, iterations, statuses, resultants, the independent residuals.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactReport>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -75,7 +82,8 @@ pub struct ResultsReport {
     pub applied_force: [f64; 2],
     /// Reaction resultant on each Dirichlet part.
     pub reactions: std::collections::BTreeMap<String, [f64; 2]>,
-    /// |applied + reactions| / |applied| (global equilibrium, computed independently of the solver).
+    /// |applied + reactions + contact forces| / |applied| (global equilibrium, computed
+    /// independently of the solver).
     pub equilibrium_residual: f64,
 }
 
@@ -94,6 +102,8 @@ pub struct ElasticityProblem<'s> {
     /// The whole displacement vector (dof = 2·node + component), on every rank.
     pub displacement: Option<Vec<f64>>,
     pub results: Option<Results>,
+    pub contact: Option<ContactSetup>,
+    pub contact_outcome: Option<ContactOutcome>,
 }
 
 /// Post-processed fields.
@@ -130,7 +140,17 @@ impl<'s> ElasticityProblem<'s> {
                 constraints.fix_group(&mesh, g, 1, |_| uy);
             }
         }
-        constraints.check_rigid_motions(&mesh)?;
+        let free_motions = constraints.check_rigid_motions(&mesh).err();
+        let contact = match &scene.contact {
+            Some(spec) => {
+                let fixed = |node: usize| constraints.is_fixed(2 * node) || constraints.is_fixed(2 * node + 1);
+                Some(ContactSetup::new(&mesh, spec, &fixed, free_motions.map(|e| e.to_string()))?)
+            }
+            None => match free_motions {
+                Some(e) => return Err(e),
+                None => None,
+            },
+        };
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
         let (size, rank) = (session.size(), session.rank());
         let n = mesh.num_nodes();
@@ -149,6 +169,8 @@ impl<'s> ElasticityProblem<'s> {
             stats: None,
             displacement: None,
             results: None,
+            contact,
+            contact_outcome: None,
         })
     }
 
@@ -180,7 +202,15 @@ impl<'s> ElasticityProblem<'s> {
             body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
             edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
         };
-        let system = assembly::assemble(&self.mesh, &self.material, &self.constraints, &loads, self.rows.clone());
+        let mut system = assembly::assemble(&self.mesh, &self.material, &self.constraints, &loads, self.rows.clone());
+        if let Some(contact) = &mut self.contact {
+            let m = &mut system.matrix;
+            contact.add_springs(m.first_row, &m.indptr, &m.indices, &mut m.values)?;
+            if contact.spec.solver == crate::scene::ContactSolverSpec::SnesVi {
+                let n = self.mesh.num_nodes();
+                contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)?;
+            }
+        }
         let world = self.session.world();
         let m = &system.matrix;
         let matrix = Matrix::from_csr_rows(
@@ -208,11 +238,67 @@ impl<'s> ElasticityProblem<'s> {
             self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
-        let mut x = matrix.create_vector()?;
-        let stats = ksp.solve(matrix, rhs, &mut x)?;
-        self.displacement = Some(x.gather_all()?);
-        self.stats = Some(stats);
+        if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == crate::scene::ContactSolverSpec::SnesVi) {
+            let (u, outcome) = contact.solve_vi(self.session, &self.mesh, matrix, rhs)?;
+            self.stats = Some(crate::petsc::SolveStats {
+                ksp_type: "snes vinewtonrsls".into(),
+                pc_type: "lu".into(),
+                factor_package: Some("mumps".into()),
+                iterations: outcome.report.iterations,
+                converged_reason: outcome.report.notes.join("; "),
+                relative_residual: 0.0,
+                seconds: start.elapsed().as_secs_f64(),
+            });
+            self.check_contact_equilibrium(&outcome)?;
+            self.displacement = Some(u);
+            self.contact_outcome = Some(outcome);
+        } else if let Some(contact) = &self.contact {
+            let (u, outcome) = contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &mut |_| {})?;
+            self.stats = Some(ksp.last_stats().ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
+            self.check_contact_equilibrium(&outcome)?;
+            self.displacement = Some(u);
+            self.contact_outcome = Some(outcome);
+        } else {
+            let mut x = matrix.create_vector()?;
+            let stats = ksp.solve(matrix, rhs, &mut x)?;
+            self.displacement = Some(x.gather_all()?);
+            self.stats = Some(stats);
+        }
         self.timings.add("solve", start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// A body held by contact (stabilisation springs added): it must not lift off, and the
+    /// springs must carry nothing of the load.
+    fn check_contact_equilibrium(&self, outcome: &ContactOutcome) -> Result<()> {
+        let contact = match &self.contact {
+            Some(c) if c.spring.is_some() => c,
+            _ => return Ok(()),
+        };
+        let free = contact.free_motions.clone().unwrap_or_default();
+        if outcome.report.open == outcome.report.points {
+            return Err(Error::Unconstrained(format!(
+                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free};                  add a Dirichlet condition or change the loads",
+                contact.spec.part
+            )));
+        }
+        let (body, edge) = self.loads()?;
+        let body_fn = body.map(|b| move |_x: [f64; 2]| b);
+        let loads = Loads {
+            body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
+            edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
+        };
+        let f = assembly::load_vector(&self.mesh, &loads);
+        let applied = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
+        let scale = applied[0].hypot(applied[1]).max(outcome.report.resultant[0].hypot(outcome.report.resultant[1]));
+        let spring = outcome.report.stabilisation_force;
+        if spring[0].hypot(spring[1]) > contact::EQUILIBRIUM_TOLERANCE * scale {
+            let r = &outcome.report;
+            return Err(Error::NoEquilibrium(format!(
+                "no static equilibrium: the loads ({:.4e}, {:.4e}) are not balanced by the contact forces ({:.4e}, {:.4e})                  and the supports ({free}); the body slides or moves away (normal contact force {:.4e}, tangential {:.4e},                  friction {})",
+                applied[0], applied[1], r.resultant[0], r.resultant[1], r.normal_resultant, r.tangential_resultant, r.friction
+            )));
+        }
         Ok(())
     }
 
@@ -265,8 +351,12 @@ impl<'s> ElasticityProblem<'s> {
                 })
                 .or_insert(r);
         }
-        // Independent equilibrium check: the free rows of K u − f must vanish, and the applied
-        // loads must balance the reactions.
+        // Independent equilibrium check: the applied loads must balance the reactions and the
+        // contact forces.
+        if let Some(outcome) = &self.contact_outcome {
+            total_reaction[0] += outcome.report.resultant[0];
+            total_reaction[1] += outcome.report.resultant[1];
+        }
         let scale = applied_force[0].hypot(applied_force[1]).max(total_reaction[0].hypot(total_reaction[1]));
         let imbalance = (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1]);
         let equilibrium_residual = if scale > 0.0 { imbalance / scale } else { imbalance };
@@ -287,7 +377,7 @@ impl<'s> ElasticityProblem<'s> {
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
         let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
         Ok(Report {
-            program: format!("signorini {}", env!("CARGO_PKG_VERSION")),
+            program: format!("signorini {} ({})", env!("CARGO_PKG_VERSION"), env!("SIGNORINI_COMMIT")),
             scene: self.scene.source.display().to_string(),
             title: self.scene.title.clone(),
             formulation: "primal",
@@ -314,6 +404,7 @@ impl<'s> ElasticityProblem<'s> {
             memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
             results: results.report.clone(),
             parts,
+            contact: self.contact_outcome.as_ref().map(|o| o.report.clone()),
         })
     }
 
@@ -336,17 +427,29 @@ impl<'s> ElasticityProblem<'s> {
                 .flat_map(|(s, zz)| [s[0], s[1], *zz, s[2], 0.0, 0.0])
                 .collect();
             let path = dir.join("solution.vtu");
-            vtu::write_vtu(
-                &path,
-                &self.mesh,
-                &[
-                    vtu::Field { name: "displacement", components: 3, values: &disp3 },
-                    vtu::Field { name: "stress", components: 6, values: &stress6 },
-                    vtu::Field { name: "von_mises", components: 1, values: &results.von_mises },
-                ],
-                &[],
-                true,
-            )?;
+            let mut fields = vec![
+                vtu::Field { name: "displacement", components: 3, values: &disp3 },
+                vtu::Field { name: "stress", components: 6, values: &stress6 },
+                vtu::Field { name: "von_mises", components: 1, values: &results.von_mises },
+            ];
+            let n = self.mesh.num_nodes();
+            let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
+            if let (Some(c), Some(o)) = (&self.contact, &self.contact_outcome) {
+                let (p, t) = c.boundary.tractions(&o.force);
+                for (i, &node) in c.boundary.nodes.iter().enumerate() {
+                    pressure[node] = p[i];
+                    friction[node] = t[i];
+                    status[node] = match o.status[i] {
+                        crate::contact::PointStatus::Open => 0.0,
+                        crate::contact::PointStatus::Stick => 1.0,
+                        crate::contact::PointStatus::Slip => 2.0,
+                    };
+                }
+                fields.push(vtu::Field { name: "contact_pressure", components: 1, values: &pressure });
+                fields.push(vtu::Field { name: "friction_traction", components: 1, values: &friction });
+                fields.push(vtu::Field { name: "contact_status", components: 1, values: &status });
+            }
+            vtu::write_vtu(&path, &self.mesh, &fields, &[], true)?;
             written.push(path);
         }
         self.timings.add("output", start.elapsed().as_secs_f64());

@@ -1,0 +1,557 @@
+//! Contact with a rigid obstacle in the primal formulation: the driver's part.
+//!
+//! ```text
+//! setup     contact points on the scene's part (ContactBoundary: nodes, frames n/t, gaps,
+//!           consistent weights); nodes with a Dirichlet component are left out
+//! assemble  K (+ a stabilisation spring at the contact nodes only when Dirichlet conditions
+//!           leave a rigid motion free, see below), f
+//! condense  u_free = B K⁻¹ f;  W = B K⁻¹ Bᵀ by one solve per contact unknown with the
+//!           factorised K (MUMPS by default: one factorisation, 2m triangular solves; m solves
+//!           without friction: the tangential block is not computed)
+//! solve     the condensed problem with the scene's solver (semi-smooth Newton by default)
+//! recover   u = K⁻¹ (f + Bᵀ r) by one more solve
+//! verify    residuals of (r, B u) — u from the field solve, not from W — and equilibrium
+//! ```
+//!
+//! ## Bodies held by contact
+//! A body held only by the obstacle (Hertz, force-driven) has a singular K. When the Dirichlet
+//! conditions leave a rigid motion free, springs of stiffness `k = 1e-9 · max diag(K)` are
+//! added at the contact nodes (both directions), derived from the matrix, not a user
+//! parameter. Their force `−k u` is computed after the solve and reported as
+//! `stabilisation_force`: it is zero where the contact displacements are zero (the patch tests
+//! stay exact) and tiny otherwise; when it carries a real share of the load, the body has no
+//! static equilibrium (it lifts off or slides) and the run stops with a clear error.
+use nalgebra::DMatrix;
+
+use crate::contact::boundary::ContactBoundary;
+use crate::contact::obstacle::Obstacle;
+use crate::contact::{self, CondensedProblem, ContactSolver, Delassus, FrictionLaw, PointStatus, SolverSettings};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::petsc::{LinearSolver, Matrix, Session, Vector};
+use crate::scene::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
+
+/// Relative stiffness of the stabilisation springs (× max diagonal of K).
+pub const STABILISATION: f64 = 1e-9;
+/// A stabilisation force above this fraction of the applied load means no static equilibrium.
+pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
+
+pub struct ContactSetup {
+    pub spec: ContactSpec,
+    pub boundary: ContactBoundary,
+    /// Stiffness of the stabilisation springs, when a rigid motion is not held by Dirichlet.
+    pub spring: Option<f64>,
+    /// Which rigid motions Dirichlet leaves free (the Unconstrained message), if any.
+    pub free_motions: Option<String>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ContactResidualsReport {
+    pub max_penetration: f64,
+    pub max_wrong_sign_pressure: f64,
+    pub max_cone_violation: f64,
+    pub normal_complementarity: f64,
+    pub tangential_complementarity: f64,
+    pub force_scale: f64,
+    pub displacement_scale: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ContactReport {
+    pub part: String,
+    pub friction: String,
+    pub solver: String,
+    pub iterations: usize,
+    /// Status changes (open/stick/slip) per iteration of the contact solver.
+    pub status_changes: Vec<usize>,
+    pub notes: Vec<String>,
+    pub points: usize,
+    pub open: usize,
+    pub stick: usize,
+    pub slip: usize,
+    /// Resultant of the contact forces on the body in x and y (N per unit thickness).
+    pub resultant: [f64; 2],
+    /// Sums of the normal and tangential contact forces (local frames).
+    pub normal_resultant: f64,
+    pub tangential_resultant: f64,
+    /// Extent of the closed contact zone along the first point's tangent: [min, max] of x·t.
+    pub zone: Option<[f64; 2]>,
+    /// Independent check: relative residuals of (r, B u) with u from the field solve.
+    pub residuals: ContactResidualsReport,
+    /// Resultant of the stabilisation springs (0 when none were needed).
+    pub stabilisation_force: [f64; 2],
+    /// Linear solves with the factorised stiffness (1 free + columns of W + 1 final).
+    pub linear_solves: usize,
+}
+
+pub struct ContactOutcome {
+    pub force: Vec<f64>,
+    pub status: Vec<PointStatus>,
+    pub report: ContactReport,
+}
+
+pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
+    Ok(match spec {
+        ObstacleSpec::Line { point, normal } => Obstacle::Line { point: *point, normal: *normal },
+        ObstacleSpec::Circle { center, radius } => Obstacle::Circle { center: *center, radius: *radius },
+        ObstacleSpec::Polyline { points } => Obstacle::Polyline { points: points.clone() },
+    })
+}
+
+impl ContactSetup {
+    pub fn new(mesh: &Mesh, spec: &ContactSpec, is_fixed_node: &dyn Fn(usize) -> bool, free_motions: Option<String>) -> Result<Self> {
+        let group = mesh.require_group(&spec.part, 1)?;
+        let obstacle = obstacle_of(&spec.obstacle)?;
+        let boundary = ContactBoundary::new(mesh, group, &obstacle, spec.gap, is_fixed_node)?;
+        Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions })
+    }
+
+    pub fn friction_law(&self) -> FrictionLaw {
+        let m = self.boundary.points();
+        match self.spec.friction {
+            FrictionSpec::None => FrictionLaw::None,
+            FrictionSpec::Coulomb { mu } => FrictionLaw::Coulomb { mu: vec![mu; m] },
+            // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
+            FrictionSpec::Tresca { threshold } => {
+                FrictionLaw::Tresca { threshold: self.boundary.weight.iter().map(|w| threshold * w).collect() }
+            }
+        }
+    }
+
+    fn friction_name(&self) -> String {
+        match self.spec.friction {
+            FrictionSpec::None => "none".into(),
+            FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
+            FrictionSpec::Tresca { threshold } => format!("Tresca, threshold = {threshold} N/m"),
+        }
+    }
+
+    /// Add the stabilisation springs to the owned diagonal entries (CSR rows `first_row..`).
+    pub fn add_springs(&mut self, first_row: usize, indptr: &[usize], indices: &[usize], values: &mut [f64]) -> Result<()> {
+        if self.free_motions.is_none() {
+            return Ok(());
+        }
+        let max_diag = (0..indptr.len() - 1)
+            .filter_map(|r| indices[indptr[r]..indptr[r + 1]].binary_search(&(first_row + r)).ok().map(|k| values[indptr[r] + k]))
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        // The matrix is the same on every rank up to the row split: make k rank-independent by
+        // using the material scale the diagonal reflects (max over owned rows is enough in
+        // practice; ranks with no rows skip).
+        let k = STABILISATION * max_diag;
+        self.spring = Some(k);
+        for &node in &self.boundary.nodes {
+            for comp in 0..2 {
+                let row = 2 * node + comp;
+                if row < first_row || row >= first_row + indptr.len() - 1 {
+                    continue;
+                }
+                let r = row - first_row;
+                let cols = &indices[indptr[r]..indptr[r + 1]];
+                let k_pos = cols.binary_search(&row).map_err(|_| Error::PetscUsage(format!("no diagonal entry in row {row}")))?;
+                values[indptr[r] + k_pos] += k;
+            }
+        }
+        Ok(())
+    }
+
+    /// SNESVI route: rotate the 2×2 node blocks of the contact nodes into their (n, t) frames,
+    /// `K' = Rᵀ K R`, `f' = Rᵀ f`, so that the non-penetration `uN ≤ g0` becomes an upper bound
+    /// on one unknown. Nodes with a Dirichlet component are not contact nodes, so fixed rows
+    /// (a lone diagonal) are never rotated.
+    pub fn rotate_to_frames(
+        &self,
+        num_nodes: usize,
+        first_row: usize,
+        indptr: &[usize],
+        indices: &[usize],
+        values: &mut [f64],
+        rhs: &mut [f64],
+    ) -> Result<()> {
+        let mut frame: Vec<Option<[[f64; 2]; 2]>> = vec![None; num_nodes];
+        for (i, &node) in self.boundary.nodes.iter().enumerate() {
+            let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);
+            frame[node] = Some([[n[0], t[0]], [n[1], t[1]]]); // R = [n t]
+        }
+        let nrows = indptr.len() - 1;
+        // Right multiplication by R_b on every owned row.
+        for r in 0..nrows {
+            let (a, b) = (indptr[r], indptr[r + 1]);
+            let mut k = a;
+            while k < b {
+                let col = indices[k];
+                let node = col / 2;
+                if let Some(rb) = frame[node] {
+                    if col % 2 != 0 || k + 1 >= b || indices[k + 1] != col + 1 {
+                        return Err(Error::PetscUsage(format!("row {}: contact node {node} lacks a full 2×2 block", first_row + r)));
+                    }
+                    let (kx, ky) = (values[k], values[k + 1]);
+                    values[k] = kx * rb[0][0] + ky * rb[1][0];
+                    values[k + 1] = kx * rb[0][1] + ky * rb[1][1];
+                    k += 2;
+                } else {
+                    k += 1;
+                }
+            }
+        }
+        // Left multiplication by R_aᵀ on the rows of contact nodes (rows 2a, 2a+1 share a pattern).
+        for r in (0..nrows).filter(|r| (first_row + r) % 2 == 0) {
+            let node = (first_row + r) / 2;
+            let Some(ra) = frame[node] else { continue };
+            if r + 1 >= nrows || indptr[r + 1] - indptr[r] != indptr[r + 2] - indptr[r + 1] {
+                return Err(Error::PetscUsage(format!("contact node {node}: rows differ in pattern")));
+            }
+            let len = indptr[r + 1] - indptr[r];
+            for k in 0..len {
+                let (i0, i1) = (indptr[r] + k, indptr[r + 1] + k);
+                let (kx, ky) = (values[i0], values[i1]);
+                values[i0] = ra[0][0] * kx + ra[1][0] * ky;
+                values[i1] = ra[0][1] * kx + ra[1][1] * ky;
+            }
+            let (fx, fy) = (rhs[r], rhs[r + 1]);
+            rhs[r] = ra[0][0] * fx + ra[1][0] * fy;
+            rhs[r + 1] = ra[0][1] * fx + ra[1][1] * fy;
+        }
+        Ok(())
+    }
+
+    /// Frictionless contact on the full system with PETSc SNESVI: `v_N ≤ g0` at the contact
+    /// nodes of the rotated system (see [`Self::rotate_to_frames`]).
+    pub fn solve_vi<'s>(
+        &self,
+        session: &'s Session,
+        mesh: &Mesh,
+        matrix: &Matrix<'s>,
+        rhs: &Vector<'s>,
+    ) -> Result<(Vec<f64>, ContactOutcome)> {
+        let b = &self.boundary;
+        let m = b.points();
+        let rows = matrix.owned_rows();
+        let inf = f64::INFINITY;
+        let (mut lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
+        for (i, &node) in b.nodes.iter().enumerate() {
+            if rows.contains(&(2 * node)) {
+                upper[2 * node - rows.start] = b.gap[i];
+            }
+        }
+        let mut v = matrix.create_vector()?;
+        let run = crate::petsc::bounded::solve_vi(session, matrix, rhs, &lower, &upper, &mut v, "contact_")?;
+        // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
+        let mut residual = matrix.create_vector()?;
+        matrix.multiply(&v, &mut residual)?;
+        residual.axpy(-1.0, rhs)?;
+        let reaction = residual.gather_all()?;
+        let v_all = v.gather_all()?;
+        let mut force = vec![0.0; 2 * m];
+        let mut uc = vec![0.0; 2 * m];
+        for (i, &node) in b.nodes.iter().enumerate() {
+            force[2 * i] = reaction[2 * node];
+            uc[2 * i] = v_all[2 * node];
+            uc[2 * i + 1] = v_all[2 * node + 1];
+        }
+        // Back to Cartesian components: u = R v at the contact nodes.
+        let mut u = v_all;
+        for (i, &node) in b.nodes.iter().enumerate() {
+            let (n, t) = (b.normal[i], b.tangent[i]);
+            let (vn, vt) = (u[2 * node], u[2 * node + 1]);
+            u[2 * node] = n[0] * vn + t[0] * vt;
+            u[2 * node + 1] = n[1] * vn + t[1] * vt;
+        }
+        // Independent check (no W here): residuals of (r, B u) with the law itself.
+        let mut displacement_scale = uc.iter().chain(b.gap.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
+        if displacement_scale == 0.0 {
+            displacement_scale = 1.0;
+        }
+        let mut force_scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        if force_scale == 0.0 {
+            force_scale = 1.0;
+        }
+        let scale = contact::ResidualScale { force: force_scale, displacement: displacement_scale };
+        // Residual of the reduced (tangential) rows: must vanish for a frictionless solution.
+        let tangential: f64 = b.nodes.iter().map(|&node| reaction[2 * node + 1].abs()).fold(0.0, f64::max);
+        let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);
+        let tolerance = self.spec.tolerance.unwrap_or(1e-9);
+        if !residuals.is_acceptable(100.0 * tolerance.max(1e-10)) || tangential > 1e-6 * force_scale {
+            return Err(Error::SolverDiverged {
+                solver: run.method.clone(),
+                reason: format!(
+                    "PETSc reported {} but the answer fails the independent check: {residuals}; tangential residual {tangential:.3e}",
+                    run.converged_reason
+                ),
+                iterations: run.iterations,
+                residual: residuals.worst(),
+                tried: "reduced-space active set Newton; use solver = \"newton\" (condensed semi-smooth Newton)".into(),
+            });
+        }
+        let status: Vec<PointStatus> = (0..m)
+            .map(|i| if force[2 * i] < -1e-12 * force_scale { PointStatus::Slip } else { PointStatus::Open })
+            .collect();
+        let solution = contact::ContactSolution {
+            force: force.clone(),
+            displacement: uc,
+            iterations: run.iterations,
+            history: Vec::new(),
+            status: status.clone(),
+            residuals,
+            solver: run.method.clone(),
+            notes: vec![format!("{} ({} linear iterations)", run.converged_reason, run.linear_iterations)],
+        };
+        let report = self.report(mesh, &force, &status, &u, &residuals, run.iterations, &solution);
+        Ok((u, ContactOutcome { force, status, report }))
+    }
+
+    /// Condense, solve, recover and verify. `ksp` is set up on `matrix`; `rhs` is f.
+    pub fn solve<'s>(
+        &self,
+        session: &'s Session,
+        mesh: &Mesh,
+        matrix: &Matrix<'s>,
+        rhs: &Vector<'s>,
+        ksp: &mut LinearSolver<'s>,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(Vec<f64>, ContactOutcome)> {
+        let b = &self.boundary;
+        let m = b.points();
+        let n = matrix.global_size();
+        let rows = matrix.owned_rows();
+        let mut x = matrix.create_vector()?;
+        ksp.solve(matrix, rhs, &mut x)?;
+        let u_free_field = x.gather_all()?;
+        let u_free = b.gather(&u_free_field);
+        let friction = self.friction_law();
+        let frictional = !matches!(friction, FrictionLaw::None);
+        // Flexibility W = B K⁻¹ Bᵀ, one column per contact unknown.
+        let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
+        let columns: Vec<usize> = if frictional { (0..2 * m).collect() } else { (0..m).map(|i| 2 * i).collect() };
+        let mut e = matrix.create_vector()?;
+        let mut unit = vec![0.0; 2 * m];
+        let mut load = vec![0.0; n];
+        for (count, &j) in columns.iter().enumerate() {
+            unit[j] = 1.0;
+            load.iter_mut().for_each(|v| *v = 0.0);
+            b.scatter_add(&unit, &mut load);
+            unit[j] = 0.0;
+            e.set_owned(&load[rows.clone()])?;
+            ksp.solve(matrix, &e, &mut x)?;
+            let col = b.gather(&x.gather_all()?);
+            for (i, v) in col.iter().enumerate() {
+                w[(i, j)] = *v;
+            }
+            if count % 50 == 49 {
+                progress(&format!("  condensing: {} / {} flexibility columns", count + 1, columns.len()));
+            }
+        }
+        if !frictional {
+            // Tangential block never used (rT stays 0): keep W symmetric positive definite.
+            for i in 0..m {
+                for j in 0..m {
+                    w[(2 * i + 1, 2 * j)] = 0.0;
+                    w[(2 * i, 2 * j + 1)] = 0.0;
+                    w[(2 * i + 1, 2 * j + 1)] = if i == j { w[(2 * i, 2 * i)] } else { 0.0 };
+                }
+            }
+        }
+        let problem = CondensedProblem::new(Delassus::Dense(w), u_free, b.gap.clone(), friction, Some(b.weight.clone()))?;
+        let mut settings = SolverSettings::default();
+        if let Some(t) = self.spec.tolerance {
+            settings.tolerance = t;
+        }
+        if let Some(it) = self.spec.max_iterations {
+            settings.max_iterations = it;
+        }
+        let solution = if self.spec.solver == ContactSolverSpec::Tao {
+            progress(&format!("  contact: {m} points, solver PETSc TAO (box-constrained QP)"));
+            self.solve_with_tao(session, &problem)?
+        } else {
+            self.solve_condensed(&problem, &settings, progress)?
+        };
+        self.recover_and_verify(mesh, matrix, rhs, ksp, &problem, solution, &settings, columns.len() + 2)
+    }
+
+    /// TAO on the Tresca box QP: min ½ rᵀ W r + rᵀ (u_free − g̃), rN ≤ 0, |rT| ≤ s.
+    fn solve_with_tao(&self, session: &Session, problem: &CondensedProblem) -> Result<contact::ContactSolution> {
+        let m = problem.points();
+        let w = match problem.delassus() {
+            Delassus::Dense(w) => w,
+            _ => return Err(Error::Usage("TAO needs the dense flexibility matrix".into())),
+        };
+        let n2 = 2 * m;
+        let h: Vec<f64> = (0..n2 * n2).map(|k| w[(k / n2, k % n2)]).collect();
+        let mut c = problem.free_displacement().to_vec();
+        for i in 0..m {
+            c[2 * i] -= problem.gap()[i];
+        }
+        let thresholds = match problem.friction() {
+            FrictionLaw::Tresca { threshold } => threshold.clone(),
+            _ => return Err(Error::Usage("TAO solves the Tresca problem (friction = \"tresca\")".into())),
+        };
+        let inf = f64::INFINITY;
+        let lower: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { -inf } else { -thresholds[k / 2] }).collect();
+        let upper: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { 0.0 } else { thresholds[k / 2] }).collect();
+        let mut r = vec![0.0; n2];
+        let run = crate::petsc::bounded::solve_box_qp(session, &h, &c, &lower, &upper, &mut r, "contact_")?;
+        let displacement = problem.displacement(&r)?;
+        let residuals = problem.residuals(&r)?;
+        let status = problem.status(&r)?;
+        Ok(contact::ContactSolution {
+            force: r,
+            displacement,
+            iterations: run.iterations,
+            history: Vec::new(),
+            status,
+            residuals,
+            solver: run.method,
+            notes: vec![run.converged_reason],
+        })
+    }
+
+    fn solve_condensed(
+        &self,
+        problem: &CondensedProblem,
+        settings: &SolverSettings,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<contact::ContactSolution> {
+        let m = problem.points();
+        let solver = match &self.spec.solver {
+            ContactSolverSpec::Newton => ContactSolver::SemismoothNewton,
+            ContactSolverSpec::Relaxation { omega } => ContactSolver::ProjectedRelaxation { omega: *omega },
+            ContactSolverSpec::DPana => ContactSolver::DPana,
+            ContactSolverSpec::Uzawa => ContactSolver::Uzawa { accelerated: true },
+            ContactSolverSpec::TrescaFixedPoint => {
+                ContactSolver::TrescaFixedPoint { inner: Box::new(ContactSolver::SemismoothNewton) }
+            }
+            other => {
+                return Err(Error::Usage(format!(
+                    "contact solver {other:?} runs on the full system, not on the condensed problem"
+                )))
+            }
+        };
+        progress(&format!("  contact: {m} points, solver {}", solver.name()));
+        contact::solve(problem, &solver, settings)
+    }
+
+    /// K u = f + Bᵀ r by one more solve, then the independent check of (r, B u).
+    #[allow(clippy::too_many_arguments)]
+    fn recover_and_verify<'s>(
+        &self,
+        mesh: &Mesh,
+        matrix: &Matrix<'s>,
+        rhs: &Vector<'s>,
+        ksp: &mut LinearSolver<'s>,
+        problem: &CondensedProblem,
+        solution: contact::ContactSolution,
+        settings: &SolverSettings,
+        linear_solves: usize,
+    ) -> Result<(Vec<f64>, ContactOutcome)> {
+        let b = &self.boundary;
+        let rows = matrix.owned_rows();
+        let mut load = vec![0.0; matrix.global_size()];
+        let mut e = matrix.create_vector()?;
+        let mut x = matrix.create_vector()?;
+        // Recover the field with the contact forces applied: K u = f + Bᵀ r.
+        let mut total = rhs.owned_values()?;
+        load.iter_mut().for_each(|v| *v = 0.0);
+        b.scatter_add(&solution.force, &mut load);
+        for (t, l) in total.iter_mut().zip(&load[rows.clone()]) {
+            *t += l;
+        }
+        e.set_owned(&total)?;
+        ksp.solve(matrix, &e, &mut x)?;
+        let u = x.gather_all()?;
+        // Independent check on (r, B u).
+        let uc = b.gather(&u);
+        let residuals = problem.residuals_at(&solution.force, &uc)?;
+        let status = problem.status_at(&solution.force, &uc)?;
+        let accepted = 100.0 * settings.tolerance.max(1e-10);
+        if !residuals.is_acceptable(accepted) {
+            return Err(Error::SolverDiverged {
+                solver: solution.solver.clone(),
+                reason: format!("its answer fails the independent check on the recomputed displacement field: {residuals}"),
+                iterations: solution.iterations,
+                residual: residuals.worst(),
+                tried: solution.notes.join("; "),
+            });
+        }
+        let report = self.report(mesh, &solution.force, &status, &u, &residuals, linear_solves, &solution);
+        Ok((u, ContactOutcome { force: solution.force, status, report }))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn report(
+        &self,
+        mesh: &Mesh,
+        force: &[f64],
+        status: &[PointStatus],
+        u: &[f64],
+        residuals: &contact::ContactResiduals,
+        linear_solves: usize,
+        solution: &contact::ContactSolution,
+    ) -> ContactReport {
+        let b = &self.boundary;
+        let m = b.points();
+        let solution_force = force;
+        let mut resultant = [0.0f64; 2];
+        let (mut normal_resultant, mut tangential_resultant) = (0.0, 0.0);
+        let mut zone: Option<[f64; 2]> = None;
+        let t0 = b.tangent.first().copied().unwrap_or([1.0, 0.0]);
+        for i in 0..m {
+            let (rn, rt) = (solution_force[2 * i], solution_force[2 * i + 1]);
+            for c in 0..2 {
+                resultant[c] += rn * b.normal[i][c] + rt * b.tangent[i][c];
+            }
+            normal_resultant += rn;
+            tangential_resultant += rt;
+        }
+        let mut stabilisation_force = [0.0f64; 2];
+        if let Some(k) = self.spring {
+            for &node in &b.nodes {
+                stabilisation_force[0] -= k * u[2 * node];
+                stabilisation_force[1] -= k * u[2 * node + 1];
+            }
+        }
+        let (mut open, mut stick, mut slip) = (0, 0, 0);
+        for s in status {
+            match s {
+                PointStatus::Open => open += 1,
+                PointStatus::Stick => stick += 1,
+                PointStatus::Slip => slip += 1,
+            }
+        }
+        let closed: Vec<f64> = (0..m)
+            .filter(|&i| status[i] != PointStatus::Open)
+            .map(|i| {
+                let p = mesh.nodes[b.nodes[i]];
+                p[0] * t0[0] + p[1] * t0[1]
+            })
+            .collect();
+        if !closed.is_empty() {
+            zone = Some([closed.iter().cloned().fold(f64::INFINITY, f64::min), closed.iter().cloned().fold(f64::NEG_INFINITY, f64::max)]);
+        }
+        ContactReport {
+            part: self.spec.part.clone(),
+            friction: self.friction_name(),
+            solver: solution.solver.clone(),
+            iterations: solution.iterations,
+            status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
+            notes: solution.notes.clone(),
+            points: m,
+            open,
+            stick,
+            slip,
+            resultant,
+            normal_resultant,
+            tangential_resultant,
+            zone,
+            residuals: ContactResidualsReport {
+                max_penetration: residuals.max_penetration,
+                max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,
+                max_cone_violation: residuals.max_cone_violation,
+                normal_complementarity: residuals.normal_complementarity,
+                tangential_complementarity: residuals.tangential_complementarity,
+                force_scale: residuals.scale.force,
+                displacement_scale: residuals.scale.displacement,
+            },
+            stabilisation_force,
+            linear_solves,
+        }
+    }
+}
