@@ -67,9 +67,11 @@
 //! Input mistakes (sizes, non-finite values, a `W` that is not symmetric positive definite, a
 //! solver that needs matrix entries given an implicit operator) are reported as
 //! [`Error::Usage`], naming the contact point or entry at fault.
+pub mod boundary;
 mod box_qp;
 mod dpana;
 mod krylov;
+pub mod obstacle;
 mod projected_relaxation;
 mod residuals;
 mod semismooth_newton;
