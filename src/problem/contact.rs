@@ -92,9 +92,9 @@ pub struct ContactOutcome {
 
 pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
     Ok(match spec {
-        ObstacleSpec::Line { point, normal } => Obstacle::Line { point: *point, normal: *normal },
-        ObstacleSpec::Circle { center, radius } => Obstacle::Circle { center: *center, radius: *radius },
-        ObstacleSpec::Polyline { points } => Obstacle::Polyline { points: points.clone() },
+        ObstacleSpec::Line { point, normal } => Obstacle::new_line(*point, *normal)?,
+        ObstacleSpec::Circle { center, radius } => Obstacle::new_circle(*center, *radius)?,
+        ObstacleSpec::Polyline { points } => Obstacle::new_polyline(points.clone())?,
     })
 }
 

@@ -11,6 +11,8 @@ use signorini::problem::ElasticityProblem;
 use signorini::scene::Scene;
 use signorini::Error;
 
+mod contact;
+
 type Case = fn(&Session) -> Result<(), String>;
 
 pub const TESTS: &[(&str, Case)] = &[
@@ -31,9 +33,18 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_reports_unconstrained_rigid_motion", driver_reports_unconstrained_rigid_motion),
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
     ("driver_default_scene_equilibrium", driver_default_scene_equilibrium),
+    ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
+    ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),
+    ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
+    ("contact_lift_off_is_an_error", contact::contact_lift_off_is_an_error),
+    ("hertz_cylinder", contact::hertz_cylinder),
+    ("square_block_raous", contact::square_block_raous),
+    ("contact_solvers_agree", contact::contact_solvers_agree),
+    ("newton_iterations_mesh_independent", contact::newton_iterations_mesh_independent),
+    ("friction_coefficient_sweep_0_to_10", contact::friction_coefficient_sweep_0_to_10),
 ];
 
-fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
+pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
     if cond {
         Ok(())
     } else {
@@ -41,7 +52,7 @@ fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
     }
 }
 
-fn manifest(rel: &str) -> PathBuf {
+pub(crate) fn manifest(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
 

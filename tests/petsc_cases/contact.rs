@@ -1,0 +1,307 @@
+//! Contact validation cases (SCIENCE.md §7): patch tests exact to round-off, Hertz, the square
+//! block of Raous–Chabrand–Lebon, solver agreement, Newton iteration counts, robustness.
+use std::path::Path;
+
+use signorini::petsc::Session;
+use signorini::problem::ElasticityProblem;
+use signorini::scene::Scene;
+use signorini::Error;
+
+use super::{ensure, manifest};
+
+pub fn example(name: &str) -> (String, std::path::PathBuf) {
+    let path = manifest(&format!("examples/scenes/{name}"));
+    (std::fs::read_to_string(&path).unwrap(), path)
+}
+
+/// Replace one line that starts with `key` (after trimming) by `line`.
+pub fn set_line(text: &str, key: &str, line: &str) -> String {
+    let mut done = false;
+    let out: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if !done && l.trim_start().starts_with(key) {
+                done = true;
+                line.to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    assert!(done, "no line starting with {key}");
+    out.join("\n") + "\n"
+}
+
+pub fn solve_text<'s>(s: &'s Session, text: &str, path: &Path) -> Result<ElasticityProblem<'s>, Error> {
+    let scene = Scene::from_str(text, path)?;
+    let mut p = ElasticityProblem::setup_system(s, scene)?;
+    p.assemble()?;
+    p.solve()?;
+    p.postprocess()?;
+    Ok(p)
+}
+
+fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.iter().map(|x| x * x).sum::<f64>().sqrt();
+    a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt() / n
+}
+
+// ------------------------------------------------------------------ patch tests
+
+fn patch(s: &Session, order: u32, solver: &str) -> Result<(), String> {
+    let (text, path) = example("contact_patch.toml");
+    let text = set_line(&text, "order", &format!("order = {order}"));
+    let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
+    let p = solve_text(s, &text, &path).map_err(|e| format!("P{order} {solver}: {e}"))?;
+    let (e, nu, pr) = (90e9, 0.2, 1e6);
+    let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * pr / (e * (1.0 - nu));
+    let u = p.displacement.as_ref().unwrap();
+    let scale = k.abs();
+    let err = p.mesh.nodes.iter().enumerate().map(|(i, x)| u[2 * i].abs().max((u[2 * i + 1] - k * x[1]).abs())).fold(0.0, f64::max);
+    ensure(err <= 1e-11 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
+    let c = p.contact.as_ref().unwrap();
+    let o = p.contact_outcome.as_ref().unwrap();
+    let (pressure, friction) = c.boundary.tractions(&o.force);
+    for (i, (pi, ti)) in pressure.iter().zip(&friction).enumerate() {
+        ensure((pi - pr).abs() <= 1e-8 * pr && ti.abs() <= 1e-8 * pr, || {
+            format!("P{order} {solver}: point {i}: pressure {pi}, friction {ti} (exact {pr}, 0)")
+        })?;
+    }
+    ensure(o.report.open == 0, || format!("{} open points", o.report.open))?;
+    let r = &p.results.as_ref().unwrap().report;
+    ensure(r.equilibrium_residual < 1e-9, || format!("equilibrium residual {}", r.equilibrium_residual))
+}
+
+pub fn contact_patch_frictionless_exact(s: &Session) -> Result<(), String> {
+    for order in [1, 2] {
+        patch(s, order, "newton")?;
+        patch(s, order, "snes_vi")?;
+    }
+    Ok(())
+}
+
+/// The stick patch test (SCIENCE.md §7.2): uniform shear q on top of the compressed block, no
+/// support at all in x: the body is held sideways only by friction.
+fn stick_patch_text(q_over_p: f64, mu: f64, order: u32) -> (String, std::path::PathBuf) {
+    let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);
+    let _ = e;
+    let side = nu * p / (1.0 - nu);
+    let q = q_over_p * p;
+    let text = format!(
+        r#"
+title = "stick patch"
+[mesh]
+shape = "rectangle"
+size = [2.0, 1.0]
+cell_size = 0.3
+mesher = "gmsh"
+[discretization]
+order = {order}
+[material]
+young = 90e9
+poisson = 0.2
+[[traction]]
+part = "top"
+traction = [{q:e}, {mp:e}]
+[[traction]]
+part = "right"
+traction = [{ms:e}, {q:e}]
+[[traction]]
+part = "left"
+traction = [{side:e}, {mq:e}]
+[contact]
+part = "bottom"
+obstacle = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+friction = "coulomb"
+mu = {mu}
+"#,
+        mp = -p,
+        ms = -side,
+        mq = -q,
+    );
+    (text, manifest("stick_patch.toml"))
+}
+
+pub fn contact_stick_patch_exact_held_by_friction(s: &Session) -> Result<(), String> {
+    let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);
+    let q = 0.3 * p;
+    for order in [1, 2] {
+        let (text, path) = stick_patch_text(0.3, 0.5, order);
+        let pr = solve_text(s, &text, &path).map_err(|e| format!("P{order}: {e}"))?;
+        let u = pr.displacement.as_ref().unwrap();
+        let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (e * (1.0 - nu));
+        let kx = 2.0 * (1.0 + nu) * q / e;
+        let err = pr
+            .mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (u[2 * i] - kx * x[1]).abs().max((u[2 * i + 1] - k * x[1]).abs()))
+            .fold(0.0, f64::max);
+        ensure(err <= 1e-10 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
+        let o = pr.contact_outcome.as_ref().unwrap();
+        ensure(o.report.stick == o.report.points, || format!("P{order}: not all stick: {:?}", o.report))?;
+        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-8 * q, || format!("friction resultant {:?}", o.report.resultant))?;
+    }
+    Ok(())
+}
+
+pub fn contact_stick_patch_sliding_has_no_static_solution(s: &Session) -> Result<(), String> {
+    let (text, path) = stick_patch_text(0.6, 0.5, 1);
+    match solve_text(s, &text, &path) {
+        Err(Error::NoEquilibrium(m)) => ensure(m.contains("slides"), || m.clone()),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(p) => Err(format!("a sliding body got a static answer: {:?}", p.contact_outcome.map(|o| o.report))),
+    }
+}
+
+pub fn contact_lift_off_is_an_error(s: &Session) -> Result<(), String> {
+    let (text, path) = example("contact_patch.toml");
+    // Pull the block up: it leaves the plane and nothing holds it.
+    let text = text.replacen("pressure = 1e6", "pressure = -1e6", 1);
+    match solve_text(s, &text, &path) {
+        Err(Error::Unconstrained(m)) => ensure(m.contains("lifts off"), || m.clone()),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(_) => Err("a body lifting off got an answer".into()),
+    }
+}
+
+// ------------------------------------------------------------------ Hertz
+
+/// Fit p(x) = p0 sqrt(1 − x²/a²) to the closed nodes: p² is linear in x².
+fn hertz_fit(p: &ElasticityProblem) -> (f64, f64, Vec<(f64, f64)>) {
+    let c = p.contact.as_ref().unwrap();
+    let o = p.contact_outcome.as_ref().unwrap();
+    let (pressure, _) = c.boundary.tractions(&o.force);
+    let mut pts: Vec<(f64, f64)> =
+        c.boundary.nodes.iter().zip(&pressure).filter(|(_, &pr)| pr > 0.0).map(|(&n, &pr)| (p.mesh.nodes[n][0], pr)).collect();
+    pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
+    // Least squares of y = α + β x² with y = p², on the inner 80 % of the zone (the edge is
+    // where the nodal resolution errs).
+    let xmax = pts.iter().map(|q| q.0.abs()).fold(0.0, f64::max);
+    let inner: Vec<&(f64, f64)> = pts.iter().filter(|q| q.0.abs() <= 0.8 * xmax).collect();
+    let n = inner.len() as f64;
+    let (sx, sy, sxx, sxy) = inner.iter().fold((0.0, 0.0, 0.0, 0.0), |(a, b, c, d), q| {
+        let (x2, y) = (q.0 * q.0, q.1 * q.1);
+        (a + x2, b + y, c + x2 * x2, d + x2 * y)
+    });
+    let beta = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    let alpha = (sy - beta * sx) / n;
+    let p0 = alpha.sqrt();
+    let a = (-alpha / beta).sqrt();
+    (a, p0, pts)
+}
+
+pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
+    let (text, path) = example("hertz.toml");
+    let (r, e, nu) = (0.1, 210e9, 0.3);
+    let load = 2.25e8 * 2.0 * r;
+    let estar = e / (1.0 - nu * nu);
+    let a_exact = (4.0 * load * r / (std::f64::consts::PI * estar)).sqrt();
+    let p0_exact = 2.0 * load / (std::f64::consts::PI * a_exact);
+    let mut errors = Vec::new();
+    for (cell, fine) in [("1e-3", "1e-3"), ("5e-4", "5e-4"), ("2.5e-4", "2.5e-4")] {
+        let t = set_line(&text, "refine", &format!("refine = {{ point = [0.0, 0.0], cell_size = {fine}, radius = 0.015 }}"));
+        let _ = cell;
+        let p = solve_text(s, &t, &path).map_err(|e| format!("hertz {fine}: {e}"))?;
+        let (a, p0, pts) = hertz_fit(&p);
+        let (ea, ep) = ((a - a_exact).abs() / a_exact, (p0 - p0_exact).abs() / p0_exact);
+        errors.push((fine, ea, ep));
+        // P2: no checkerboard between vertex and mid-edge nodes inside the zone.
+        let inner: Vec<&(f64, f64)> = pts.iter().filter(|q| q.0.abs() < 0.7 * a).collect();
+        for w in inner.windows(3) {
+            let wiggle = (w[1].1 - 0.5 * (w[0].1 + w[2].1)).abs() / p0_exact;
+            ensure(wiggle < 0.02, || format!("hertz {fine}: pressure oscillates at x = {:.3e}: {wiggle:.3}", w[1].0))?;
+        }
+    }
+    let (_, ea, ep) = errors[errors.len() - 1];
+    ensure(ea < 0.01 && ep < 0.01, || format!("Hertz: half-width and peak errors {errors:?} (a = {a_exact:e}, p0 = {p0_exact:e})"))?;
+    ensure(errors[0].1.max(errors[0].2) > ea.max(ep), || format!("no convergence under refinement: {errors:?}"))
+}
+
+// ------------------------------------------------------------------ square block
+
+pub fn square_block_raous(s: &Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let p = solve_text(s, &text, &path).map_err(|e| e.to_string())?;
+    let u = p.displacement.as_ref().unwrap();
+    let reference = [(0.0, 2.86e-5), (1.25e-3, 2.72e-5), (5e-3, 2.28e-5), (7.5e-3, 1.98e-5), (11.25e-3, 1.50e-5)];
+    let mut report = Vec::new();
+    for (x, ux_ref) in reference {
+        let node = (0..p.mesh.num_nodes())
+            .find(|&n| (p.mesh.nodes[n][0] - x).abs() < 1e-9 && p.mesh.nodes[n][1].abs() < 1e-12)
+            .ok_or_else(|| format!("no node at ({x}, 0)"))?;
+        let ux = u[2 * node];
+        report.push((x, ux, ux_ref));
+        ensure((ux - ux_ref).abs() <= 0.05 * ux_ref, || format!("ux({x}) = {ux:e}, reference {ux_ref:e} ±5 %; all: {report:?}"))?;
+    }
+    let o = p.contact_outcome.as_ref().unwrap();
+    ensure(o.report.slip > 0 && o.report.stick > 0, || format!("expected a stick and a slip zone: {:?}", o.report))
+}
+
+// ------------------------------------------------------------------ solvers
+
+fn small_block(friction: &str, solver: &str) -> (String, std::path::PathBuf) {
+    let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "cell_size", "cell_size = 5e-3");
+    let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
+    let text = match friction {
+        "coulomb" => set_line(&text, "mu", "mu = 0.2"),
+        "tresca" => set_line(&set_line(&text, "friction", "friction = \"tresca\""), "mu", "threshold = 1e7"),
+        _ => set_line(&set_line(&text, "friction", "friction = \"none\""), "mu", ""),
+    };
+    (text, path)
+}
+
+pub fn contact_solvers_agree(s: &Session) -> Result<(), String> {
+    let families: &[(&str, &[&str])] = &[
+        ("coulomb", &["newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"]),
+        ("tresca", &["newton", "relaxation", "uzawa", "dpana", "tao"]),
+        ("none", &["newton", "relaxation", "uzawa", "snes_vi"]),
+    ];
+    for (friction, solvers) in families {
+        let mut reference: Option<Vec<f64>> = None;
+        for solver in *solvers {
+            let (text, path) = small_block(friction, solver);
+            let p = solve_text(s, &text, &path).map_err(|e| format!("{friction}/{solver}: {e}"))?;
+            let u = p.displacement.clone().unwrap();
+            match &reference {
+                None => reference = Some(u),
+                Some(r) => {
+                    let d = relative_difference(r, &u);
+                    ensure(d < 1e-6, || format!("{friction}: {solver} differs from newton by {d:e}"))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+pub fn newton_iterations_mesh_independent(s: &Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let mut its = Vec::new();
+    for cell in ["1e-2", "5e-3", "2.5e-3", "1.25e-3", "6.25e-4"] {
+        let t = set_line(&text, "cell_size", &format!("cell_size = {cell}"));
+        let p = solve_text(s, &t, &path).map_err(|e| format!("{cell}: {e}"))?;
+        its.push(p.contact_outcome.as_ref().unwrap().report.iterations);
+    }
+    ensure(its.iter().all(|&n| (1..=12).contains(&n)), || format!("Newton iterations from coarse to fine: {its:?}"))
+}
+
+pub fn friction_coefficient_sweep_0_to_10(s: &Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "cell_size", "cell_size = 5e-3");
+    let mut stick = Vec::new();
+    for mu in [0.0, 0.05, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0] {
+        let t = set_line(&text, "mu", &format!("mu = {mu}"));
+        let p = solve_text(s, &t, &path).map_err(|e| format!("mu = {mu}: {e}"))?;
+        let o = p.contact_outcome.as_ref().unwrap();
+        stick.push(o.report.stick);
+        if mu == 0.0 {
+            ensure(o.force.iter().skip(1).step_by(2).all(|&t| t == 0.0), || "mu = 0 produced friction forces".into())?;
+        }
+    }
+    ensure(stick.windows(2).all(|w| w[0] <= w[1]), || format!("stick counts not monotone in mu: {stick:?}"))
+}
