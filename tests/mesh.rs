@@ -242,6 +242,22 @@ fn cells_for_size_rounds_up() {
     assert_eq!(cells_for_size([0.01, 2.0], 1.0), (1, 2));
 }
 
+/// A size that is a whole number of cells gives that number, also when the floating-point
+/// quotient lands just above it (0.07 / 0.01 = 7.000000000000001).
+#[test]
+fn cells_for_size_ignores_round_off() {
+    let quotients = [0.07f64 / 0.01, 0.14 / 0.02, 0.07 / 0.00125];
+    assert!(quotients.iter().all(|q| *q > q.round()), "the cases below must exercise round-off: {quotients:?}");
+    assert_eq!(cells_for_size([0.07, 0.14], 0.01), (7, 14));
+    assert_eq!(cells_for_size([0.14, 0.07], 0.02), (7, 4));
+    assert_eq!(cells_for_size([0.07, 0.14], 0.00125), (56, 112));
+    // the square block of SCIENCE.md section 7: 32 edges along each side
+    assert_eq!(cells_for_size([0.04, 0.04], 0.04 / 32.0), (32, 32));
+    assert_eq!(cells_for_size([0.04, 0.04], 1.25e-3), (32, 32));
+    // a genuine excess still adds a cell
+    assert_eq!(cells_for_size([0.0700001, 1.0], 0.01), (8, 100));
+}
+
 // ---------------------------------------------------------------------------------------------
 // P1 -> P2
 // ---------------------------------------------------------------------------------------------

@@ -1,15 +1,21 @@
 //! The scene format: the example scenes parse to what they say, and every mistake is an
 //! `Error::Scene` at the right line, naming the key or value, never a panic.
 use signorini::error::{Error, Location};
+use signorini::mesh::structured::cells_for_size;
 use signorini::mesh::{Mesh, Order, PhysicalGroup, NO_GROUP};
 use signorini::scene::{
-    DirichletSpec, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec, RefineSpec, Scene, DEFAULT_SCENE_SOURCE,
-    DEFAULT_SCENE_TOML,
+    nearest_node, point_tolerance, ContactSolverSpec, DirichletSpec, DirichletTarget, FrictionSpec, Load, MaterialSpec,
+    MeshSpec, Mesher, ObstacleSpec, PlaneSpec, RefineSpec, Scene, DEFAULT_SCENE_SOURCE, DEFAULT_SCENE_TOML,
+    POINT_TOLERANCE,
 };
 use std::path::{Path, PathBuf};
 
 fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes")
+}
+
+fn part(name: &str) -> DirichletTarget {
+    DirichletTarget::Part(name.to_string())
 }
 
 fn parse(text: &str) -> signorini::Result<Scene> {
@@ -100,7 +106,8 @@ fn default_scene_parses_and_matches_its_file() {
     assert_eq!(s.order, Order::P2);
     assert_eq!(s.material, MaterialSpec { young: 210e9, poisson: 0.3, plane: PlaneSpec::Strain });
     assert_eq!(s.dirichlet.len(), 1);
-    assert_eq!((s.dirichlet[0].part.as_str(), s.dirichlet[0].ux, s.dirichlet[0].uy), ("left", Some(0.0), Some(0.0)));
+    assert_eq!((&s.dirichlet[0].target, s.dirichlet[0].ux, s.dirichlet[0].uy), (&part("left"), Some(0.0), Some(0.0)));
+    assert_eq!(s.contact, None);
     assert_eq!(s.tractions.len(), 1);
     assert_eq!(s.tractions[0].part, "right");
     assert_eq!(s.tractions[0].load, Load::Traction([0.0, -1e6]));
@@ -151,9 +158,9 @@ fn patch_test_example_parses() {
     let side = nu * p / (1.0 - nu);
     let loads: Vec<(&str, Load)> = s.tractions.iter().map(|t| (t.part.as_str(), t.load)).collect();
     assert_eq!(loads, [("top", Load::Pressure(p)), ("right", Load::Pressure(side)), ("left", Load::Pressure(side))]);
-    let fixed: Vec<(&str, Option<f64>, Option<f64>)> =
-        s.dirichlet.iter().map(|d| (d.part.as_str(), d.ux, d.uy)).collect();
-    assert_eq!(fixed, [("bottom", None, Some(0.0)), ("left", Some(0.0), None)]);
+    let fixed: Vec<(DirichletTarget, Option<f64>, Option<f64>)> =
+        s.dirichlet.iter().map(|d| (d.target.clone(), d.ux, d.uy)).collect();
+    assert_eq!(fixed, [(part("bottom"), None, Some(0.0)), (part("left"), Some(0.0), None)]);
     // the comment's exact solution: uy = -1e-5 y
     let slope = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (young * (1.0 - nu));
     assert!((slope + 1e-5).abs() < 1e-20, "{slope}");
@@ -224,10 +231,10 @@ fn unknown_top_level_table() {
     assert!(e.message.contains("`materials`") && e.message.contains("top level"), "{}", e.message);
     assert!(e.hint.contains("did you mean `material`?"), "{}", e.hint);
 
-    let text = format!("{BASE}\n[contact]\nfriction = 0.3\n");
+    let text = BASE.replace("[material]", "[contacts]\n[material]");
     let e = scene_error(&text);
-    assert_eq!(e.line, line_of(&text, "[contact]"));
-    assert!(e.hint.contains("not supported yet"), "{}", e.hint);
+    assert!(e.message.contains("`contacts`") && e.message.contains("top level"), "{}", e.message);
+    assert!(e.hint.contains("did you mean `contact`?"), "{}", e.hint);
 }
 
 /// Every table names itself in unknown-key errors (the key lists in the parser match its
@@ -252,6 +259,7 @@ fn unknown_key_in_every_table_names_the_table() {
         ("[loads]\nbogus_key = 1\n", "[loads]"),
         ("[solver]\nbogus_key = 1\n", "[solver]"),
         ("[output]\nbogus_key = 1\n", "[output]"),
+        ("[contact]\npart = \"bottom\"\nbogus_key = 1\n", "[contact]"),
     ];
     for (tail, table) in appended {
         let text = format!("{BASE}\n{tail}");
@@ -567,7 +575,7 @@ fn dirichlet_without_components() {
     let s = parse(&base_with("ux = 0.0\n", "")).unwrap();
     assert_eq!(
         s.dirichlet[0],
-        DirichletSpec { part: "left".into(), ux: None, uy: Some(0.0), at: s.dirichlet[0].at.clone() }
+        DirichletSpec { target: part("left"), ux: None, uy: Some(0.0), at: s.dirichlet[0].at.clone() }
     );
 }
 
@@ -672,7 +680,14 @@ fn disc_and_half_disc() {
 /// `Error::Scene` whose location is inside the text: never a panic.
 #[test]
 fn no_input_panics() {
-    let text = std::fs::read_to_string(examples().join("cantilever.toml")).unwrap();
+    for example in ["cantilever.toml", "square_block.toml"] {
+        no_input_panics_around(&std::fs::read_to_string(examples().join(example)).unwrap());
+    }
+    let polyline = "part = \"bottom\"\nobstacle = \"polyline\"\npoints = [[-1, 0], [0, -0.1], [1, 0]]\n";
+    no_input_panics_around(&with_contact(polyline));
+}
+
+fn no_input_panics_around(text: &str) {
     let lines = text.lines().count() + 1;
     let check = |t: &str| match parse(t) {
         Ok(_) => {}
@@ -689,7 +704,17 @@ fn no_input_panics() {
         let t: Vec<&str> = all.iter().enumerate().filter(|(i, _)| *i != skip).map(|(_, l)| *l).collect();
         check(&t.join("\n"));
     }
-    for weird in ["", "\u{feff}", "[[mesh]]\nshape = 1\n", "mesh = []", "[mesh.refine]\npoint = 3\n", "é = 1"] {
+    for weird in [
+        "",
+        "\u{feff}",
+        "[[mesh]]\nshape = 1\n",
+        "mesh = []",
+        "[mesh.refine]\npoint = 3\n",
+        "é = 1",
+        "contact = []",
+        "[contact]\npoints = 3\n",
+        "[[contact]]\npart = \"a\"\n",
+    ] {
         check(weird);
     }
 }
@@ -770,4 +795,829 @@ fn check_against_mesh_without_boundary_names() {
     let e = parse(BASE).unwrap().check_against_mesh(&mesh).unwrap_err();
     let Error::Scene { hint, .. } = e else { panic!("{e:?}") };
     assert!(hint.contains("no named boundary parts"), "{hint}");
+}
+
+// ---- contact examples ------------------------------------------------------------------------
+
+#[test]
+fn contact_patch_example_parses() {
+    let path = examples().join("contact_patch.toml");
+    let s = Scene::from_file(&path).unwrap();
+    assert_eq!(
+        s.mesh,
+        MeshSpec::Rectangle {
+            origin: [0.0, 0.0],
+            size: [2.0, 1.0],
+            cell_size: 0.3,
+            mesher: Mesher::Gmsh,
+            refine: None
+        }
+    );
+    let (young, nu, p) = (s.material.young, s.material.poisson, 1e6);
+    assert_eq!((young, nu, s.material.plane), (90e9, 0.2, PlaneSpec::Strain));
+    let side = nu * p / (1.0 - nu);
+    let loads: Vec<(&str, Load)> = s.tractions.iter().map(|t| (t.part.as_str(), t.load)).collect();
+    assert_eq!(loads, [("top", Load::Pressure(p)), ("right", Load::Pressure(side)), ("left", Load::Pressure(side))]);
+    // one point condition, ux only, off the contact part
+    assert_eq!(s.dirichlet.len(), 1);
+    assert_eq!(
+        (&s.dirichlet[0].target, s.dirichlet[0].ux, s.dirichlet[0].uy),
+        (&DirichletTarget::Point([0.0, 1.0]), Some(0.0), None)
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(s.dirichlet[0].at.line, line_of(&text, "point = [0.0, 1.0]"));
+    let c = s.contact.as_ref().unwrap();
+    assert_eq!(c.part, "bottom");
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
+    assert_eq!((c.gap, c.friction, c.solver), (0.0, FrictionSpec::None, ContactSolverSpec::Newton));
+    assert_eq!((c.tolerance, c.max_iterations), (None, None));
+    assert_eq!((c.at.line, c.at.column), (line_of(&text, "part = \"bottom\""), "part = ".len() + 1));
+    // the comment's exact solution: uy = -1e-5 y
+    let slope = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (young * (1.0 - nu));
+    assert!((slope + 1e-5).abs() < 1e-20, "{slope}");
+}
+
+#[test]
+fn hertz_example_parses() {
+    let s = Scene::from_file(&examples().join("hertz.toml")).unwrap();
+    let r = 0.1;
+    let MeshSpec::HalfDisc { center, radius, cell_size, refine: Some(refine) } = s.mesh else { panic!("{:?}", s.mesh) };
+    assert_eq!((center, radius, cell_size), ([0.0, r], r, 0.01));
+    assert_eq!(s.order, Order::P2);
+    assert_eq!(s.material, MaterialSpec { young: 210e9, poisson: 0.3, plane: PlaneSpec::Strain });
+    // the comment's numbers: P = pressure · 2R, a = sqrt(4PR/(π E*)), p0 = 2P/(π a)
+    assert_eq!(s.tractions.len(), 1);
+    assert_eq!(s.tractions[0].part, "flat");
+    let Load::Pressure(pressure) = s.tractions[0].load else { panic!("{:?}", s.tractions[0].load) };
+    let force = pressure * 2.0 * r;
+    assert!((force - 4.5e7).abs() < 1e-6, "{force}");
+    let e_star = s.material.young / (1.0 - s.material.poisson.powi(2));
+    let a = (4.0 * force * r / (std::f64::consts::PI * e_star)).sqrt();
+    let p0 = 2.0 * force / (std::f64::consts::PI * a);
+    assert!((a - 4.98e-3).abs() < 5e-6 && (0.04..=0.1).contains(&(a / r)), "a = {a}");
+    assert!((p0 - 5.75e9).abs() < 5e6, "p0 = {p0}");
+    // refinement: cells of about a/20 within about 3a of the initial contact point
+    assert_eq!(refine.point, [0.0, 0.0]);
+    assert!((refine.cell_size / (a / 20.0) - 1.0).abs() < 0.01, "{}", refine.cell_size);
+    assert!((refine.radius / (3.0 * a) - 1.0).abs() < 0.01, "{}", refine.radius);
+    // ux = 0 at the middle of the flat side, and nothing else
+    assert_eq!(s.dirichlet.len(), 1);
+    assert_eq!(
+        (&s.dirichlet[0].target, s.dirichlet[0].ux, s.dirichlet[0].uy),
+        (&DirichletTarget::Point([0.0, r]), Some(0.0), None)
+    );
+    let c = s.contact.as_ref().unwrap();
+    assert_eq!(c.part, "arc");
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
+    assert_eq!((c.friction, c.solver), (FrictionSpec::None, ContactSolverSpec::Newton));
+}
+
+#[test]
+fn square_block_example_parses() {
+    let s = Scene::from_file(&examples().join("square_block.toml")).unwrap();
+    let MeshSpec::Rectangle { origin, size, cell_size, mesher, refine } = s.mesh else { panic!("{:?}", s.mesh) };
+    assert_eq!((origin, size, mesher, refine), ([0.0, 0.0], [0.04, 0.04], Mesher::Structured, None));
+    // 32 element edges along the contact side
+    assert_eq!(cells_for_size(size, cell_size), (32, 32));
+    assert_eq!(s.order, Order::P1);
+    assert_eq!(s.material, MaterialSpec { young: 1.3e11, poisson: 0.2, plane: PlaneSpec::Strain });
+    let loads: Vec<(&str, Load)> = s.tractions.iter().map(|t| (t.part.as_str(), t.load)).collect();
+    assert_eq!(loads, [("top", Load::Pressure(5e7)), ("left", Load::Pressure(1.5e8))]);
+    let fixed: Vec<(DirichletTarget, Option<f64>, Option<f64>)> =
+        s.dirichlet.iter().map(|d| (d.target.clone(), d.ux, d.uy)).collect();
+    assert_eq!(fixed, [(part("right"), Some(0.0), None), (DirichletTarget::Point([0.04, 0.0]), Some(0.0), Some(0.0))]);
+    let c = s.contact.as_ref().unwrap();
+    assert_eq!(c.part, "bottom");
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
+    assert_eq!((c.gap, c.friction, c.solver), (0.0, FrictionSpec::Coulomb { mu: 1.0 }, ContactSolverSpec::Newton));
+    // the mesh has nodes at the reference abscissae and at the fixed corner
+    let mesh = signorini::mesh::structured::rectangle(origin, size, 32, 32, Order::P1).unwrap();
+    s.check_against_mesh(&mesh).unwrap();
+    for x in [0.0, 1.25e-3, 5e-3, 7.5e-3, 11.25e-3] {
+        let (_, d) = nearest_node(&mesh, [x, 0.0]).unwrap();
+        assert!(d < 1e-15, "x = {x}: {d}");
+    }
+    assert_eq!(s.dirichlet[1].nodes(&mesh).unwrap(), [32]);
+}
+
+#[test]
+fn every_example_parses_and_names_only_parts_of_its_shape() {
+    let parts_of = |mesh: &MeshSpec| -> &[&str] {
+        match mesh {
+            MeshSpec::Rectangle { .. } => &["bottom", "right", "top", "left"],
+            MeshSpec::Disc { .. } => &["circle"],
+            MeshSpec::HalfDisc { .. } => &["arc", "flat"],
+            MeshSpec::File { .. } => &[],
+        }
+    };
+    let mut names: Vec<PathBuf> = std::fs::read_dir(examples())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 6, "{names:?}");
+    for path in names {
+        let s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let known = parts_of(&s.mesh);
+        for (p, at) in s.boundary_parts() {
+            assert!(known.contains(&p), "{}: {at}: part {p} of a {:?}", path.display(), s.mesh);
+        }
+    }
+}
+
+// ---- [contact] -------------------------------------------------------------------------------
+
+const LINE: &str = "part = \"bottom\"\nobstacle = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n";
+
+/// BASE with a [contact] table whose keys are `body`.
+fn with_contact(body: &str) -> String {
+    format!("{BASE}\n[contact]\n{body}")
+}
+
+/// BASE with the line obstacle and `extra` keys.
+fn line_contact(extra: &str) -> String {
+    with_contact(&format!("{LINE}{extra}\n"))
+}
+
+#[test]
+fn contact_defaults() {
+    let text = line_contact("");
+    let s = parse(&text).unwrap();
+    let c = s.contact.unwrap();
+    assert_eq!(c.part, "bottom");
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
+    assert_eq!(c.gap, 0.0);
+    assert_eq!(c.friction, FrictionSpec::None);
+    assert_eq!(c.solver, ContactSolverSpec::Newton);
+    assert_eq!((c.tolerance, c.max_iterations), (None, None));
+    assert_eq!(
+        (c.at.file.as_path(), c.at.line, c.at.column),
+        (Path::new("test.toml"), line_of(&text, "part = \"bottom\""), 8)
+    );
+}
+
+#[test]
+fn contact_with_every_option() {
+    let text = line_contact(
+        "gap = -1e-4\nfriction = \"coulomb\"\nmu = 0.3\nsolver = \"relaxation\"\nomega = 1.5\ntolerance = 1e-8\nmax_iterations = 300",
+    );
+    let c = parse(&text).unwrap().contact.unwrap();
+    assert_eq!(c.gap, -1e-4);
+    assert_eq!(c.friction, FrictionSpec::Coulomb { mu: 0.3 });
+    assert_eq!(c.solver, ContactSolverSpec::Relaxation { omega: 1.5 });
+    assert_eq!((c.tolerance, c.max_iterations), (Some(1e-8), Some(300)));
+
+    let c = parse(&line_contact("friction = \"tresca\"\nthreshold = 1e5\nsolver = \"tao\"")).unwrap().contact.unwrap();
+    assert_eq!((c.friction, c.solver), (FrictionSpec::Tresca { threshold: 1e5 }, ContactSolverSpec::Tao));
+    let c = parse(&line_contact("solver = \"relaxation\"")).unwrap().contact.unwrap();
+    assert_eq!(c.solver, ContactSolverSpec::Relaxation { omega: 1.0 });
+    for (name, solver) in [
+        ("newton", ContactSolverSpec::Newton),
+        ("dpana", ContactSolverSpec::DPana),
+        ("uzawa", ContactSolverSpec::Uzawa),
+        ("tresca_fixed_point", ContactSolverSpec::TrescaFixedPoint),
+        ("snes_vi", ContactSolverSpec::SnesVi),
+    ] {
+        let c = parse(&line_contact(&format!("solver = \"{name}\""))).unwrap().contact.unwrap();
+        assert_eq!(c.solver, solver);
+        assert_eq!(solver.scene_name(), name);
+    }
+    // a table written inline at the top level works too
+    let text =
+        format!("contact = {{ part = \"bottom\", obstacle = \"circle\", center = [0.5, -1], radius = 1 }}\n{BASE}");
+    let c = parse(&text).unwrap().contact.unwrap();
+    assert_eq!(c.obstacle, ObstacleSpec::Circle { center: [0.5, -1.0], radius: 1.0 });
+    assert_eq!(c.at.line, 1);
+}
+
+#[test]
+fn contact_normal_is_normalised() {
+    let text = line_contact("").replace("normal = [0.0, 1.0]", "normal = [3, -4]");
+    let c = parse(&text).unwrap().contact.unwrap();
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.6, -0.8] });
+}
+
+#[test]
+fn contact_polyline_parses() {
+    let text =
+        with_contact("part = \"bottom\"\nobstacle = \"polyline\"\npoints = [[-1, 0], [0.0, -0.1], [1.0, 0.0]]\n");
+    let c = parse(&text).unwrap().contact.unwrap();
+    assert_eq!(c.obstacle, ObstacleSpec::Polyline { points: vec![[-1.0, 0.0], [0.0, -0.1], [1.0, 0.0]] });
+}
+
+#[test]
+fn contact_unknown_obstacle_kind() {
+    let text = line_contact("").replace("obstacle = \"line\"", "obstacle = \"plane\"");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "obstacle"), "obstacle = ".len() + 1));
+    assert!(e.message.contains("obstacle") && e.message.contains("\"plane\""), "{}", e.message);
+    assert!(e.hint.contains("\"line\", \"circle\", \"polyline\""), "{}", e.hint);
+    let e = scene_error(&line_contact("").replace("obstacle = \"line\"", "obstacle = \"circel\""));
+    assert!(e.hint.contains("did you mean \"circle\"?"), "{}", e.hint);
+}
+
+#[test]
+fn contact_obstacle_key_that_does_not_apply() {
+    let text = line_contact("radius = 1.0");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "radius"));
+    assert!(e.message.contains("`radius`") && e.message.contains("obstacle = \"line\""), "{}", e.message);
+    assert!(e.hint.contains("remove `radius`") && e.hint.contains("point, normal"), "{}", e.hint);
+
+    let text =
+        with_contact("part = \"bottom\"\nobstacle = \"circle\"\ncenter = [0, -1]\nradius = 1\nnormal = [0, 1]\n");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "normal"));
+    assert!(e.hint.contains("center, radius"), "{}", e.hint);
+}
+
+#[test]
+fn contact_missing_keys_point_at_the_table() {
+    let text = line_contact("").replace("part = \"bottom\"\n", "");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "[contact]"), 1));
+    assert!(e.message.contains("[contact]") && e.message.contains("`part`"), "{}", e.message);
+    assert!(e.hint.contains("part = \"bottom\""), "{}", e.hint);
+
+    let text = with_contact("part = \"bottom\"\n");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "[contact]"));
+    assert!(e.message.contains("`obstacle`"), "{}", e.message);
+    assert!(e.hint.contains("obstacle = \"line\""), "{}", e.hint);
+
+    let text = line_contact("").replace("normal = [0.0, 1.0]\n", "");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "[contact]"));
+    assert!(e.message.contains("`normal`") && e.message.contains("obstacle = \"line\""), "{}", e.message);
+
+    let text = with_contact("part = \"bottom\"\nobstacle = \"circle\"\ncenter = [0, -1]\n");
+    let e = scene_error(&text);
+    assert!(e.message.contains("`radius`") && e.message.contains("circle"), "{}", e.message);
+
+    let text = with_contact("part = \"bottom\"\nobstacle = \"polyline\"\n");
+    let e = scene_error(&text);
+    assert!(e.message.contains("`points`") && e.message.contains("polyline"), "{}", e.message);
+}
+
+#[test]
+fn contact_zero_normal() {
+    for bad in ["[0.0, 0.0]", "[0, 0]", "[-0.0, 0.0]"] {
+        let text = line_contact("").replace("normal = [0.0, 1.0]", &format!("normal = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!((e.line, e.column), (line_of(&text, "normal"), "normal = ".len() + 1), "{bad}");
+        assert!(
+            e.message.contains("`normal`") && e.message.contains("zero") && e.message.contains(bad),
+            "{}",
+            e.message
+        );
+        assert!(e.hint.contains("from the obstacle towards the body"), "{}", e.hint);
+    }
+}
+
+#[test]
+fn contact_circle_radius_must_be_positive() {
+    for bad in ["0.0", "-1"] {
+        let text =
+            with_contact(&format!("part = \"bottom\"\nobstacle = \"circle\"\ncenter = [0, -2]\nradius = {bad}\n"));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "radius ="), "{bad}");
+        assert!(
+            e.message.contains("`radius`") && e.message.contains("positive") && e.message.contains(bad),
+            "{}",
+            e.message
+        );
+    }
+}
+
+fn polyline(points: &str) -> String {
+    with_contact(&format!("part = \"bottom\"\nobstacle = \"polyline\"\npoints = {points}\n"))
+}
+
+#[test]
+fn contact_polyline_needs_two_points() {
+    for bad in ["[]", "[[0.0, 0.0]]"] {
+        let text = polyline(bad);
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "points ="), "{bad}");
+        assert!(e.message.contains("at least 2 points"), "{}", e.message);
+        assert!(e.hint.contains("left of the direction of travel"), "{}", e.hint);
+    }
+}
+
+#[test]
+fn contact_polyline_repeated_point() {
+    let text = polyline("[[-1.0, 0.0], [0.0, -0.1], [0.0, -0.1], [1.0, 0.0]]");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "points ="));
+    assert!(e.message.contains("points[1] and points[2]") && e.message.contains("[0, -0.1]"), "{}", e.message);
+    assert!(e.hint.contains("repeated point"), "{}", e.hint);
+}
+
+#[test]
+fn contact_polyline_turning_back() {
+    let text = polyline("[[-1.0, 0.0], [1.0, 0.0], [0.0, 0.0]]");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "points ="));
+    assert!(e.message.contains("turns back") && e.message.contains("points[1]"), "{}", e.message);
+}
+
+#[test]
+fn contact_polyline_points_have_two_numbers() {
+    for (bad, found) in [
+        ("[[0.0, 0.0], [1.0]]", "points[1]"),
+        ("[[0.0, 0.0], \"a\"]", "points[1]"),
+        ("3", "integer 3"),
+        ("[[0, nan], [1, 0]]", "points[0]"),
+    ] {
+        let text = polyline(bad);
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "points ="), "{bad}");
+        assert!(e.message.contains("`points") && e.message.contains(found), "{bad}: {}", e.message);
+    }
+}
+
+#[test]
+fn contact_mu_must_be_nonnegative_and_finite() {
+    for bad in ["-0.1", "nan", "inf", "-inf"] {
+        let text = line_contact(&format!("friction = \"coulomb\"\nmu = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!((e.line, e.column), (line_of(&text, "mu ="), "mu = ".len() + 1), "{bad}");
+        assert!(e.message.contains("`mu`") && e.message.contains(bad), "{bad}: {}", e.message);
+    }
+    let e = scene_error(&line_contact("friction = \"coulomb\"\nmu = -0.1"));
+    assert!(e.message.contains("negative") && e.hint.contains("≥ 0"), "{} / {}", e.message, e.hint);
+    let e = scene_error(&line_contact("friction = \"coulomb\"\nmu = \"high\""));
+    assert!(e.message.contains("`mu`") && e.message.contains("number"), "{}", e.message);
+}
+
+#[test]
+fn contact_coulomb_with_mu_zero_is_frictionless() {
+    let c = parse(&line_contact("friction = \"coulomb\"\nmu = 0.0")).unwrap().contact.unwrap();
+    assert_eq!(c.friction, FrictionSpec::None);
+    let c = parse(&line_contact("friction = \"coulomb\"\nmu = 0")).unwrap().contact.unwrap();
+    assert_eq!(c.friction, FrictionSpec::None);
+    // and so SNESVI accepts it
+    let c = parse(&line_contact("friction = \"coulomb\"\nmu = 0\nsolver = \"snes_vi\"")).unwrap().contact.unwrap();
+    assert_eq!((c.friction, c.solver), (FrictionSpec::None, ContactSolverSpec::SnesVi));
+}
+
+#[test]
+fn contact_mu_without_coulomb() {
+    let text = line_contact("friction = \"tresca\"\nthreshold = 1e5\nmu = 0.3");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "mu ="));
+    assert!(e.message.contains("`mu`") && e.message.contains("friction = \"tresca\""), "{}", e.message);
+    assert!(e.hint.contains("threshold") && e.hint.contains("friction = \"coulomb\""), "{}", e.hint);
+
+    let text = line_contact("friction = \"none\"\nmu = 0.3");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "mu ="));
+    assert!(e.message.contains("`mu`") && e.message.contains("friction = \"none\""), "{}", e.message);
+    assert!(e.hint.contains("add friction = \"coulomb\""), "{}", e.hint);
+
+    // friction not written: the default is none
+    let text = line_contact("mu = 0.3");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "mu ="));
+    assert!(e.message.contains("`mu`") && e.message.contains("default"), "{}", e.message);
+    assert!(e.hint.contains("add friction = \"coulomb\""), "{}", e.hint);
+}
+
+#[test]
+fn contact_threshold_must_be_positive() {
+    for bad in ["0.0", "-1e5"] {
+        let text = line_contact(&format!("friction = \"tresca\"\nthreshold = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "threshold ="), "{bad}");
+        assert!(
+            e.message.contains("`threshold`") && e.message.contains("positive") && e.message.contains(bad),
+            "{}",
+            e.message
+        );
+    }
+}
+
+#[test]
+fn contact_threshold_without_tresca() {
+    let text = line_contact("friction = \"coulomb\"\nmu = 0.3\nthreshold = 1e5");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "threshold ="));
+    assert!(e.message.contains("`threshold`") && e.message.contains("friction = \"coulomb\""), "{}", e.message);
+    assert!(e.hint.contains("`mu`") && e.hint.contains("friction = \"tresca\""), "{}", e.hint);
+
+    let text = line_contact("threshold = 1e5");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "threshold ="));
+    assert!(e.hint.contains("add friction = \"tresca\""), "{}", e.hint);
+}
+
+#[test]
+fn contact_coulomb_without_mu() {
+    let text = line_contact("friction = \"coulomb\"");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "friction"), "friction = ".len() + 1));
+    assert!(e.message.contains("coulomb") && e.message.contains("`mu`"), "{}", e.message);
+    assert!(e.hint.contains("mu = 0.3"), "{}", e.hint);
+}
+
+#[test]
+fn contact_tresca_without_threshold() {
+    let text = line_contact("friction = \"tresca\"");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "friction"));
+    assert!(e.message.contains("tresca") && e.message.contains("`threshold`"), "{}", e.message);
+    assert!(e.hint.contains("threshold = "), "{}", e.hint);
+}
+
+#[test]
+fn contact_unknown_friction() {
+    let text = line_contact("friction = \"coulom\"\nmu = 0.3");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "friction"));
+    assert!(
+        e.hint.contains("did you mean \"coulomb\"?") && e.hint.contains("\"none\", \"tresca\", \"coulomb\""),
+        "{}",
+        e.hint
+    );
+}
+
+#[test]
+fn contact_unknown_solver() {
+    let text = line_contact("solver = \"gauss_seidel\"");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "solver"), "solver = ".len() + 1));
+    assert!(e.message.contains("solver") && e.message.contains("\"gauss_seidel\""), "{}", e.message);
+    for name in ["newton", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"] {
+        assert!(e.hint.contains(&format!("\"{name}\"")), "{name}: {}", e.hint);
+    }
+    let e = scene_error(&line_contact("solver = \"newtn\""));
+    assert!(e.hint.contains("did you mean \"newton\"?"), "{}", e.hint);
+}
+
+#[test]
+fn contact_omega_out_of_range() {
+    for bad in ["0.0", "2.0", "-0.5", "2.5", "nan"] {
+        let text = line_contact(&format!("solver = \"relaxation\"\nomega = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "omega"), "{bad}");
+        assert!(e.message.contains("`omega`") && e.message.contains(bad), "{bad}: {}", e.message);
+    }
+    let e = scene_error(&line_contact("solver = \"relaxation\"\nomega = 2"));
+    assert!(e.message.contains("(0, 2)"), "{}", e.message);
+    assert!(e.hint.contains("Gauss–Seidel"), "{}", e.hint);
+}
+
+#[test]
+fn contact_omega_for_another_solver() {
+    let text = line_contact("solver = \"uzawa\"\nomega = 1.2");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "omega"));
+    assert!(e.message.contains("`omega`") && e.message.contains("solver = \"uzawa\""), "{}", e.message);
+    assert!(e.hint.contains("solver = \"relaxation\""), "{}", e.hint);
+    let e = scene_error(&line_contact("omega = 1.2"));
+    assert!(e.message.contains("default solver"), "{}", e.message);
+}
+
+#[test]
+fn contact_snes_vi_needs_frictionless() {
+    for friction in ["friction = \"coulomb\"\nmu = 0.3", "friction = \"tresca\"\nthreshold = 1e5"] {
+        let text = line_contact(&format!("{friction}\nsolver = \"snes_vi\""));
+        let e = scene_error(&text);
+        assert_eq!((e.line, e.column), (line_of(&text, "solver"), "solver = ".len() + 1), "{friction}");
+        assert!(e.message.contains("snes_vi") && e.message.contains("friction = \""), "{}", e.message);
+        assert!(
+            e.hint.contains("SNESVI") && e.hint.contains("frictionless") && e.hint.contains("newton"),
+            "{}",
+            e.hint
+        );
+    }
+    let c = parse(&line_contact("solver = \"snes_vi\"")).unwrap().contact.unwrap();
+    assert_eq!(c.solver, ContactSolverSpec::SnesVi);
+}
+
+#[test]
+fn contact_tao_needs_tresca() {
+    for (friction, named) in [
+        ("friction = \"coulomb\"\nmu = 0.3", "friction = \"coulomb\""),
+        ("", "frictionless"),
+        ("friction = \"coulomb\"\nmu = 0.0", "mu = 0"),
+    ] {
+        let text = line_contact(&format!("{friction}\nsolver = \"tao\""));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "solver"), "{friction}");
+        assert!(
+            e.message.contains("tao") && e.message.contains("tresca") && e.message.contains(named),
+            "{}",
+            e.message
+        );
+        assert!(e.hint.contains("TAO") && e.hint.contains("Tresca"), "{}", e.hint);
+    }
+}
+
+#[test]
+fn contact_tolerance_and_iterations_are_checked() {
+    for bad in ["0.0", "-1e-9", "1.0", "5"] {
+        let text = line_contact(&format!("tolerance = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "tolerance"), "{bad}");
+        assert!(e.message.contains("`tolerance`") && e.message.contains(bad), "{bad}: {}", e.message);
+    }
+    for (bad, what) in
+        [("0", "at least 1"), ("-3", "at least 1"), ("10.5", "whole number"), ("\"many\"", "whole number")]
+    {
+        let text = line_contact(&format!("max_iterations = {bad}"));
+        let e = scene_error(&text);
+        assert_eq!(e.line, line_of(&text, "max_iterations"), "{bad}");
+        assert!(e.message.contains("`max_iterations`") && e.message.contains(what), "{bad}: {}", e.message);
+    }
+}
+
+#[test]
+fn contact_gap_must_be_a_number() {
+    let text = line_contact("gap = \"small\"");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "gap"));
+    assert!(e.message.contains("`gap`"), "{}", e.message);
+}
+
+#[test]
+fn contact_part_must_not_be_clamped() {
+    // BASE clamps "left" (ux and uy)
+    let text = line_contact("").replace("part = \"bottom\"\nobstacle", "part = \"left\"\nobstacle");
+    let e = scene_error(&text);
+    let contact_line = text.lines().collect::<Vec<_>>().iter().rposition(|l| *l == "part = \"left\"").unwrap() + 1;
+    assert_eq!((e.line, e.column), (contact_line, "part = ".len() + 1));
+    assert!(e.message.contains("`left`") && e.message.contains("clamped"), "{}", e.message);
+    assert!(e.message.contains(&format!("line {}", line_of(&text, "part = \"left\""))), "{}", e.message);
+    assert!(e.hint.contains("a clamped part cannot come into contact"), "{}", e.hint);
+
+    // clamped by two tables, one component each
+    let text = format!(
+        "{}\n[[dirichlet]]\npart = \"bottom\"\nux = 0.0\n\n[[dirichlet]]\npart = \"bottom\"\nuy = 0.0\n",
+        line_contact("")
+    );
+    let e = scene_error(&text);
+    assert!(e.message.contains("`bottom`") && e.message.contains("lines "), "{}", e.message);
+
+    // one component is allowed
+    let text = format!("{}\n[[dirichlet]]\npart = \"bottom\"\nux = 0.0\n", line_contact(""));
+    assert!(parse(&text).is_ok());
+    // a point condition with both components on a node of the contact part is allowed (that
+    // node leaves the contact set)
+    let text = format!("{}\n[[dirichlet]]\npoint = [1.0, 0.0]\nux = 0.0\nuy = 0.0\n", line_contact(""));
+    assert!(parse(&text).is_ok());
+}
+
+#[test]
+fn check_against_mesh_checks_the_contact_part() {
+    let text = line_contact("").replace("part = \"bottom\"", "part = \"botom\"");
+    let scene = parse(&text).unwrap();
+    match scene.check_against_mesh(&two_triangles()) {
+        Err(Error::Scene { location, message, hint }) => {
+            assert_eq!((location.line, location.column), (line_of(&text, "botom"), "part = ".len() + 1));
+            assert!(message.contains("`botom`"), "{message}");
+            assert!(hint.contains("did you mean `bottom`?"), "{hint}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let text = line_contact("").replace("part = \"bottom\"", "part = \"domain\"");
+    let e = parse(&text).unwrap().check_against_mesh(&two_triangles()).unwrap_err();
+    let Error::Scene { location, message, .. } = e else { panic!("{e:?}") };
+    assert_eq!(location.line, line_of(&text, "domain"));
+    assert!(message.contains("region"), "{message}");
+    parse(&line_contact("")).unwrap().check_against_mesh(&two_triangles()).unwrap();
+}
+
+// ---- point Dirichlet conditions --------------------------------------------------------------
+
+#[test]
+fn dirichlet_at_a_point() {
+    let text = base_with("part = \"left\"", "point = [0, 0.2]");
+    let s = parse(&text).unwrap();
+    assert_eq!(
+        s.dirichlet[0],
+        DirichletSpec {
+            target: DirichletTarget::Point([0.0, 0.2]),
+            ux: Some(0.0),
+            uy: Some(0.0),
+            at: Location { file: "test.toml".into(), line: line_of(&text, "point ="), column: "point = ".len() + 1 }
+        }
+    );
+    assert_eq!(s.dirichlet[0].target.to_string(), "point [0, 0.2]");
+    assert_eq!(part("left").to_string(), "left");
+    // a point is not a boundary part
+    assert_eq!(s.boundary_parts().map(|(p, _)| p).collect::<Vec<_>>(), ["right"]);
+}
+
+#[test]
+fn dirichlet_with_both_part_and_point() {
+    let text = base_with("part = \"left\"", "part = \"left\"\npoint = [0.0, 0.0]");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "point ="));
+    assert!(e.message.contains("`part`") && e.message.contains("`point`"), "{}", e.message);
+    assert!(e.hint.contains("keep one"), "{}", e.hint);
+}
+
+#[test]
+fn dirichlet_with_neither_part_nor_point() {
+    let text = base_with("part = \"left\"\n", "");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "[[dirichlet]]"), 1));
+    assert!(e.message.contains("neither `part` nor `point`"), "{}", e.message);
+    assert!(e.hint.contains("part = \"left\"") && e.hint.contains("point = [x, y]"), "{}", e.hint);
+}
+
+#[test]
+fn dirichlet_point_must_be_a_pair_and_fix_something() {
+    let text = base_with("part = \"left\"", "point = [0.0]");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "point ="));
+    assert!(e.message.contains("`point`") && e.message.contains("1 item"), "{}", e.message);
+
+    let text = base_with("part = \"left\"\nux = 0.0\nuy = 0.0\n", "point = [1.0, 0.0]\n");
+    let e = scene_error(&text);
+    assert!(e.message.contains("at point [1, 0]") && e.message.contains("neither `ux` nor `uy`"), "{}", e.message);
+}
+
+#[test]
+fn nearest_node_and_tolerance() {
+    let mesh = two_triangles();
+    assert_eq!(nearest_node(&mesh, [0.9, 0.2]), Some((1, (0.9f64 - 1.0).hypot(0.2))));
+    assert_eq!(nearest_node(&mesh, [1.0, 1.0]), Some((2, 0.0)));
+    // ties go to the first node
+    assert_eq!(nearest_node(&mesh, [0.5, 0.0]).map(|(n, _)| n), Some(0));
+    let empty =
+        Mesh { nodes: vec![], cells: vec![], cell_group: vec![], edges: vec![], edge_group: vec![], ..mesh.clone() };
+    assert_eq!(nearest_node(&empty, [0.0, 0.0]), None);
+    assert_eq!(point_tolerance(&mesh), POINT_TOLERANCE * 2f64.sqrt());
+    assert_eq!(POINT_TOLERANCE, 1e-8);
+}
+
+#[test]
+fn dirichlet_nodes_of_parts_and_points() {
+    let mesh = two_triangles();
+    let text =
+        format!("{}\n[[dirichlet]]\npoint = [1.0, 1e-9]\nux = 0.0\n", base_with("part = \"left\"", "part = \"top\""));
+    let s = parse(&text).unwrap();
+    s.check_against_mesh(&mesh).unwrap();
+    assert_eq!(s.dirichlet[0].nodes(&mesh).unwrap(), [2, 3]);
+    assert_eq!(s.dirichlet[1].nodes(&mesh).unwrap(), [1]);
+}
+
+#[test]
+fn check_against_mesh_reports_a_point_without_a_node() {
+    let text = format!("{BASE}\n[[dirichlet]]\npoint = [0.5, 0.0]\nux = 0.0\n");
+    let s = parse(&text).unwrap();
+    for e in [s.check_against_mesh(&two_triangles()).unwrap_err(), s.dirichlet[1].nodes(&two_triangles()).unwrap_err()]
+    {
+        let Error::Scene { location, message, hint } = e else { panic!("{e:?}") };
+        assert_eq!((location.line, location.column), (line_of(&text, "point ="), "point = ".len() + 1));
+        assert!(message.contains("no node at point [0.5, 0]") && message.contains("node 0 at [0, 0]"), "{message}");
+        assert!(message.contains("5.000e-1"), "{message}");
+        assert!(hint.contains("one mesh node") && hint.contains("1.4e-8"), "{hint}");
+    }
+    // just outside the tolerance
+    let text = format!("{BASE}\n[[dirichlet]]\npoint = [1.0, 2e-8]\nux = 0.0\n");
+    assert!(parse(&text).unwrap().check_against_mesh(&two_triangles()).is_err());
+}
+
+#[test]
+fn dirichlet_on_an_unknown_part_is_a_scene_error_from_nodes() {
+    let text = base_with("part = \"left\"", "part = \"lefft\"");
+    let e = parse(&text).unwrap().dirichlet[0].nodes(&two_triangles()).unwrap_err();
+    let Error::Scene { location, hint, .. } = e else { panic!("{e:?}") };
+    assert_eq!(location.line, line_of(&text, "lefft"));
+    assert!(hint.contains("did you mean `left`?"), "{hint}");
+}
+
+// ---- obstacle geometry -----------------------------------------------------------------------
+
+#[track_caller]
+fn assert_close(a: [f64; 2], b: [f64; 2]) {
+    assert!((a[0] - b[0]).abs() < 1e-14 && (a[1] - b[1]).abs() < 1e-14, "{a:?} != {b:?}");
+}
+
+#[test]
+fn line_obstacle_projection() {
+    let line = ObstacleSpec::Line { point: [1.0, 1.0], normal: [0.6, 0.8] };
+    let p = line.project([1.0 + 0.6 * 2.0 + 0.8 * 5.0, 1.0 + 0.8 * 2.0 - 0.6 * 5.0]);
+    assert!((p.distance - 2.0).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [0.6, 0.8]);
+    assert_close(p.closest, [1.0 + 0.8 * 5.0, 1.0 - 0.6 * 5.0]);
+    let p = line.project([1.0 - 0.6, 1.0 - 0.8]);
+    assert!((p.distance + 1.0).abs() < 1e-14, "{p:?}");
+}
+
+#[test]
+fn circle_obstacle_projection() {
+    let circle = ObstacleSpec::Circle { center: [0.0, -2.0], radius: 1.0 };
+    let p = circle.project([0.0, 0.5]);
+    assert!((p.distance - 1.5).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [0.0, 1.0]);
+    assert_close(p.closest, [0.0, -1.0]);
+    let p = circle.project([3.0, 2.0]);
+    assert!((p.distance - 4.0).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [0.6, 0.8]);
+    // inside: negative distance; at the centre a fixed normal
+    let p = circle.project([0.0, -2.5]);
+    assert!((p.distance + 0.5).abs() < 1e-14 && p.normal == [0.0, -1.0], "{p:?}");
+    let p = circle.project([0.0, -2.0]);
+    assert_eq!((p.distance, p.normal, p.closest), (-1.0, [0.0, 1.0], [0.0, -1.0]));
+}
+
+#[test]
+fn polyline_obstacle_projection() {
+    // a V-shaped valley: body above (left of travel), the obstacle below
+    //
+    //   (-1, 1)             (1, 1)
+    //        \   body     /
+    //         \          /
+    //          \ (0, 0) /
+    //            obstacle
+    let valley = ObstacleSpec::Polyline { points: vec![[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0]] };
+    let s = 0.5f64.sqrt();
+    // inside a segment
+    let p = valley.project([0.5 - s * 0.1, 0.5 + s * 0.1]);
+    assert!((p.distance - 0.1).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [-s, s]);
+    assert_close(p.closest, [0.5, 0.5]);
+    // below the vertex (a concave vertex on the body's side): inside the obstacle
+    let p = valley.project([0.0, -0.3]);
+    assert!((p.distance + 0.3).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [0.0, 1.0]);
+    assert_close(p.closest, [0.0, 0.0]);
+    // above the vertex: closest to both segments, outside
+    let p = valley.project([0.0, 0.3]);
+    assert!((p.distance - 0.3 * s).abs() < 1e-14, "{p:?}");
+    // beyond the ends the segments go on
+    let p = valley.project([3.0, 2.0]);
+    assert!((p.distance + s).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [-s, s]);
+    assert_close(p.closest, [2.5, 2.5]);
+    let p = valley.project([-3.0, 3.0]);
+    assert!(p.distance.abs() < 1e-14, "{p:?}");
+
+    // a ridge (convex vertex on the body's side)
+    let ridge = ObstacleSpec::Polyline { points: vec![[-1.0, -1.0], [0.0, 0.0], [1.0, -1.0]] };
+    let p = ridge.project([0.0, 0.3]);
+    assert!((p.distance - 0.3).abs() < 1e-14, "{p:?}");
+    assert_close(p.normal, [0.0, 1.0]);
+    let p = ridge.project([0.0, -0.3]);
+    assert!((p.distance + 0.3 * s).abs() < 1e-14, "{p:?}");
+    // on the vertex itself: the pseudo-normal
+    let p = ridge.project([0.0, 0.0]);
+    assert_eq!(p.distance, 0.0);
+    assert_close(p.normal, [0.0, 1.0]);
+    // two points: a line, body on the left
+    let two = ObstacleSpec::Polyline { points: vec![[1.0, 0.0], [0.0, 0.0]] };
+    let p = two.project([5.0, -2.0]);
+    assert!((p.distance - 2.0).abs() < 1e-14 && p.normal == [-0.0, -1.0], "{p:?}");
+}
+
+#[test]
+fn polyline_signed_distance_matches_brute_force() {
+    // a zigzag: compare the sign of the distance with the side found by casting a vertical ray
+    // (the polyline is a graph y = f(x), extended by its end segments)
+    let points = vec![[-2.0, 0.0], [-1.0, 0.5], [0.0, -0.2], [0.5, 0.3], [1.5, 0.0]];
+    let obstacle = ObstacleSpec::Polyline { points: points.clone() };
+    let f = |x: f64| {
+        let k = points.windows(2).position(|w| x <= w[1][0]).unwrap_or(points.len() - 2);
+        let (a, b) = (points[k], points[k + 1]);
+        a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
+    };
+    for i in 0..60 {
+        for j in 0..40 {
+            let x = [-3.0 + 0.1 * i as f64 + 0.013, -1.0 + 0.05 * j as f64 + 0.007];
+            let p = obstacle.project(x);
+            let above = x[1] > f(x[0]);
+            assert_eq!(p.distance > 0.0, above, "{x:?}: {p:?}");
+            // |distance| is the distance to the closest point, the normal is a unit vector
+            let d = (x[0] - p.closest[0]).hypot(x[1] - p.closest[1]);
+            assert!((d - p.distance.abs()).abs() < 1e-12, "{x:?}: {p:?}");
+            assert!((p.normal[0].hypot(p.normal[1]) - 1.0).abs() < 1e-12, "{x:?}: {p:?}");
+        }
+    }
+}
+
+#[test]
+fn contact_tiny_normal_is_still_a_direction() {
+    let text = line_contact("").replace("normal = [0.0, 1.0]", "normal = [0.0, 1e-320]");
+    let c = parse(&text).unwrap().contact.unwrap();
+    assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
+}
+
+/// The TOML blocks of docs/scene-format.md parse: whole scenes as they are, `[contact]` and
+/// `[[dirichlet]]` snippets appended to a valid scene.
+#[test]
+fn documentation_examples_parse() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-format.md")).unwrap();
+    let blocks: Vec<&str> = doc.split("```toml\n").skip(1).map(|b| b.split("```").next().unwrap()).collect();
+    let mut contacts = 0;
+    for block in &blocks {
+        let text = if block.contains("[mesh]") { block.to_string() } else { format!("{BASE}\n{block}") };
+        let s = parse(&text).unwrap_or_else(|e| panic!("{e}\nin the block\n{block}"));
+        contacts += usize::from(s.contact.is_some());
+    }
+    assert!(blocks.len() >= 5 && contacts >= 3, "{} blocks, {contacts} with [contact]", blocks.len());
 }

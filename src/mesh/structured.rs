@@ -31,10 +31,12 @@ use crate::error::{Error, Result};
 
 /// Numbers of cells `(nx, ny)` so that cells are at most `cell_size` wide and high:
 /// `ceil(size / cell_size)`, at least 1 (also for a nonpositive or non-finite `cell_size`, which
-/// callers should reject first).
+/// callers should reject first). The quotient is lowered by a relative `1e-9` before rounding
+/// up, so that a size that is a whole number of cells gives that number despite round-off
+/// (`0.07 / 0.01 = 7.000000000000001` in floating point: 7 cells, not 8).
 pub fn cells_for_size(size: [f64; 2], cell_size: f64) -> (usize, usize) {
     let count = |l: f64| {
-        let n = (l / cell_size).ceil();
+        let n = (l / cell_size * (1.0 - 1e-9)).ceil();
         // `as` saturates: NaN -> 0, +inf -> usize::MAX (rejected by `rectangle` as too many cells).
         (n as usize).max(1)
     };

@@ -132,12 +132,13 @@ impl<'s> ElasticityProblem<'s> {
         let start = std::time::Instant::now();
         let mut constraints = Constraints::new(2 * mesh.num_nodes());
         for d in &scene.dirichlet {
-            let g = mesh.require_group(&d.part, 1)?;
-            if let Some(ux) = d.ux {
-                constraints.fix_group(&mesh, g, 0, |_| ux);
-            }
-            if let Some(uy) = d.uy {
-                constraints.fix_group(&mesh, g, 1, |_| uy);
+            for node in d.nodes(&mesh)? {
+                if let Some(ux) = d.ux {
+                    constraints.fix(2 * node, ux);
+                }
+                if let Some(uy) = d.uy {
+                    constraints.fix(2 * node + 1, uy);
+                }
             }
         }
         let free_motions = constraints.check_rigid_motions(&mesh).err();
@@ -328,23 +329,20 @@ impl<'s> ElasticityProblem<'s> {
         let mut total_reaction = [0.0f64; 2];
         let mut counted = vec![false; f.len()];
         for d in &self.scene.dirichlet {
-            let g = self.mesh.require_group(&d.part, 1)?;
             let mut r = [0.0f64; 2];
-            for e in self.mesh.edges_in_group(g) {
-                for &node in self.mesh.edge(e) {
-                    for comp in 0..2 {
-                        let dof = 2 * node + comp;
-                        if self.constraints.value(dof).is_some() && !counted[dof] {
-                            counted[dof] = true;
-                            r[comp] += ku[dof] - f[dof];
-                        }
+            for node in d.nodes(&self.mesh)? {
+                for comp in 0..2 {
+                    let dof = 2 * node + comp;
+                    if self.constraints.value(dof).is_some() && !counted[dof] {
+                        counted[dof] = true;
+                        r[comp] += ku[dof] - f[dof];
                     }
                 }
             }
             total_reaction[0] += r[0];
             total_reaction[1] += r[1];
             reactions
-                .entry(d.part.clone())
+                .entry(d.target.to_string())
                 .and_modify(|s: &mut [f64; 2]| {
                     s[0] += r[0];
                     s[1] += r[1];

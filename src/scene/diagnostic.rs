@@ -136,13 +136,10 @@ impl<'a> Source<'a> {
         };
         let allowed_refs: Vec<&str> = allowed.iter().map(String::as_str).collect();
         let list = allowed_refs.join(", ");
-        let mut hint = match closest(unknown, &allowed_refs) {
+        let hint = match closest(unknown, &allowed_refs) {
             Some(guess) => format!("did you mean `{guess}`? Allowed here: {list}"),
             None => format!("allowed here: {list}"),
         };
-        if unknown == "contact" {
-            hint = format!("contact is not supported yet by this version; {hint}");
-        }
         self.error(span, message, hint)
     }
 
@@ -219,6 +216,67 @@ impl<'a> Source<'a> {
                     format!("write finite numbers, e.g. `{key} = [0.0, 1.0]` (nan and inf are not allowed)"),
                 ));
             }
+        }
+        Ok(out)
+    }
+
+    /// A whole number `>= 1` (an iteration count...).
+    pub fn positive_integer(&self, v: &Spanned<Value>, key: &str) -> Result<usize> {
+        match v.get_ref() {
+            Value::Integer(i) if *i >= 1 => usize::try_from(*i).map_err(|_| {
+                self.error(&v.span(), format!("`{key}` is too large: {i}"), format!("give a smaller `{key}`"))
+            }),
+            Value::Integer(i) => Err(self.error(
+                &v.span(),
+                format!("`{key}` must be at least 1, found {i}"),
+                format!("give a positive whole number, e.g. `{key} = 200`"),
+            )),
+            other => Err(self.error(
+                &v.span(),
+                format!("`{key}` must be a whole number, found {}", describe(other)),
+                format!("write a positive whole number without a decimal point, e.g. `{key} = 200`"),
+            )),
+        }
+    }
+
+    /// An array of points `[[x0, y0], [x1, y1], ...]` (any length, checked by the caller).
+    pub fn points(&self, v: &Spanned<Value>, key: &str) -> Result<Vec<[f64; 2]>> {
+        let example = format!("`{key} = [[-1.0, 0.0], [0.0, -0.1], [1.0, 0.0]]`");
+        let Value::Array(items) = v.get_ref() else {
+            return Err(self.error(
+                &v.span(),
+                format!("`{key}` must be an array of points [x, y], found {}", describe(v.get_ref())),
+                format!("write the points in brackets, e.g. {example}"),
+            ));
+        };
+        let mut out = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let pair = match item {
+                Value::Array(xy) if xy.len() == 2 => {
+                    let number = |x: &Value| match x {
+                        Value::Float(x) => Some(*x),
+                        Value::Integer(i) => Some(*i as f64),
+                        _ => None,
+                    };
+                    number(&xy[0]).zip(number(&xy[1])).map(|(x, y)| [x, y])
+                }
+                _ => None,
+            };
+            let Some(p) = pair else {
+                return Err(self.error(
+                    &v.span(),
+                    format!("`{key}[{i}]` must be a point [x, y] of two numbers, found {}", describe(item)),
+                    format!("write each point as two numbers in brackets, e.g. {example}"),
+                ));
+            };
+            if !(p[0].is_finite() && p[1].is_finite()) {
+                return Err(self.error(
+                    &v.span(),
+                    format!("`{key}[{i}]` must hold finite numbers, found {item}"),
+                    "write finite numbers (nan and inf are not allowed)",
+                ));
+            }
+            out.push(p);
         }
         Ok(out)
     }

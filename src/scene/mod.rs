@@ -9,9 +9,11 @@
 //!   -div σ(u) = f                 in Ω           f   = [loads] body_force        (N/m³)
 //!   σ(u) = λ tr(ε(u)) I + 2μ ε(u)                ε(u) = (∇u + ∇uᵀ)/2
 //!   u_i = g_i                     on a part      [[dirichlet]] ux and/or uy      (m)
+//!   u_i = g_i                     at a node      [[dirichlet]] point = [x, y]
 //!   σ(u) n = t                    on a part      [[traction]] traction = t       (N/m²)
 //!   σ(u) n = -p n                 on a part      [[traction]] pressure = p       (N/m²)
 //!   σ(u) n = 0                    on the rest of ∂Ω
+//!   Signorini + friction          on a part      [contact] (see `contact`)
 //! ```
 //!
 //! with `n` the unit outward normal, so a positive pressure pushes into the body. Components
@@ -27,6 +29,11 @@
 //! 3rd ed., § 3.1). Plane strain needs `-1 < ν < 1/2` (λ blows up at 1/2: incompressibility),
 //! which is the range accepted for both models.
 //!
+//! A point condition fixes the one mesh node at the point: the node nearest to it, which must be
+//! closer than [`POINT_TOLERANCE`] times the diagonal of the mesh's bounding box
+//! ([`point_tolerance`]). A node of the contact part whose two components are both prescribed
+//! cannot move, and is left out of the contact set by the solver.
+//!
 //! # Parsing
 //!
 //! The TOML text is first deserialized (serde, `deny_unknown_fields`) into the raw structs of
@@ -34,18 +41,23 @@
 //! builds the plain spec types. Every mistake becomes [`Error::Scene`] with the 1-based line and
 //! column of the offending value (or of the table header when a key is missing), a message
 //! saying what is wrong and a hint saying what to do. Boundary part names can only be checked
-//! once the mesh exists: [`Scene::check_against_mesh`].
+//! once the mesh exists, and so can point conditions (is there a node at the point?):
+//! [`Scene::check_against_mesh`].
 //!
-//! Adding a section (e.g. `[contact]`): a raw struct and its key list in `raw`, a field in
-//! [`Scene`], a conversion function here called from [`Scene::from_str`], and a table in
-//! `docs/scene-format.md`.
+//! Adding a section: a raw struct and its key list in `raw`, a field in [`Scene`], a conversion
+//! function called from [`Scene::from_str`] (in its own file if it is long, like `contact`), and
+//! a table in `docs/scene-format.md`.
+mod contact;
 mod diagnostic;
 mod raw;
+
+pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleProjection, ObstacleSpec};
 
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, Order};
 use diagnostic::{closest, describe, Source};
 use raw::{first_span, Leaf, RawDirichlet, RawMesh, RawRefine, RawScene, RawTraction};
+use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::{Spanned, Value};
@@ -57,6 +69,9 @@ pub const DEFAULT_SCENE_SOURCE: &str = "<default scene>";
 /// Generated meshes are refused beyond this estimated number of triangles (2·area / cell_size²):
 /// a mistyped `cell_size` should be an error, not an exhausted memory.
 pub const MAX_TRIANGLES: f64 = 1e7;
+/// A point condition's node must lie within this fraction of the diagonal of the mesh's bounding
+/// box from the point ([`point_tolerance`]).
+pub const POINT_TOLERANCE: f64 = 1e-8;
 
 /// A parsed and checked scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -74,6 +89,8 @@ pub struct Scene {
     pub tractions: Vec<TractionSpec>,
     /// The `[[dirichlet]]` tables, in file order.
     pub dirichlet: Vec<DirichletSpec>,
+    /// The `[contact]` table, if any.
+    pub contact: Option<ContactSpec>,
     /// PETSc options from `[solver] petsc_options`, split on whitespace (command-line options are
     /// applied after these and so override them).
     pub petsc_options: Vec<String>,
@@ -86,9 +103,9 @@ pub struct Scene {
 pub enum MeshSpec {
     /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
     Rectangle { origin: [f64; 2], size: [f64; 2], cell_size: f64, mesher: Mesher, refine: Option<RefineSpec> },
-    /// Full disc; boundary part `boundary`. Always meshed by gmsh.
+    /// Full disc; boundary part `circle`. Always meshed by gmsh.
     Disc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
-    /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `top`.
+    /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `flat`.
     /// Always meshed by gmsh.
     HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
@@ -130,14 +147,131 @@ pub enum PlaneSpec {
     Stress,
 }
 
-/// Prescribed displacement components on a boundary part.
+/// Prescribed displacement components on a boundary part or at a node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirichletSpec {
-    pub part: String,
+    pub target: DirichletTarget,
     pub ux: Option<f64>,
     pub uy: Option<f64>,
-    /// Where `part = ...` is written, for errors found later (unknown part).
+    /// Where `part = ...` or `point = ...` is written, for errors found later (unknown part, no
+    /// node at the point).
     pub at: Location,
+}
+
+/// What a `[[dirichlet]]` table fixes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DirichletTarget {
+    /// Every node of a boundary part (P2 mid nodes included): `part = "left"`.
+    Part(String),
+    /// The mesh node at this point: `point = [x, y]` (see [`point_tolerance`]).
+    Point([f64; 2]),
+}
+
+/// The part's name, or `point [x, y]` (the name of a point condition's reaction in reports).
+impl fmt::Display for DirichletTarget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DirichletTarget::Part(name) => write!(f, "{name}"),
+            DirichletTarget::Point(p) => write!(f, "point [{}, {}]", p[0], p[1]),
+        }
+    }
+}
+
+impl DirichletSpec {
+    /// The mesh nodes this condition fixes, in increasing order: the nodes of the part's edges
+    /// (P2 mid nodes included), or the one node at the point. [`Error::Scene`] at [`Self::at`]
+    /// for a part that is not a boundary part of `mesh`, or a point with no node.
+    pub fn nodes(&self, mesh: &Mesh) -> Result<Vec<usize>> {
+        match &self.target {
+            DirichletTarget::Part(part) => {
+                let group = boundary_group(mesh, part, &self.at)?;
+                let mut nodes: Vec<usize> = mesh.edges_in_group(group).flat_map(|e| mesh.edge(e).to_vec()).collect();
+                nodes.sort_unstable();
+                nodes.dedup();
+                Ok(nodes)
+            }
+            DirichletTarget::Point(point) => Ok(vec![node_at(mesh, *point, &self.at)?]),
+        }
+    }
+}
+
+/// The node of `mesh` nearest to `point` and its distance (the first such node on a tie), or
+/// `None` for a mesh without nodes.
+pub fn nearest_node(mesh: &Mesh, point: [f64; 2]) -> Option<(usize, f64)> {
+    mesh.nodes.iter().map(|p| (p[0] - point[0]).hypot(p[1] - point[1])).enumerate().fold(
+        None,
+        |best, (i, d)| match best {
+            Some((_, b)) if b <= d => best,
+            _ => Some((i, d)),
+        },
+    )
+}
+
+/// [`POINT_TOLERANCE`] times the diagonal of the bounding box of the mesh's nodes: the largest
+/// distance from a point condition's point to its node.
+pub fn point_tolerance(mesh: &Mesh) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &mesh.nodes {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    match mesh.nodes.is_empty() {
+        true => 0.0,
+        false => POINT_TOLERANCE * (hi[0] - lo[0]).hypot(hi[1] - lo[1]),
+    }
+}
+
+/// The node at `point` (within [`point_tolerance`]), or [`Error::Scene`] at `at`.
+fn node_at(mesh: &Mesh, point: [f64; 2], at: &Location) -> Result<usize> {
+    let tolerance = point_tolerance(mesh);
+    let shown = DirichletTarget::Point(point);
+    match nearest_node(mesh, point) {
+        Some((node, distance)) if distance <= tolerance => Ok(node),
+        Some((node, distance)) => {
+            let p = mesh.nodes[node];
+            Err(Error::Scene {
+                location: at.clone(),
+                message: format!(
+                    "the mesh has no node at {shown}: the nearest, node {node} at [{}, {}], is {distance:.3e} away",
+                    p[0], p[1]
+                ),
+                hint: format!(
+                    "a point condition fixes one mesh node: give the coordinates of a node, e.g. a corner of the \
+                     domain or a geometry point of its shape (to within {tolerance:.1e}, {POINT_TOLERANCE:e} times \
+                     the mesh's extent)"
+                ),
+            })
+        }
+        None => Err(Error::Scene {
+            location: at.clone(),
+            message: format!("the mesh has no node at {shown}: it has no nodes at all"),
+            hint: "check the mesh".to_string(),
+        }),
+    }
+}
+
+/// The index of the boundary group `part` of `mesh`, or [`Error::Scene`] at `at` naming the
+/// mesh's boundary parts (and the closest one).
+fn boundary_group(mesh: &Mesh, part: &str, at: &Location) -> Result<usize> {
+    if let Some(group) = mesh.group_index(part, 1) {
+        return Ok(group);
+    }
+    let names: Vec<&str> = mesh.groups.iter().filter(|g| g.dim == 1).map(|g| g.name.as_str()).collect();
+    let message = match mesh.group_index(part, 2) {
+        Some(_) => format!("`{part}` is a region (surface group) of the mesh, not a boundary part"),
+        None => format!("the mesh has no boundary part named `{part}`"),
+    };
+    let known = match names.is_empty() {
+        true => "the mesh has no named boundary parts: give its boundary curves physical names".to_string(),
+        false => format!("the mesh's boundary parts are: {}", names.join(", ")),
+    };
+    let hint = match closest(part, &names) {
+        Some(guess) => format!("did you mean `{guess}`? {known}"),
+        None => known,
+    };
+    Err(Error::Scene { location: at.clone(), message, hint })
 }
 
 /// A surface load on a boundary part.
@@ -198,6 +332,7 @@ impl Scene {
             raw.traction.iter().enumerate().map(|(i, t)| traction_spec(&src, t, i)).collect::<Result<Vec<_>>>()?;
         let dirichlet =
             raw.dirichlet.iter().enumerate().map(|(i, d)| dirichlet_spec(&src, d, i)).collect::<Result<Vec<_>>>()?;
+        let contact = raw.contact.as_ref().map(|c| contact::contact_spec(&src, c, &dirichlet)).transpose()?;
         let petsc_options = match raw.solver.as_ref().and_then(|s| s.petsc_options.as_ref()) {
             Some(v) => petsc_options(&src, v)?,
             None => Vec::new(),
@@ -215,6 +350,7 @@ impl Scene {
             body_force,
             tractions,
             dirichlet,
+            contact,
             petsc_options,
             output_dir,
         })
@@ -227,35 +363,28 @@ impl Scene {
             .expect("the built-in examples/scenes/default.toml is a valid scene")
     }
 
-    /// Every boundary part the scene names, with where it is named, in file order per table kind.
+    /// Every boundary part the scene names, with where it is named: tractions, Dirichlet
+    /// parts, the contact part, each in file order.
     pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
         let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
-        let d = self.dirichlet.iter().map(|d| (d.part.as_str(), &d.at));
-        t.chain(d)
+        let d = self.dirichlet.iter().filter_map(|d| match &d.target {
+            DirichletTarget::Part(part) => Some((part.as_str(), &d.at)),
+            DirichletTarget::Point(_) => None,
+        });
+        let c = self.contact.iter().map(|c| (c.part.as_str(), &c.at));
+        t.chain(d).chain(c)
     }
 
-    /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`.
+    /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`,
+    /// and that every point condition's point is a node of `mesh`.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
         for (part, at) in self.boundary_parts() {
-            if mesh.group_index(part, 1).is_some() {
-                continue;
+            boundary_group(mesh, part, at)?;
+        }
+        for d in &self.dirichlet {
+            if let DirichletTarget::Point(point) = d.target {
+                node_at(mesh, point, &d.at)?;
             }
-            let names: Vec<&str> = mesh.groups.iter().filter(|g| g.dim == 1).map(|g| g.name.as_str()).collect();
-            let message = match mesh.group_index(part, 2) {
-                Some(_) => {
-                    format!("`{part}` is a region (surface group) of the mesh, not a boundary part")
-                }
-                None => format!("the mesh has no boundary part named `{part}`"),
-            };
-            let known = match names.is_empty() {
-                true => "the mesh has no named boundary parts: give its boundary curves physical names".to_string(),
-                false => format!("the mesh's boundary parts are: {}", names.join(", ")),
-            };
-            let hint = match closest(part, &names) {
-                Some(guess) => format!("did you mean `{guess}`? {known}"),
-                None => known,
-            };
-            return Err(Error::Scene { location: at.clone(), message, hint });
         }
         Ok(())
     }
@@ -506,19 +635,46 @@ fn traction_spec(src: &Source, t: &RawTraction, index: usize) -> Result<Traction
 }
 
 fn dirichlet_spec(src: &Source, d: &RawDirichlet, index: usize) -> Result<DirichletSpec> {
-    let first = first_span(&[&d.part, &d.ux, &d.uy]);
+    let first = first_span(&[&d.part, &d.point, &d.ux, &d.uy]);
     let table = Table::locate(src, "this [[dirichlet]] table", ("dirichlet", true, index), first, 0..0);
-    let (part, at) = part_name(src, &table, &d.part)?;
+    let (target, at) = match (&d.part, &d.point) {
+        (Some(_), None) => {
+            let (part, at) = part_name(src, &table, &d.part)?;
+            (DirichletTarget::Part(part), at)
+        }
+        (None, Some(v)) => (DirichletTarget::Point(src.vector(v, "point")?), src.location(v.span().start)),
+        (Some(part), Some(point)) => {
+            let later = if part.span().start > point.span().start { part } else { point };
+            return Err(src.error(
+                &later.span(),
+                "this [[dirichlet]] table gives both `part` and `point`",
+                "a [[dirichlet]] table fixes either a boundary part or one node: keep one (write a second \
+                 [[dirichlet]] table for the other)",
+            ));
+        }
+        (None, None) => {
+            return Err(src.error(
+                &table.span,
+                "this [[dirichlet]] table has neither `part` nor `point`",
+                "add part = \"left\" (a boundary physical name of the mesh) or point = [x, y] (the mesh node \
+                 at that point)",
+            ))
+        }
+    };
     let ux = d.ux.as_ref().map(|v| src.number(v, "ux")).transpose()?;
     let uy = d.uy.as_ref().map(|v| src.number(v, "uy")).transpose()?;
     if ux.is_none() && uy.is_none() {
+        let on = match &target {
+            DirichletTarget::Part(part) => format!("on `{part}`"),
+            point => format!("at {point}"),
+        };
         return Err(src.error(
             &table.span,
-            format!("the [[dirichlet]] on `{part}` fixes neither `ux` nor `uy`"),
+            format!("the [[dirichlet]] {on} fixes neither `ux` nor `uy`"),
             "add ux = 0.0 and/or uy = 0.0 (the prescribed displacement components, in m)",
         ));
     }
-    Ok(DirichletSpec { part, ux, uy, at })
+    Ok(DirichletSpec { target, ux, uy, at })
 }
 
 fn petsc_options(src: &Source, v: &Spanned<Value>) -> Result<Vec<String>> {

@@ -7,7 +7,7 @@
 //! and then fails with a confusing message. Table locations are found in the text instead
 //! (see `diagnostic::Source::table_span`).
 //!
-//! To add a section (e.g. `[contact]`): add a `Raw...` struct here, its field in [`RawScene`],
+//! To add a section: add a `Raw...` struct here, its field in [`RawScene`],
 //! its key list in [`TABLE_KEYS`], and a conversion function in the parent module.
 use serde::Deserialize;
 use std::ops::Range;
@@ -28,6 +28,7 @@ pub(super) struct RawScene {
     pub traction: Vec<RawTraction>,
     #[serde(default)]
     pub dirichlet: Vec<RawDirichlet>,
+    pub contact: Option<RawContact>,
     pub solver: Option<RawSolver>,
     pub output: Option<RawOutput>,
 }
@@ -86,8 +87,29 @@ pub(super) struct RawTraction {
 #[serde(deny_unknown_fields, expecting = "a [[dirichlet]] table")]
 pub(super) struct RawDirichlet {
     pub part: Leaf,
+    pub point: Leaf,
     pub ux: Leaf,
     pub uy: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [contact] table")]
+pub(super) struct RawContact {
+    pub part: Leaf,
+    pub obstacle: Leaf,
+    pub point: Leaf,
+    pub normal: Leaf,
+    pub center: Leaf,
+    pub radius: Leaf,
+    pub points: Leaf,
+    pub gap: Leaf,
+    pub friction: Leaf,
+    pub mu: Leaf,
+    pub threshold: Leaf,
+    pub solver: Leaf,
+    pub tolerance: Leaf,
+    pub max_iterations: Leaf,
+    pub omega: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -108,7 +130,18 @@ pub(super) struct RawOutput {
 pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     (
         "the top level",
-        &["title", "mesh", "discretization", "material", "loads", "traction", "dirichlet", "solver", "output"],
+        &[
+            "title",
+            "mesh",
+            "discretization",
+            "material",
+            "loads",
+            "traction",
+            "dirichlet",
+            "contact",
+            "solver",
+            "output",
+        ],
     ),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
@@ -116,7 +149,27 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     ("[material]", &["young", "poisson", "plane"]),
     ("[loads]", &["body_force"]),
     ("[[traction]]", &["part", "traction", "pressure"]),
-    ("[[dirichlet]]", &["part", "ux", "uy"]),
+    ("[[dirichlet]]", &["part", "point", "ux", "uy"]),
+    (
+        "[contact]",
+        &[
+            "part",
+            "obstacle",
+            "point",
+            "normal",
+            "center",
+            "radius",
+            "points",
+            "gap",
+            "friction",
+            "mu",
+            "threshold",
+            "solver",
+            "tolerance",
+            "max_iterations",
+            "omega",
+        ],
+    ),
     ("[solver]", &["petsc_options"]),
     ("[output]", &["dir"]),
 ];
@@ -161,5 +214,33 @@ impl RawMesh {
 impl RawRefine {
     pub fn first_span(&self) -> Option<Range<usize>> {
         first_span(&[&self.point, &self.cell_size, &self.radius])
+    }
+}
+
+impl RawContact {
+    /// The keys written in `[contact]`, each with the span of its value, in file order.
+    pub fn present_keys(&self) -> Vec<(&'static str, Range<usize>)> {
+        let mut keys: Vec<(&'static str, Range<usize>)> = [
+            ("part", &self.part),
+            ("obstacle", &self.obstacle),
+            ("point", &self.point),
+            ("normal", &self.normal),
+            ("center", &self.center),
+            ("radius", &self.radius),
+            ("points", &self.points),
+            ("gap", &self.gap),
+            ("friction", &self.friction),
+            ("mu", &self.mu),
+            ("threshold", &self.threshold),
+            ("solver", &self.solver),
+            ("tolerance", &self.tolerance),
+            ("max_iterations", &self.max_iterations),
+            ("omega", &self.omega),
+        ]
+        .into_iter()
+        .filter_map(|(k, leaf)| span_of(leaf).map(|s| (k, s)))
+        .collect();
+        keys.sort_by_key(|(_, s)| s.start);
+        keys
     }
 }

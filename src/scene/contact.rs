@@ -1,0 +1,527 @@
+//! The `[contact]` table: frictional contact of one boundary part with a rigid obstacle.
+//!
+//! # The conditions
+//!
+//! On the contact part Γc, with `n` the outward normal of the body, `uN = u·n`, `σN = n·σn`,
+//! `σT = σn − σN n` and `g0` the initial gap (SCIENCE.md § 1; Kikuchi & Oden, *Contact Problems
+//! in Elasticity*, SIAM 1988, ch. 2 and 5):
+//!
+//! ```text
+//!   Signorini:  uN − g0 ≤ 0,   σN ≤ 0,   σN (uN − g0) = 0
+//!   none:       σT = 0
+//!   Tresca:     |σT| ≤ s;       |σT| < s ⇒ uT = 0;   |σT| = s ⇒ uT = −λ σT, λ ≥ 0
+//!   Coulomb:    the same with s = −μ σN
+//! ```
+//!
+//! `s` is `threshold` (a traction, N/m²: force per unit boundary length and unit thickness), `μ`
+//! is `mu`. Coulomb with `mu = 0` is frictionless and is stored as [`FrictionSpec::None`], so
+//! that no friction machinery runs.
+//!
+//! # Obstacles and the gap
+//!
+//! The obstacle is a rigid region; [`ObstacleSpec::project`] gives, for a point `x` of the body,
+//! the closest point `c` of the obstacle's surface, the unit normal `ν` of the surface at `c`
+//! pointing from the obstacle towards the body, and the signed distance `d` (> 0 on the body's
+//! side, < 0 inside the obstacle). The initial gap of a contact node is `g0 = d + gap` along the
+//! direction `n = −ν` (the usual node-to-rigid-surface gap, Wriggers, *Computational Contact
+//! Mechanics*, 2nd ed., Springer 2006, § 4.1).
+//!
+//! ```text
+//!   line { point p, normal m }        circle { center c, radius R }     polyline p0 p1 ... pk
+//!
+//!        body   ^ ν = m/|m|             body outside              body on the LEFT of travel
+//!   ____________|_________                 .---.                     ^ν0        ^ν1
+//!   //// obstacle ////////               /  c  \  ν radial       p0 ------ p1 \
+//!        d = (x − p)·ν                   \  R  /                               \ p2
+//!                                          '---'   d = |x − c| − R      ////// obstacle
+//! ```
+//!
+//! - Line: `d = (x − p)·ν`, `c = x − d ν`.
+//! - Circle (a rigid disc, the body outside it): `d = |x − c| − R`, `ν = (x − c)/|x − c|`
+//!   (`ν = (0, 1)` at the centre itself, where every direction is as close).
+//! - Polyline: the obstacle is on the right of the direction of travel, and the first and last
+//!   segments are extended to infinity (so the surface divides the plane in two). With `νk`
+//!   the left normal of segment `k`, a point whose closest point lies inside segment `k` has
+//!   `d = (x − pk)·νk`, `ν = νk`; a point closest to an inner vertex `pj` has
+//!   `d = ±|x − pj|` with the sign of `(x − pj)·(ν(j−1) + νj)` (the pseudo-normal test of
+//!   Bærentzen & Aanæs, *Signed distance computation using the angle weighted pseudonormal*,
+//!   IEEE TVCG 11(3), 2005, whose two weights are equal in 2D), and `ν = ±(x − pj)/|x − pj|`.
+//!   A polyline must not cross itself (not checked) and must not turn back on itself (checked).
+use super::diagnostic::Source;
+use super::raw::RawContact;
+use super::{DirichletSpec, DirichletTarget, Table};
+use crate::error::{Location, Result};
+
+/// Contact of one boundary part with a rigid obstacle (`[contact]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSpec {
+    /// The boundary part that may touch the obstacle.
+    pub part: String,
+    pub obstacle: ObstacleSpec,
+    /// Added to the geometric distance to the obstacle (m); negative means an initial overlap.
+    pub gap: f64,
+    pub friction: FrictionSpec,
+    pub solver: ContactSolverSpec,
+    /// Relative residual tolerance of the contact solve, in (0, 1); the solver's default if `None`.
+    pub tolerance: Option<f64>,
+    /// Iteration limit of the contact solve, ≥ 1; the solver's default if `None`.
+    pub max_iterations: Option<usize>,
+    /// Where `part = ...` is written, for errors found later (unknown part).
+    pub at: Location,
+}
+
+/// A rigid obstacle (see the module documentation for the geometry and the gap).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ObstacleSpec {
+    /// The half-plane `{(x − point)·normal ≤ 0}`; `normal` is a unit vector pointing from the
+    /// obstacle towards the body.
+    Line { point: [f64; 2], normal: [f64; 2] },
+    /// The disc of `radius > 0` around `center`; the body is outside it.
+    Circle { center: [f64; 2], radius: f64 },
+    /// At least two points, no two consecutive ones equal, never turning back; the body is on
+    /// the left of the direction of travel, the end segments are extended to infinity.
+    Polyline { points: Vec<[f64; 2]> },
+}
+
+/// The friction law on the contact part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrictionSpec {
+    /// Frictionless (also Coulomb with `mu = 0`).
+    None,
+    /// `|σT| ≤ threshold`, a given slip threshold > 0 (N/m²).
+    Tresca { threshold: f64 },
+    /// `|σT| ≤ −mu σN`, `mu > 0`.
+    Coulomb { mu: f64 },
+}
+
+/// The algorithm for the contact problem (`solver = "..."`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactSolverSpec {
+    /// Semi-smooth Newton on the Alart–Curnier function (the default).
+    Newton,
+    /// Projected block Gauss–Seidel / SOR, over-relaxation factor `omega` in (0, 2).
+    Relaxation { omega: f64 },
+    /// D-PANA block relaxation (contact and friction alternately).
+    DPana,
+    /// Uzawa: projected gradient on the contact forces.
+    Uzawa,
+    /// Fixed point on Tresca thresholds `s = μ|σN|`.
+    TrescaFixedPoint,
+    /// PETSc SNESVI (frictionless only).
+    SnesVi,
+    /// PETSc TAO bound-constrained QP (Tresca only).
+    Tao,
+}
+
+impl ContactSolverSpec {
+    /// The name written in a scene (`solver = "newton"`).
+    pub fn scene_name(&self) -> &'static str {
+        match self {
+            ContactSolverSpec::Newton => "newton",
+            ContactSolverSpec::Relaxation { .. } => "relaxation",
+            ContactSolverSpec::DPana => "dpana",
+            ContactSolverSpec::Uzawa => "uzawa",
+            ContactSolverSpec::TrescaFixedPoint => "tresca_fixed_point",
+            ContactSolverSpec::SnesVi => "snes_vi",
+            ContactSolverSpec::Tao => "tao",
+        }
+    }
+}
+
+/// The closest point of an obstacle's surface to a point of the body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObstacleProjection {
+    /// Signed distance: > 0 on the body's side of the surface, < 0 inside the obstacle.
+    pub distance: f64,
+    /// Unit normal of the surface at `closest`, pointing from the obstacle towards the body.
+    pub normal: [f64; 2],
+    /// The closest point of the surface.
+    pub closest: [f64; 2],
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+fn norm(a: [f64; 2]) -> f64 {
+    a[0].hypot(a[1])
+}
+fn scaled(a: [f64; 2], s: f64) -> [f64; 2] {
+    [a[0] * s, a[1] * s]
+}
+
+impl ObstacleSpec {
+    /// Closest point, normal and signed distance of `x` (formulas in the module documentation).
+    /// A polyline given to this function must satisfy the checks of the scene parser (at least
+    /// two points, no zero-length segment); otherwise the result is not meaningful (but there is
+    /// no panic).
+    pub fn project(&self, x: [f64; 2]) -> ObstacleProjection {
+        match self {
+            ObstacleSpec::Line { point, normal } => {
+                let distance = dot(sub(x, *point), *normal);
+                ObstacleProjection { distance, normal: *normal, closest: sub(x, scaled(*normal, distance)) }
+            }
+            ObstacleSpec::Circle { center, radius } => {
+                let r = sub(x, *center);
+                let len = norm(r);
+                let normal = if len > 0.0 { scaled(r, 1.0 / len) } else { [0.0, 1.0] };
+                let closest = [center[0] + radius * normal[0], center[1] + radius * normal[1]];
+                ObstacleProjection { distance: len - radius, normal, closest }
+            }
+            ObstacleSpec::Polyline { points } => project_on_polyline(points, x),
+        }
+    }
+}
+
+/// See the module documentation: segments `k` from `points[k]` to `points[k + 1]`, the first one
+/// extended backwards and the last one forwards without end.
+fn project_on_polyline(points: &[[f64; 2]], x: [f64; 2]) -> ObstacleProjection {
+    let last = points.len().saturating_sub(2);
+    let tangent = |k: usize| {
+        let d = sub(points[k + 1], points[k]);
+        scaled(d, 1.0 / norm(d))
+    };
+    let left_normal = |k: usize| {
+        let t = tangent(k);
+        [-t[1], t[0]]
+    };
+    // (squared distance, segment, vertex index if the closest point is an inner vertex)
+    let mut best: Option<(f64, usize, Option<usize>, [f64; 2])> = None;
+    for k in 0..points.len().saturating_sub(1) {
+        let (p, t) = (points[k], tangent(k));
+        let length = norm(sub(points[k + 1], p));
+        let lo = if k == 0 { f64::NEG_INFINITY } else { 0.0 };
+        let hi = if k == last { f64::INFINITY } else { length };
+        let s = dot(sub(x, p), t).clamp(lo, hi);
+        let closest = [p[0] + s * t[0], p[1] + s * t[1]];
+        let vertex = match s {
+            s if s == 0.0 && k > 0 => Some(k),
+            s if s == length && k < last => Some(k + 1),
+            _ => None,
+        };
+        let d2 = dot(sub(x, closest), sub(x, closest));
+        if best.is_none_or(|(b, ..)| d2 < b) {
+            best = Some((d2, k, vertex, closest));
+        }
+    }
+    let Some((_, k, vertex, closest)) = best else {
+        return ObstacleProjection { distance: f64::NAN, normal: [f64::NAN; 2], closest: [f64::NAN; 2] };
+    };
+    match vertex {
+        None => {
+            let normal = left_normal(k);
+            ObstacleProjection { distance: dot(sub(x, points[k]), normal), normal, closest }
+        }
+        Some(j) => {
+            let pseudo = {
+                let (a, b) = (left_normal(j - 1), left_normal(j));
+                [a[0] + b[0], a[1] + b[1]]
+            };
+            let r = sub(x, points[j]);
+            let len = norm(r);
+            let sign = if dot(r, pseudo) >= 0.0 { 1.0 } else { -1.0 };
+            let normal = if len > 0.0 { scaled(r, sign / len) } else { scaled(pseudo, 1.0 / norm(pseudo)) };
+            ObstacleProjection { distance: sign * len, normal, closest: points[j] }
+        }
+    }
+}
+
+// ---- conversion -------------------------------------------------------------------------------
+
+const OBSTACLES: &[&str] = &["line", "circle", "polyline"];
+const OBSTACLE_KEYS: &[&str] = &["point", "normal", "center", "radius", "points"];
+const FRICTIONS: &[&str] = &["none", "tresca", "coulomb"];
+const SOLVERS: &[&str] = &["newton", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"];
+
+/// Convert and check `[contact]`; `dirichlet` are the scene's `[[dirichlet]]` tables (a clamped
+/// contact part is refused).
+pub(super) fn contact_spec(src: &Source, c: &RawContact, dirichlet: &[DirichletSpec]) -> Result<ContactSpec> {
+    let first = c.present_keys().first().map(|(_, s)| s.clone());
+    let table = Table::locate(src, "[contact]", ("contact", false, 0), first, 0..0);
+
+    let part_v = table.require(&c.part, "part", "part = \"bottom\" (the boundary part that may touch the obstacle)")?;
+    let part = src.nonempty_string(part_v, "part")?.to_string();
+    let at = src.location(part_v.span().start);
+
+    let obstacle_v = table.require(
+        &c.obstacle,
+        "obstacle",
+        "obstacle = \"line\" with point = [x, y] and normal = [nx, ny] (or \"circle\", \"polyline\")",
+    )?;
+    let kind = src.choice(obstacle_v, "obstacle", OBSTACLES)?;
+    let obstacle = obstacle_spec(src, c, &table, kind)?;
+
+    let gap = c.gap.as_ref().map(|v| src.number(v, "gap")).transpose()?.unwrap_or(0.0);
+    let friction = friction_spec(src, c)?;
+    let solver = solver_spec(src, c, &friction)?;
+
+    let tolerance = match &c.tolerance {
+        Some(v) => {
+            let t = src.positive(v, "tolerance", "a relative tolerance")?;
+            if t >= 1.0 {
+                return Err(src.error(
+                    &v.span(),
+                    format!("`tolerance` must be below 1, found {}", src.written(v)),
+                    "the tolerance is relative to the size of the contact forces: a value ≥ 1 accepts \
+                     anything; write e.g. tolerance = 1e-9",
+                ));
+            }
+            Some(t)
+        }
+        None => None,
+    };
+    let max_iterations = c.max_iterations.as_ref().map(|v| src.positive_integer(v, "max_iterations")).transpose()?;
+
+    // A part whose ux and uy are both prescribed cannot move towards the obstacle.
+    let clamping: Vec<&DirichletSpec> =
+        dirichlet.iter().filter(|d| matches!(&d.target, DirichletTarget::Part(p) if *p == part)).collect();
+    if clamping.iter().any(|d| d.ux.is_some()) && clamping.iter().any(|d| d.uy.is_some()) {
+        let lines: Vec<String> = clamping.iter().map(|d| d.at.line.to_string()).collect();
+        let (noun, verb) = if lines.len() == 1 { ("line", "fixes") } else { ("lines", "fix") };
+        return Err(src.error(
+            &part_v.span(),
+            format!(
+                "the contact part `{part}` is clamped: the [[dirichlet]] on `{part}` ({noun} {}) {verb} both ux and uy",
+                lines.join(" and ")
+            ),
+            format!(
+                "a clamped part cannot come into contact: choose another contact part, or prescribe at most one \
+                 component on `{part}`"
+            ),
+        ));
+    }
+
+    Ok(ContactSpec { part, obstacle, gap, friction, solver, tolerance, max_iterations, at })
+}
+
+fn obstacle_spec(src: &Source, c: &RawContact, table: &Table, kind: &str) -> Result<ObstacleSpec> {
+    let allowed: &[&str] = match kind {
+        "line" => &["point", "normal"],
+        "circle" => &["center", "radius"],
+        _ => &["points"],
+    };
+    let misplaced = c.present_keys().into_iter().find(|(k, _)| OBSTACLE_KEYS.contains(k) && !allowed.contains(k));
+    if let Some((key, span)) = misplaced {
+        return Err(src.error(
+            &span,
+            format!("`{key}` does not apply to obstacle = \"{kind}\""),
+            format!("remove `{key}`; obstacle = \"{kind}\" takes {}", allowed.join(", ")),
+        ));
+    }
+    let table =
+        Table { src: table.src, name: format!("[contact] with obstacle = \"{kind}\""), span: table.span.clone() };
+    match kind {
+        "line" => {
+            let point =
+                src.vector(table.require(&c.point, "point", "point = [x, y] (a point of the line)")?, "point")?;
+            let normal_v =
+                table.require(&c.normal, "normal", "normal = [0.0, 1.0] (from the obstacle towards the body)")?;
+            let normal = src.vector(normal_v, "normal")?;
+            let length = norm(normal);
+            let unit = [normal[0] / length, normal[1] / length];
+            if !(length > 0.0 && unit[0].is_finite() && unit[1].is_finite()) {
+                return Err(src.error(
+                    &normal_v.span(),
+                    format!("`normal` must not be zero, found {}", src.written(normal_v)),
+                    "give a direction pointing from the obstacle towards the body, e.g. normal = [0.0, 1.0] for \
+                     a floor under the body (any length: it is normalised)",
+                ));
+            }
+            Ok(ObstacleSpec::Line { point, normal: unit })
+        }
+        "circle" => {
+            let center = src.vector(table.require(&c.center, "center", "center = [x, y]")?, "center")?;
+            let radius_v = table.require(&c.radius, "radius", "radius = 1.0 (of the rigid disc)")?;
+            let radius = src.positive(radius_v, "radius", "the radius of the rigid disc")?;
+            Ok(ObstacleSpec::Circle { center, radius })
+        }
+        _ => {
+            let points_v = table.require(
+                &c.points,
+                "points",
+                "points = [[-1.0, 0.0], [1.0, 0.0]] (the body on the left of the direction of travel)",
+            )?;
+            let points = src.points(points_v, "points")?;
+            check_polyline(src, points_v, &points)?;
+            Ok(ObstacleSpec::Polyline { points })
+        }
+    }
+}
+
+fn check_polyline(src: &Source, v: &toml::Spanned<toml::Value>, points: &[[f64; 2]]) -> Result<()> {
+    if points.len() < 2 {
+        return Err(src.error(
+            &v.span(),
+            format!("a polyline obstacle needs at least 2 points, found {}", points.len()),
+            "give the points in order, the body on the left of the direction of travel, e.g. \
+             points = [[-1.0, 0.0], [1.0, 0.0]] for a floor under the body",
+        ));
+    }
+    let (mut lo, mut hi) = (points[0], points[0]);
+    for p in points {
+        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+    }
+    let extent = norm(sub(hi, lo));
+    for k in 0..points.len() - 1 {
+        let length = norm(sub(points[k + 1], points[k]));
+        if length <= 1e-12 * extent {
+            return Err(src.error(
+                &v.span(),
+                format!(
+                    "points[{k}] and points[{}] of the polyline are the same point [{}, {}]",
+                    k + 1,
+                    points[k][0],
+                    points[k][1]
+                ),
+                "remove the repeated point: every segment of the polyline needs a length",
+            ));
+        }
+    }
+    for k in 1..points.len() - 1 {
+        let (a, b) = (sub(points[k], points[k - 1]), sub(points[k + 1], points[k]));
+        let cos = dot(a, b) / (norm(a) * norm(b));
+        let sin = (a[0] * b[1] - a[1] * b[0]) / (norm(a) * norm(b));
+        if cos < 0.0 && sin.abs() < 1e-12 {
+            return Err(src.error(
+                &v.span(),
+                format!("the polyline turns back on itself at points[{k}] = [{}, {}]", points[k][0], points[k][1]),
+                "the obstacle's surface must not fold back: remove the points that retrace the previous segment",
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn friction_spec(src: &Source, c: &RawContact) -> Result<FrictionSpec> {
+    let kind = c.friction.as_ref().map(|v| src.choice(v, "friction", FRICTIONS)).transpose()?;
+    let named = |k: Option<&str>| match k {
+        Some(k) => format!("friction = \"{k}\""),
+        None => "the default friction (\"none\")".to_string(),
+    };
+    if let (Some(v), false) = (&c.mu, kind == Some("coulomb")) {
+        let hint = match kind {
+            Some("tresca") => "Tresca friction takes a fixed slip `threshold` (N/m²): remove `mu`, or write \
+                               friction = \"coulomb\" for a friction coefficient"
+                .to_string(),
+            _ => "`mu` is the Coulomb friction coefficient: add friction = \"coulomb\", or remove `mu`".to_string(),
+        };
+        return Err(src.error(&v.span(), format!("`mu` does not apply to {}", named(kind)), hint));
+    }
+    if let (Some(v), false) = (&c.threshold, kind == Some("tresca")) {
+        let hint = match kind {
+            Some("coulomb") => "Coulomb friction takes `mu` (its threshold is mu·|σN|): remove `threshold`, or \
+                                write friction = \"tresca\" for a fixed threshold"
+                .to_string(),
+            _ => {
+                "`threshold` is the Tresca slip threshold: add friction = \"tresca\", or remove `threshold`".to_string()
+            }
+        };
+        return Err(src.error(&v.span(), format!("`threshold` does not apply to {}", named(kind)), hint));
+    }
+    let friction_span = c.friction.as_ref().map(|v| v.span()).unwrap_or(0..0);
+    match kind {
+        None | Some("none") => Ok(FrictionSpec::None),
+        Some("tresca") => {
+            let Some(v) = &c.threshold else {
+                return Err(src.error(
+                    &friction_span,
+                    "friction = \"tresca\" needs `threshold`",
+                    "add threshold = 1e5 (the slip threshold on |σT|, N/m², > 0)",
+                ));
+            };
+            let threshold = src.positive(v, "threshold", "a slip threshold (N/m²)")?;
+            Ok(FrictionSpec::Tresca { threshold })
+        }
+        _ => {
+            let Some(v) = &c.mu else {
+                return Err(src.error(
+                    &friction_span,
+                    "friction = \"coulomb\" needs `mu`",
+                    "add mu = 0.3 (the friction coefficient, ≥ 0; 0 is frictionless)",
+                ));
+            };
+            let mu = src.number(v, "mu")?;
+            if mu < 0.0 {
+                return Err(src.error(
+                    &v.span(),
+                    format!("`mu` must not be negative, found {}", src.written(v)),
+                    "the friction coefficient is ≥ 0 (steel on steel: about 0.15-0.6; 0 is frictionless)",
+                ));
+            }
+            Ok(if mu == 0.0 { FrictionSpec::None } else { FrictionSpec::Coulomb { mu } })
+        }
+    }
+}
+
+fn solver_spec(src: &Source, c: &RawContact, friction: &FrictionSpec) -> Result<ContactSolverSpec> {
+    let name = c.solver.as_ref().map(|v| src.choice(v, "solver", SOLVERS)).transpose()?;
+    if let (Some(v), false) = (&c.omega, name == Some("relaxation")) {
+        let which = match name {
+            Some(n) => format!("solver = \"{n}\""),
+            None => "the default solver (\"newton\")".to_string(),
+        };
+        return Err(src.error(
+            &v.span(),
+            format!("`omega` does not apply to {which}"),
+            "`omega` is the over-relaxation factor of solver = \"relaxation\": remove it, or write \
+             solver = \"relaxation\"",
+        ));
+    }
+    let solver_span = c.solver.as_ref().map(|v| v.span()).unwrap_or(0..0);
+    let written = c.friction.as_ref().and_then(|v| src.choice(v, "friction", FRICTIONS).ok());
+    let friction_name = match (friction, written) {
+        (FrictionSpec::None, Some("coulomb")) => "friction = \"coulomb\" with mu = 0 (frictionless)".to_string(),
+        (FrictionSpec::None, _) => "frictionless contact".to_string(),
+        (FrictionSpec::Tresca { .. }, _) => "friction = \"tresca\"".to_string(),
+        (FrictionSpec::Coulomb { .. }, _) => "friction = \"coulomb\"".to_string(),
+    };
+    Ok(match name {
+        None | Some("newton") => ContactSolverSpec::Newton,
+        Some("relaxation") => {
+            let omega = match &c.omega {
+                Some(v) => {
+                    let omega = src.number(v, "omega")?;
+                    if !(omega > 0.0 && omega < 2.0) {
+                        return Err(src.error(
+                            &v.span(),
+                            format!("`omega` must be in (0, 2), found {}", src.written(v)),
+                            "projected SOR converges for 0 < omega < 2: 1 is Gauss–Seidel (the default), \
+                             values in (1, 2) over-relax",
+                        ));
+                    }
+                    omega
+                }
+                None => 1.0,
+            };
+            ContactSolverSpec::Relaxation { omega }
+        }
+        Some("dpana") => ContactSolverSpec::DPana,
+        Some("uzawa") => ContactSolverSpec::Uzawa,
+        Some("tresca_fixed_point") => ContactSolverSpec::TrescaFixedPoint,
+        Some("snes_vi") => {
+            if *friction != FrictionSpec::None {
+                return Err(src.error(
+                    &solver_span,
+                    format!("solver = \"snes_vi\" cannot handle {friction_name}"),
+                    "PETSc's SNESVI solves bound-constrained problems: it handles the frictionless case only; \
+                     use solver = \"newton\" (semi-smooth Newton, any friction)",
+                ));
+            }
+            ContactSolverSpec::SnesVi
+        }
+        _ => {
+            if !matches!(friction, FrictionSpec::Tresca { .. }) {
+                return Err(src.error(
+                    &solver_span,
+                    format!("solver = \"tao\" needs friction = \"tresca\", found {friction_name}"),
+                    "TAO's bound-constrained QP (tron, gpcg, bqpip) is for the Tresca problem; use \
+                     solver = \"newton\" (any friction), or \"snes_vi\" for frictionless contact",
+                ));
+            }
+            ContactSolverSpec::Tao
+        }
+    })
+}
