@@ -27,7 +27,7 @@ pub struct BenchSolver {
     pub max_dofs: usize,
 }
 
-pub const SOLVERS: &[BenchSolver] = &[
+pub static SOLVERS: &[BenchSolver] = &[
     BenchSolver { name: "MUMPS Cholesky (default)", prefix: "b_mumps_", options: &[], max_dofs: usize::MAX },
     BenchSolver {
         name: "CG + ICC(0)",
@@ -87,7 +87,12 @@ fn mb(b: Option<u64>) -> f64 {
 /// One benchmark case — one size, one solver — meant to run in a process of its own, so that
 /// the memory it reports is its own (freed heap of an earlier solver would hide it otherwise).
 /// `scratch` receives the solution file whose writing is timed.
-pub fn elasticity_case(session: &Session, target_dofs: usize, solver: &BenchSolver, scratch: &Path) -> Result<BenchRow> {
+pub fn elasticity_case(
+    session: &Session,
+    target_dofs: usize,
+    solver: &BenchSolver,
+    scratch: &Path,
+) -> Result<BenchRow> {
     let material = Material { young: 2.0e11, poisson: 0.3, plane: PlaneModel::Strain };
     for (k, v) in solver.options {
         session.set_option(&format!("-{}{k}", solver.prefix), *v)?;
@@ -105,14 +110,18 @@ pub fn elasticity_case(session: &Session, target_dofs: usize, solver: &BenchSolv
     constraints.fix_group(&mesh, left, 1, |_| 0.0);
     let loads = Loads {
         body_force: None,
-        edge_loads: vec![EdgeLoad { group: mesh.require_group("right", 1)?, traction: Traction::Constant([0.0, -1.0e6]) }],
+        edge_loads: vec![EdgeLoad {
+            group: mesh.require_group("right", 1)?,
+            traction: Traction::Constant([0.0, -1.0e6]),
+        }],
     };
     let (size, rank) = (session.size(), session.rank());
     let nn = mesh.num_nodes();
     let rows_range = 2 * (nn * rank / size)..2 * (nn * (rank + 1) / size);
     let system = assembly::assemble(&mesh, &material, &constraints, &loads, rows_range);
     let m = &system.matrix;
-    let matrix = Matrix::from_csr_rows(session, session.world(), dofs, m.first_row, &m.indptr, &m.indices, &m.values, 2, true)?;
+    let matrix =
+        Matrix::from_csr_rows(session, session.world(), dofs, m.first_row, &m.indptr, &m.indices, &m.values, 2, true)?;
     let mut rhs = matrix.create_vector()?;
     rhs.set_owned(&system.rhs)?;
     drop(system);

@@ -236,6 +236,45 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
         reactions.join(", "),
         r.results.equilibrium_residual
     );
+    if let Some(c) = &r.contact {
+        let worst = [
+            c.residuals.max_penetration,
+            c.residuals.max_wrong_sign_pressure,
+            c.residuals.max_cone_violation,
+            c.residuals.normal_complementarity,
+            c.residuals.tangential_complementarity,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+        eprintln!(
+            "  contact   {} on '{}' (friction {}): {} iteration(s), status changes {:?}",
+            c.solver, c.part, c.friction, c.iterations, c.status_changes
+        );
+        eprintln!(
+            "            {} points: {} open, {} stick, {} slip; contact force ({:.4e}, {:.4e}); zone {}",
+            c.points,
+            c.open,
+            c.stick,
+            c.slip,
+            c.resultant[0],
+            c.resultant[1],
+            c.zone.map(|z| format!("[{:.4e}, {:.4e}]", z[0], z[1])).unwrap_or_else(|| "none".into())
+        );
+        eprintln!(
+            "            independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity {:.1e} / {:.1e} (worst {worst:.1e})",
+            c.residuals.max_penetration,
+            c.residuals.max_wrong_sign_pressure,
+            c.residuals.max_cone_violation,
+            c.residuals.normal_complementarity,
+            c.residuals.tangential_complementarity
+        );
+        if c.stabilisation_iterations > 0 {
+            eprintln!(
+                "            held by contact: {} proximal iteration(s), residual spring force ({:.1e}, {:.1e})",
+                c.stabilisation_iterations, c.stabilisation_force[0], c.stabilisation_force[1]
+            );
+        }
+    }
     let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
     eprintln!(
         "  time      {} s; total {:.3} s; peak memory {}",
@@ -269,7 +308,7 @@ fn bench_elasticity(args: &[String]) -> ExitCode {
     let mut rows: Vec<bench::BenchRow> = Vec::new();
     let cases = bench::elasticity_cases(parsed.max_dofs);
     for (k, (dofs, solver)) in cases.iter().enumerate() {
-        let index = bench::SOLVERS.iter().position(|s| std::ptr::eq(s, *solver)).unwrap_or(0);
+        let index = bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0);
         eprint!("[{}/{}] {dofs} dofs, {:<26} ", k + 1, cases.len(), solver.name);
         let child = std::process::Command::new(&exe)
             .args(["bench", "elasticity-case", "--case", &format!("{dofs},{index}"), "--out"])
@@ -311,7 +350,8 @@ fn bench_elasticity(args: &[String]) -> ExitCode {
 
 /// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.
 fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) = args.case.ok_or_else(|| Error::Usage("bench elasticity-case needs --case DOFS,SOLVER_INDEX".into()))?;
+    let (dofs, index) =
+        args.case.ok_or_else(|| Error::Usage("bench elasticity-case needs --case DOFS,SOLVER_INDEX".into()))?;
     let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
     let scratch = args.out.clone().unwrap_or_else(std::env::temp_dir);
     let row = bench::elasticity_case(session, dofs, solver, &scratch)?;

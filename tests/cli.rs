@@ -217,6 +217,11 @@ fn bench_elasticity_small_writes_table_and_plot() {
     let out = run_ok(bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir));
     let table = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("SYMMLQ + SSOR") && table.contains("BoomerAMG"), "{table}");
+    // Each row its own solver, iterative ones iterating.
+    let rows: Vec<&str> = table.lines().skip(2).collect();
+    assert_eq!(rows.len(), 5, "{table}");
+    let iterations: Vec<u64> = rows.iter().map(|r| r.split('|').nth(4).unwrap().trim().parse().unwrap()).collect();
+    assert!(iterations[0] == 1 && iterations[1..].iter().all(|&i| i > 1), "{table}");
     assert!(String::from_utf8_lossy(&out.stdout).contains("| dofs |"));
     let svg = std::fs::read_to_string(dir.join("bench_elasticity.svg")).unwrap();
     assert!(svg.starts_with("<?xml") || svg.starts_with("<svg"), "not an SVG");

@@ -94,7 +94,11 @@ pub fn solve_vi<'s>(
     prefix: &str,
 ) -> Result<BoundedSolve> {
     let owned = a.owned_rows().len();
-    if lower.len() != owned || upper.len() != owned || b.global_size() != a.global_size() || x.global_size() != a.global_size() {
+    if lower.len() != owned
+        || upper.len() != owned
+        || b.global_size() != a.global_size()
+        || x.global_size() != a.global_size()
+    {
         return Err(Error::PetscUsage("solve_vi: bounds or vectors do not match the matrix layout".into()));
     }
     let op = Box::new(LinearOperator { a: a.raw, b: b.raw });
@@ -208,7 +212,13 @@ unsafe extern "C" fn qp_objective_gradient(
     .unwrap_or(CALLBACK_PANIC)
 }
 
-unsafe extern "C" fn qp_hessian(_tao: sys::Tao, _x: sys::Vec, _h: sys::Mat, _p: sys::Mat, _ctx: *mut c_void) -> sys::PetscErrorCode {
+unsafe extern "C" fn qp_hessian(
+    _tao: sys::Tao,
+    _x: sys::Vec,
+    _h: sys::Mat,
+    _p: sys::Mat,
+    _ctx: *mut c_void,
+) -> sys::PetscErrorCode {
     0 // constant Hessian, set once
 }
 

@@ -14,13 +14,17 @@
 //! ```
 //!
 //! ## Bodies held by contact
-//! A body held only by the obstacle (Hertz, force-driven) has a singular K. When the Dirichlet
-//! conditions leave a rigid motion free, springs of stiffness `k = 1e-9 · max diag(K)` are
-//! added at the contact nodes (both directions), derived from the matrix, not a user
-//! parameter. Their force `−k u` is computed after the solve and reported as
-//! `stabilisation_force`: it is zero where the contact displacements are zero (the patch tests
-//! stay exact) and tiny otherwise; when it carries a real share of the load, the body has no
-//! static equilibrium (it lifts off or slides) and the run stops with a clear error.
+//! A body held only by the obstacle (Hertz, force-driven; the stick patch test held sideways by
+//! friction alone) has a singular K. When the Dirichlet conditions leave a rigid motion free,
+//! springs `S = k I` are added at the contact nodes, with `k = 1e-3 · max diag(K) / m` (derived
+//! from the matrix, not a user parameter), and anchored at the previous iterate: proximal-point
+//! iterations `(K + S) u⁺ = f + S u + Bᵀ r⁺` with the contact law on `r⁺`. `W` and the
+//! factorisation do not change (two solves per iteration); at convergence the spring force
+//! `−S (u⁺ − u)` vanishes and `u` solves the original problem exactly (Rockafellar's proximal
+//! point method; the error in the free rigid motions contracts by `S/(S + K_contact)` per
+//! iteration). A body with no static equilibrium — lifting off, or sliding because friction
+//! cannot hold the tangential load — never converges: its spring force stays, the run stops
+//! and says why (`stabilisation_force` in the report).
 use nalgebra::DMatrix;
 
 use crate::contact::boundary::ContactBoundary;
@@ -31,8 +35,10 @@ use crate::mesh::Mesh;
 use crate::petsc::{LinearSolver, Matrix, Session, Vector};
 use crate::scene::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
-/// Relative stiffness of the stabilisation springs (× max diagonal of K).
-pub const STABILISATION: f64 = 1e-9;
+/// Total stiffness of the stabilisation springs relative to the largest diagonal entry of K
+/// (shared among the contact nodes). Small enough that the proximal iterations converge fast,
+/// large enough that K + S stays well conditioned.
+pub const STABILISATION: f64 = 1e-3;
 /// A stabilisation force above this fraction of the applied load means no static equilibrium.
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
 
@@ -78,8 +84,10 @@ pub struct ContactReport {
     pub zone: Option<[f64; 2]>,
     /// Independent check: relative residuals of (r, B u) with u from the field solve.
     pub residuals: ContactResidualsReport,
-    /// Resultant of the stabilisation springs (0 when none were needed).
+    /// Resultant of the stabilisation springs at the last proximal iteration (0 when none
+    /// were needed) and the number of proximal iterations.
     pub stabilisation_force: [f64; 2],
+    pub stabilisation_iterations: usize,
     /// Linear solves with the factorised stiffness (1 free + columns of W + 1 final).
     pub linear_solves: usize,
 }
@@ -99,7 +107,12 @@ pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
 }
 
 impl ContactSetup {
-    pub fn new(mesh: &Mesh, spec: &ContactSpec, is_fixed_node: &dyn Fn(usize) -> bool, free_motions: Option<String>) -> Result<Self> {
+    pub fn new(
+        mesh: &Mesh,
+        spec: &ContactSpec,
+        is_fixed_node: &dyn Fn(usize) -> bool,
+        free_motions: Option<String>,
+    ) -> Result<Self> {
         let group = mesh.require_group(&spec.part, 1)?;
         let obstacle = obstacle_of(&spec.obstacle)?;
         let boundary = ContactBoundary::new(mesh, group, &obstacle, spec.gap, is_fixed_node)?;
@@ -127,17 +140,25 @@ impl ContactSetup {
     }
 
     /// Add the stabilisation springs to the owned diagonal entries (CSR rows `first_row..`).
-    pub fn add_springs(&mut self, first_row: usize, indptr: &[usize], indices: &[usize], values: &mut [f64]) -> Result<()> {
+    pub fn add_springs(
+        &mut self,
+        first_row: usize,
+        indptr: &[usize],
+        indices: &[usize],
+        values: &mut [f64],
+    ) -> Result<()> {
         if self.free_motions.is_none() {
             return Ok(());
         }
         let max_diag = (0..indptr.len() - 1)
-            .filter_map(|r| indices[indptr[r]..indptr[r + 1]].binary_search(&(first_row + r)).ok().map(|k| values[indptr[r] + k]))
+            .filter_map(|r| {
+                indices[indptr[r]..indptr[r + 1]].binary_search(&(first_row + r)).ok().map(|k| values[indptr[r] + k])
+            })
             .fold(0.0f64, |a, v| a.max(v.abs()));
         // The matrix is the same on every rank up to the row split: make k rank-independent by
         // using the material scale the diagonal reflects (max over owned rows is enough in
         // practice; ranks with no rows skip).
-        let k = STABILISATION * max_diag;
+        let k = STABILISATION * max_diag / self.boundary.points().max(1) as f64;
         self.spring = Some(k);
         for &node in &self.boundary.nodes {
             for comp in 0..2 {
@@ -147,7 +168,9 @@ impl ContactSetup {
                 }
                 let r = row - first_row;
                 let cols = &indices[indptr[r]..indptr[r + 1]];
-                let k_pos = cols.binary_search(&row).map_err(|_| Error::PetscUsage(format!("no diagonal entry in row {row}")))?;
+                let k_pos = cols
+                    .binary_search(&row)
+                    .map_err(|_| Error::PetscUsage(format!("no diagonal entry in row {row}")))?;
                 values[indptr[r] + k_pos] += k;
             }
         }
@@ -182,7 +205,10 @@ impl ContactSetup {
                 let node = col / 2;
                 if let Some(rb) = frame[node] {
                     if col % 2 != 0 || k + 1 >= b || indices[k + 1] != col + 1 {
-                        return Err(Error::PetscUsage(format!("row {}: contact node {node} lacks a full 2×2 block", first_row + r)));
+                        return Err(Error::PetscUsage(format!(
+                            "row {}: contact node {node} lacks a full 2×2 block",
+                            first_row + r
+                        )));
                     }
                     let (kx, ky) = (values[k], values[k + 1]);
                     values[k] = kx * rb[0][0] + ky * rb[1][0];
@@ -227,27 +253,71 @@ impl ContactSetup {
         let m = b.points();
         let rows = matrix.owned_rows();
         let inf = f64::INFINITY;
-        let (mut lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
+        let (lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
         for (i, &node) in b.nodes.iter().enumerate() {
             if rows.contains(&(2 * node)) {
                 upper[2 * node - rows.start] = b.gap[i];
             }
         }
+        let f = rhs.owned_values()?;
         let mut v = matrix.create_vector()?;
-        let run = crate::petsc::bounded::solve_vi(session, matrix, rhs, &lower, &upper, &mut v, "contact_")?;
-        // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
-        let mut residual = matrix.create_vector()?;
-        matrix.multiply(&v, &mut residual)?;
-        residual.axpy(-1.0, rhs)?;
-        let reaction = residual.gather_all()?;
-        let v_all = v.gather_all()?;
-        let mut force = vec![0.0; 2 * m];
-        let mut uc = vec![0.0; 2 * m];
-        for (i, &node) in b.nodes.iter().enumerate() {
-            force[2 * i] = reaction[2 * node];
-            uc[2 * i] = v_all[2 * node];
-            uc[2 * i + 1] = v_all[2 * node + 1];
-        }
+        let mut rk_vec = matrix.create_vector()?;
+        let mut anchor = vec![0.0; matrix.global_size()];
+        let mut history: Vec<f64> = Vec::new();
+        let mut newton_steps = 0;
+        let (run, force, uc, v_all, reaction, spring) = loop {
+            // Proximal iterations on the stabilisation springs, as in `solve` (S = k I is the
+            // same in the rotated frames).
+            let mut rk = f.clone();
+            if let Some(k) = self.spring {
+                for &node in &b.nodes {
+                    for dof in [2 * node, 2 * node + 1] {
+                        if rows.contains(&dof) {
+                            rk[dof - rows.start] += k * anchor[dof];
+                        }
+                    }
+                }
+            }
+            rk_vec.set_owned(&rk)?;
+            let run = crate::petsc::bounded::solve_vi(session, matrix, &rk_vec, &lower, &upper, &mut v, "contact_")?;
+            newton_steps += run.iterations;
+            // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
+            let mut residual = matrix.create_vector()?;
+            matrix.multiply(&v, &mut residual)?;
+            residual.axpy(-1.0, &rk_vec)?;
+            let reaction = residual.gather_all()?;
+            let v_all = v.gather_all()?;
+            let mut force = vec![0.0; 2 * m];
+            let mut uc = vec![0.0; 2 * m];
+            for (i, &node) in b.nodes.iter().enumerate() {
+                force[2 * i] = reaction[2 * node];
+                uc[2 * i] = v_all[2 * node];
+                uc[2 * i + 1] = v_all[2 * node + 1];
+            }
+            let Some(k) = self.spring else { break (run, force, uc, v_all, reaction, [0.0; 2]) };
+            let (mut spring_rotated, mut largest) = (vec![[0.0f64; 2]; m], 0.0f64);
+            for (i, &node) in b.nodes.iter().enumerate() {
+                for c in 0..2 {
+                    spring_rotated[i][c] = -k * (v_all[2 * node + c] - anchor[2 * node + c]);
+                    largest = largest.max(spring_rotated[i][c].abs());
+                }
+            }
+            let mut spring = [0.0f64; 2];
+            for (i, sr) in spring_rotated.iter().enumerate() {
+                for c in 0..2 {
+                    spring[c] += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
+                }
+            }
+            history.push(largest);
+            let scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let all_open = force.iter().step_by(2).all(|&r| r >= 0.0);
+            let converged = largest <= 1e-12 * scale;
+            let stalled = history.len() > 10 && largest > 0.5 * history[history.len() - 6];
+            if converged || (all_open && history.len() >= 3) || stalled || history.len() >= 200 {
+                break (run, force, uc, v_all, reaction, spring);
+            }
+            anchor = v_all;
+        };
         // Back to Cartesian components: u = R v at the contact nodes.
         let mut u = v_all;
         for (i, &node) in b.nodes.iter().enumerate() {
@@ -295,7 +365,10 @@ impl ContactSetup {
             solver: run.method.clone(),
             notes: vec![format!("{} ({} linear iterations)", run.converged_reason, run.linear_iterations)],
         };
-        let report = self.report(mesh, &force, &status, &u, &residuals, run.iterations, &solution);
+        let mut report = self.report(mesh, &force, &status, &u, &residuals, history.len().max(1), &solution);
+        report.iterations = newton_steps;
+        report.stabilisation_force = spring;
+        report.stabilisation_iterations = history.len();
         Ok((u, ContactOutcome { force, status, report }))
     }
 
@@ -314,9 +387,6 @@ impl ContactSetup {
         let n = matrix.global_size();
         let rows = matrix.owned_rows();
         let mut x = matrix.create_vector()?;
-        ksp.solve(matrix, rhs, &mut x)?;
-        let u_free_field = x.gather_all()?;
-        let u_free = b.gather(&u_free_field);
         let friction = self.friction_law();
         let frictional = !matches!(friction, FrictionLaw::None);
         // Flexibility W = B K⁻¹ Bᵀ, one column per contact unknown.
@@ -350,7 +420,6 @@ impl ContactSetup {
                 }
             }
         }
-        let problem = CondensedProblem::new(Delassus::Dense(w), u_free, b.gap.clone(), friction, Some(b.weight.clone()))?;
         let mut settings = SolverSettings::default();
         if let Some(t) = self.spec.tolerance {
             settings.tolerance = t;
@@ -358,13 +427,71 @@ impl ContactSetup {
         if let Some(it) = self.spec.max_iterations {
             settings.max_iterations = it;
         }
-        let solution = if self.spec.solver == ContactSolverSpec::Tao {
-            progress(&format!("  contact: {m} points, solver PETSc TAO (box-constrained QP)"));
-            self.solve_with_tao(session, &problem)?
-        } else {
-            self.solve_condensed(&problem, &settings, progress)?
-        };
-        self.recover_and_verify(mesh, matrix, rhs, ksp, &problem, solution, &settings, columns.len() + 2)
+        // Proximal iterations on the stabilisation springs (see the module doc): the springs
+        // are anchored at the previous displacement, so their force vanishes at convergence.
+        let f = rhs.owned_values()?;
+        let mut anchor = vec![0.0; n];
+        let mut solves = columns.len();
+        let mut history: Vec<f64> = Vec::new();
+        let mut initial_force: Option<Vec<f64>> = None;
+        let (mut total_iterations, mut all_changes) = (0usize, Vec::new());
+        loop {
+            let mut rk = f.clone();
+            if let Some(k) = self.spring {
+                for &node in &b.nodes {
+                    for dof in [2 * node, 2 * node + 1] {
+                        if rows.contains(&dof) {
+                            rk[dof - rows.start] += k * anchor[dof];
+                        }
+                    }
+                }
+            }
+            e.set_owned(&rk)?;
+            ksp.solve(matrix, &e, &mut x)?;
+            solves += 2;
+            let u_free = b.gather(&x.gather_all()?);
+            let problem = CondensedProblem::new(
+                Delassus::Dense(w.clone()),
+                u_free,
+                b.gap.clone(),
+                friction.clone(),
+                Some(b.weight.clone()),
+            )?;
+            settings.initial_force = initial_force.clone();
+            let solution = if self.spec.solver == ContactSolverSpec::Tao {
+                progress(&format!("  contact: {m} points, solver PETSc TAO (box-constrained QP)"));
+                self.solve_with_tao(session, &problem)?
+            } else {
+                self.solve_condensed(&problem, &settings, progress)?
+            };
+            let (u, mut outcome) =
+                self.recover_and_verify(mesh, matrix, &rk, ksp, &problem, solution, &settings, solves)?;
+            total_iterations += outcome.report.iterations;
+            all_changes.extend(outcome.report.status_changes.iter().copied());
+            outcome.report.iterations = total_iterations;
+            outcome.report.status_changes = all_changes.clone();
+            let Some(k) = self.spring else { return Ok((u, outcome)) };
+            let (mut spring, mut largest) = ([0.0f64; 2], 0.0f64);
+            for &node in &b.nodes {
+                for c in 0..2 {
+                    let fc = -k * (u[2 * node + c] - anchor[2 * node + c]);
+                    spring[c] += fc;
+                    largest = largest.max(fc.abs());
+                }
+            }
+            let scale = outcome.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            history.push(largest);
+            outcome.report.stabilisation_force = spring;
+            outcome.report.stabilisation_iterations = history.len();
+            let converged = largest <= 1e-12 * scale;
+            let lifted = outcome.report.open == outcome.report.points && history.len() >= 3;
+            let stalled = history.len() > 10 && largest > 0.5 * history[history.len() - 6];
+            if converged || lifted || stalled || history.len() >= 200 {
+                return Ok((u, outcome));
+            }
+            anchor = u;
+            initial_force = Some(outcome.force);
+        }
     }
 
     /// TAO on the Tresca box QP: min ½ rᵀ W r + rᵀ (u_free − g̃), rN ≤ 0, |rT| ≤ s.
@@ -435,7 +562,7 @@ impl ContactSetup {
         &self,
         mesh: &Mesh,
         matrix: &Matrix<'s>,
-        rhs: &Vector<'s>,
+        rhs: &[f64],
         ksp: &mut LinearSolver<'s>,
         problem: &CondensedProblem,
         solution: contact::ContactSolution,
@@ -448,7 +575,7 @@ impl ContactSetup {
         let mut e = matrix.create_vector()?;
         let mut x = matrix.create_vector()?;
         // Recover the field with the contact forces applied: K u = f + Bᵀ r.
-        let mut total = rhs.owned_values()?;
+        let mut total = rhs.to_vec();
         load.iter_mut().for_each(|v| *v = 0.0);
         b.scatter_add(&solution.force, &mut load);
         for (t, l) in total.iter_mut().zip(&load[rows.clone()]) {
@@ -465,7 +592,9 @@ impl ContactSetup {
         if !residuals.is_acceptable(accepted) {
             return Err(Error::SolverDiverged {
                 solver: solution.solver.clone(),
-                reason: format!("its answer fails the independent check on the recomputed displacement field: {residuals}"),
+                reason: format!(
+                    "its answer fails the independent check on the recomputed displacement field: {residuals}"
+                ),
                 iterations: solution.iterations,
                 residual: residuals.worst(),
                 tried: solution.notes.join("; "),
@@ -501,13 +630,8 @@ impl ContactSetup {
             normal_resultant += rn;
             tangential_resultant += rt;
         }
-        let mut stabilisation_force = [0.0f64; 2];
-        if let Some(k) = self.spring {
-            for &node in &b.nodes {
-                stabilisation_force[0] -= k * u[2 * node];
-                stabilisation_force[1] -= k * u[2 * node + 1];
-            }
-        }
+        let stabilisation_force = [0.0f64; 2];
+        let _ = u;
         let (mut open, mut stick, mut slip) = (0, 0, 0);
         for s in status {
             match s {
@@ -524,7 +648,10 @@ impl ContactSetup {
             })
             .collect();
         if !closed.is_empty() {
-            zone = Some([closed.iter().cloned().fold(f64::INFINITY, f64::min), closed.iter().cloned().fold(f64::NEG_INFINITY, f64::max)]);
+            zone = Some([
+                closed.iter().cloned().fold(f64::INFINITY, f64::min),
+                closed.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+            ]);
         }
         ContactReport {
             part: self.spec.part.clone(),
@@ -551,6 +678,7 @@ impl ContactSetup {
                 displacement_scale: residuals.scale.displacement,
             },
             stabilisation_force,
+            stabilisation_iterations: 0,
             linear_solves,
         }
     }

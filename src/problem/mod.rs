@@ -239,7 +239,9 @@ impl<'s> ElasticityProblem<'s> {
             self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
-        if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == crate::scene::ContactSolverSpec::SnesVi) {
+        if let Some(contact) =
+            self.contact.as_ref().filter(|c| c.spec.solver == crate::scene::ContactSolverSpec::SnesVi)
+        {
             let (u, outcome) = contact.solve_vi(self.session, &self.mesh, matrix, rhs)?;
             self.stats = Some(crate::petsc::SolveStats {
                 ksp_type: "snes vinewtonrsls".into(),

@@ -53,11 +53,17 @@ fn patch(s: &Session, order: u32, solver: &str) -> Result<(), String> {
     let text = set_line(&text, "order", &format!("order = {order}"));
     let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
     let p = solve_text(s, &text, &path).map_err(|e| format!("P{order} {solver}: {e}"))?;
-    let (e, nu, pr) = (90e9, 0.2, 1e6);
+    let (e, nu, pr) = (90e9_f64, 0.2_f64, 1e6_f64);
     let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * pr / (e * (1.0 - nu));
     let u = p.displacement.as_ref().unwrap();
     let scale = k.abs();
-    let err = p.mesh.nodes.iter().enumerate().map(|(i, x)| u[2 * i].abs().max((u[2 * i + 1] - k * x[1]).abs())).fold(0.0, f64::max);
+    let err = p
+        .mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(i, x)| u[2 * i].abs().max((u[2 * i + 1] - k * x[1]).abs()))
+        .fold(0.0, f64::max);
     ensure(err <= 1e-11 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
     let c = p.contact.as_ref().unwrap();
     let o = p.contact_outcome.as_ref().unwrap();
@@ -143,7 +149,9 @@ pub fn contact_stick_patch_exact_held_by_friction(s: &Session) -> Result<(), Str
         ensure(err <= 1e-10 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
         let o = pr.contact_outcome.as_ref().unwrap();
         ensure(o.report.stick == o.report.points, || format!("P{order}: not all stick: {:?}", o.report))?;
-        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-8 * q, || format!("friction resultant {:?}", o.report.resultant))?;
+        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-8 * q, || {
+            format!("friction resultant {:?}", o.report.resultant)
+        })?;
     }
     Ok(())
 }
@@ -175,8 +183,14 @@ fn hertz_fit(p: &ElasticityProblem) -> (f64, f64, Vec<(f64, f64)>) {
     let c = p.contact.as_ref().unwrap();
     let o = p.contact_outcome.as_ref().unwrap();
     let (pressure, _) = c.boundary.tractions(&o.force);
-    let mut pts: Vec<(f64, f64)> =
-        c.boundary.nodes.iter().zip(&pressure).filter(|(_, &pr)| pr > 0.0).map(|(&n, &pr)| (p.mesh.nodes[n][0], pr)).collect();
+    let mut pts: Vec<(f64, f64)> = c
+        .boundary
+        .nodes
+        .iter()
+        .zip(&pressure)
+        .filter(|(_, &pr)| pr > 0.0)
+        .map(|(&n, &pr)| (p.mesh.nodes[n][0], pr))
+        .collect();
     pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
     // Least squares of y = α + β x² with y = p², on the inner 80 % of the zone (the edge is
     // where the nodal resolution errs).
@@ -203,7 +217,11 @@ pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
     let p0_exact = 2.0 * load / (std::f64::consts::PI * a_exact);
     let mut errors = Vec::new();
     for (cell, fine) in [("1e-3", "1e-3"), ("5e-4", "5e-4"), ("2.5e-4", "2.5e-4")] {
-        let t = set_line(&text, "refine", &format!("refine = {{ point = [0.0, 0.0], cell_size = {fine}, radius = 0.015 }}"));
+        let t = set_line(
+            &text,
+            "refine",
+            &format!("refine = {{ point = [0.0, 0.0], cell_size = {fine}, radius = 0.015 }}"),
+        );
         let _ = cell;
         let p = solve_text(s, &t, &path).map_err(|e| format!("hertz {fine}: {e}"))?;
         let (a, p0, pts) = hertz_fit(&p);
@@ -217,7 +235,9 @@ pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
         }
     }
     let (_, ea, ep) = errors[errors.len() - 1];
-    ensure(ea < 0.01 && ep < 0.01, || format!("Hertz: half-width and peak errors {errors:?} (a = {a_exact:e}, p0 = {p0_exact:e})"))?;
+    ensure(ea < 0.01 && ep < 0.01, || {
+        format!("Hertz: half-width and peak errors {errors:?} (a = {a_exact:e}, p0 = {p0_exact:e})")
+    })?;
     ensure(errors[0].1.max(errors[0].2) > ea.max(ep), || format!("no convergence under refinement: {errors:?}"))
 }
 
@@ -235,7 +255,9 @@ pub fn square_block_raous(s: &Session) -> Result<(), String> {
             .ok_or_else(|| format!("no node at ({x}, 0)"))?;
         let ux = u[2 * node];
         report.push((x, ux, ux_ref));
-        ensure((ux - ux_ref).abs() <= 0.05 * ux_ref, || format!("ux({x}) = {ux:e}, reference {ux_ref:e} ±5 %; all: {report:?}"))?;
+        ensure((ux - ux_ref).abs() <= 0.05 * ux_ref, || {
+            format!("ux({x}) = {ux:e}, reference {ux_ref:e} ±5 %; all: {report:?}")
+        })?;
     }
     let o = p.contact_outcome.as_ref().unwrap();
     ensure(o.report.slip > 0 && o.report.stick > 0, || format!("expected a stick and a slip zone: {:?}", o.report))
