@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{Material, PlaneModel};
 use crate::mesh::{structured, Order};
@@ -229,6 +229,153 @@ pub fn write_elasticity_outputs(rows: &[BenchRow], dir: &Path) -> Result<(PathBu
     plot::write_loglog_svg(
         &svg,
         "Plane elasticity, P1: wall time against size",
+        "degrees of freedom",
+        "seconds",
+        &series,
+    )?;
+    Ok((md, svg))
+}
+
+// ------------------------------------------------------------------------------------------
+// Contact benchmark: the square block of Raous–Chabrand–Lebon (Coulomb, μ = 1) on structured
+// P1 meshes of growing size, one process per (size, solver) case.
+
+/// The contact solvers compared (scene names).
+pub static CONTACT_SOLVERS: &[&str] = &["newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"];
+
+/// Largest size (dofs) each condensed solver is run at: condensation costs one solve per contact
+/// unknown, so the condensed routes stop at 1e5 dofs.
+pub fn contact_max_dofs(solver: &str) -> usize {
+    match solver {
+        "newton" => 200_000,
+        _ => 20_000,
+    }
+}
+
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ContactBenchRow {
+    pub dofs: usize,
+    pub contact_points: usize,
+    pub solver: String,
+    pub iterations: usize,
+    pub contact_seconds: f64,
+    pub linear_seconds: f64,
+    pub peak_memory_mb: f64,
+    pub worst_residual: f64,
+    pub stick: usize,
+    pub slip: usize,
+}
+
+/// Sizes of the contact benchmark: 1e3 → 1e6 dofs.
+pub fn contact_sizes(max_dofs: usize) -> Vec<usize> {
+    [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_dofs).collect()
+}
+
+pub fn contact_cases(max_dofs: usize) -> Vec<(usize, &'static str)> {
+    let mut cases = Vec::new();
+    for n in contact_sizes(max_dofs) {
+        for s in CONTACT_SOLVERS.iter().filter(|s| n <= contact_max_dofs(s)) {
+            cases.push((n, *s));
+        }
+    }
+    cases
+}
+
+/// One contact case (square block, `target_dofs` dofs, the named contact solver).
+pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Result<ContactBenchRow> {
+    let cells = ((((target_dofs / 2) as f64).sqrt()).round() as usize).max(3) - 1;
+    let text = crate::scene::DEFAULT_SCENE_TOML
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("cell_size") {
+                format!("cell_size = {:e}", 0.04 / cells as f64)
+            } else if l.trim_start().starts_with("solver") {
+                format!("solver = \"{solver}\"")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = crate::scene::Scene::from_str(&text, Path::new("bench-contact.toml"))?;
+    let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
+    problem.assemble()?;
+    let linear_seconds = problem.linear_solve_seconds()?;
+    let t = Instant::now();
+    problem.solve()?;
+    let contact_seconds = t.elapsed().as_secs_f64();
+    let o = problem.contact_outcome.as_ref().ok_or_else(|| Error::Usage("no contact outcome".into()))?;
+    let r = &o.report.residuals;
+    Ok(ContactBenchRow {
+        dofs: problem.num_dofs(),
+        contact_points: o.report.points,
+        solver: solver.to_string(),
+        iterations: o.report.iterations,
+        contact_seconds,
+        linear_seconds,
+        peak_memory_mb: mb(resources::peak_memory_bytes()),
+        worst_residual: [
+            r.max_penetration,
+            r.max_wrong_sign_pressure,
+            r.max_cone_violation,
+            r.normal_complementarity,
+            r.tangential_complementarity,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max),
+        stick: o.report.stick,
+        slip: o.report.slip,
+    })
+}
+
+pub fn contact_table(rows: &[ContactBenchRow]) -> String {
+    let mut s = String::from(
+        "| dofs | contact points | solver | iterations | contact solve (s) | one linear solve (s) | ratio | peak memory (MB) | worst residual | stick / slip |\n\
+         |---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {:.3} | {:.3} | {:.1} | {:.0} | {:.1e} | {} / {} |\n",
+            r.dofs,
+            r.contact_points,
+            r.solver,
+            r.iterations,
+            r.contact_seconds,
+            r.linear_seconds,
+            r.contact_seconds / r.linear_seconds,
+            r.peak_memory_mb,
+            r.worst_residual,
+            r.stick,
+            r.slip
+        ));
+    }
+    s
+}
+
+/// `bench_contact.md` and `bench_contact.svg` (contact solve time against dofs, per solver).
+pub fn write_contact_outputs(rows: &[ContactBenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
+    let md = dir.join("bench_contact.md");
+    let table = contact_table(rows);
+    output::write_atomically(&md, |w| w.write_all(table.as_bytes()))?;
+    let mut series: Vec<plot::Series> = Vec::new();
+    for solver in CONTACT_SOLVERS {
+        let points: Vec<(f64, f64)> =
+            rows.iter().filter(|r| r.solver == *solver).map(|r| (r.dofs as f64, r.contact_seconds)).collect();
+        if !points.is_empty() {
+            series.push(plot::Series { label: format!("contact: {solver}"), points });
+        }
+    }
+    let mut linear: Vec<(f64, f64)> = Vec::new();
+    for r in rows {
+        if !linear.iter().any(|p| p.0 == r.dofs as f64) {
+            linear.push((r.dofs as f64, r.linear_seconds));
+        }
+    }
+    series.push(plot::Series { label: "one linear solve (MUMPS)".into(), points: linear });
+    let svg = dir.join("bench_contact.svg");
+    plot::write_loglog_svg(
+        &svg,
+        "Square block, Coulomb friction: wall time against size",
         "degrees of freedom",
         "seconds",
         &series,

@@ -11,15 +11,21 @@ const USAGE: &str = "\
 signorini — 2D frictional contact in linear elasticity, on PETSc
 
 usage:
-  signorini run [SCENE] [--out DIR] [--quiet] [PETSc options...]
+  signorini run [SCENE] [--out DIR] [--quiet] [--contact-solver NAME] [PETSc options...]
       Solve the scene (a TOML file; without one, the embedded default scene) and write
       DIR/solution.vtu and DIR/report.json (DIR: --out, else the scene's [output] dir, else ./out).
+      --contact-solver overrides the scene's [contact] solver: newton, relaxation, dpana, uzawa,
+      tresca_fixed_point, snes_vi (frictionless), tao (Tresca).
       SCENE must come before the PETSc options. Examples:
         signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
         mpirun -n 2 signorini run examples/scenes/cantilever.toml
   signorini bench elasticity [--max-dofs N] [--out DIR] [PETSc options...]
       Assembly and solve times, peak memory and overhead ratios from 1e4 up to N dofs
       (default 1e6); writes DIR/bench_elasticity.md and DIR/bench_elasticity.svg (DIR default ./bench).
+  signorini bench contact [--max-dofs N] [--out DIR] [PETSc options...]
+      The square block (Coulomb) from 1e3 dofs up to N (default 1e5) for each contact solver:
+      iterations, time, memory, and the ratio to one linear solve of the same mesh; writes
+      DIR/bench_contact.md and DIR/bench_contact.svg.
   signorini --help | --version
 
 PETSc options: any option PETSc knows (-ksp_type, -pc_type, -pc_factor_levels, -ksp_monitor,
@@ -33,15 +39,32 @@ struct RunArgs {
     max_dofs: usize,
     /// bench elasticity-case: the size and the solver index.
     case: Option<(usize, usize)>,
+    /// run: override of the scene's [contact] solver.
+    contact_solver: Option<String>,
     petsc: Vec<String>,
 }
 
 fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
-    let mut r = RunArgs { scene: None, out: None, quiet: false, max_dofs: 1_000_000, case: None, petsc: Vec::new() };
+    let mut r = RunArgs {
+        scene: None,
+        out: None,
+        quiet: false,
+        max_dofs: 1_000_000,
+        case: None,
+        contact_solver: None,
+        petsc: Vec::new(),
+    };
     let mut i = 0;
     while i < args.len() {
         let a = &args[i];
         match a.as_str() {
+            "--contact-solver" => {
+                let v = args.get(i + 1).filter(|v| !v.starts_with('-')).ok_or_else(|| {
+                    Error::Usage("--contact-solver needs a solver name (see signorini --help)".into())
+                })?;
+                r.contact_solver = Some(v.clone());
+                i += 2;
+            }
             "--out" | "--max-dofs" => {
                 let v = args
                     .get(i + 1)
@@ -129,8 +152,10 @@ fn main() -> ExitCode {
         Some("bench") => match args.get(2).map(String::as_str) {
             Some("elasticity") => bench_elasticity(&args[3..]),
             Some("elasticity-case") => with_session(&program, &args[3..], false, bench_elasticity_case),
+            Some("contact") => bench_contact(&args[3..]),
+            Some("contact-case") => with_session(&program, &args[3..], false, bench_contact_case),
             other => usage_error(&format!(
-                "bench needs a benchmark name: `signorini bench elasticity` (got {})",
+                "bench needs a benchmark name: `signorini bench elasticity` or `signorini bench contact` (got {})",
                 other.map(|o| format!("{o:?}")).unwrap_or_else(|| "nothing".into())
             )),
         },
@@ -188,6 +213,10 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         Some(path) => Scene::from_file(path)?,
         None => Scene::default_scene(),
     };
+    let mut scene = scene;
+    if let Some(name) = &args.contact_solver {
+        override_contact_solver(&mut scene, name)?;
+    }
     let out = args.out.clone().or_else(|| scene.output_dir.clone()).unwrap_or_else(|| PathBuf::from("out"));
     say(&format!(
         "signorini {} — {} ({})",
@@ -214,6 +243,34 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         print_summary(&report, &written);
     }
     Ok(())
+}
+
+/// `--contact-solver NAME`: replace the scene's contact solver, with the scene's own rules
+/// (SNESVI is frictionless only, TAO is for Tresca).
+fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
+    use signorini::scene::{ContactSolverSpec as S, FrictionSpec};
+    let contact = scene.contact.as_mut().ok_or_else(|| {
+        Error::Usage(format!("--contact-solver {name}: the scene {} has no [contact] section", scene.source.display()))
+    })?;
+    let candidates =
+        [S::Newton, S::Relaxation { omega: 1.0 }, S::DPana, S::Uzawa, S::TrescaFixedPoint, S::SnesVi, S::Tao];
+    let solver = candidates.into_iter().find(|c| c.scene_name() == name).ok_or_else(|| {
+        Error::Usage(format!(
+            "--contact-solver {name}: unknown solver; choose one of newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
+        ))
+    })?;
+    match (&solver, &contact.friction) {
+        (S::SnesVi, f) if *f != FrictionSpec::None => {
+            Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton".into()))
+        }
+        (S::Tao, f) if !matches!(f, FrictionSpec::Tresca { .. }) => {
+            Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton".into()))
+        }
+        _ => {
+            contact.solver = solver;
+            Ok(())
+        }
+    }
 }
 
 fn print_summary(r: &Report, written: &[PathBuf]) {
@@ -355,6 +412,93 @@ fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> 
     let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
     let scratch = args.out.clone().unwrap_or_else(std::env::temp_dir);
     let row = bench::elasticity_case(session, dofs, solver, &scratch)?;
+    if session.rank() == 0 {
+        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
+    }
+    Ok(())
+}
+
+/// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row.
+fn run_case<T: serde::de::DeserializeOwned>(
+    exe: &std::path::Path,
+    kind: &str,
+    dofs: usize,
+    index: usize,
+    out: &std::path::Path,
+    petsc: &[String],
+) -> Result<T, String> {
+    let o = std::process::Command::new(exe)
+        .args(["bench", &format!("{kind}-case"), "--case", &format!("{dofs},{index}"), "--out"])
+        .arg(out)
+        .args(petsc)
+        .output()
+        .map_err(|e| format!("could not start: {e}"))?;
+    if !o.status.success() {
+        return Err(format!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()));
+    }
+    serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
+}
+
+/// `bench contact`: each (size, solver) case in a child process.
+fn bench_contact(args: &[String]) -> ExitCode {
+    let mut parsed = match parse(args, false) {
+        Ok(p) => p,
+        Err(e) => return usage_error(&e.to_string()),
+    };
+    if !args.iter().any(|a| a == "--max-dofs") {
+        parsed.max_dofs = 100_000;
+    }
+    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-contact-{}", std::process::id()));
+    let cases = bench::contact_cases(parsed.max_dofs);
+    let mut rows: Vec<bench::ContactBenchRow> = Vec::new();
+    for (k, (dofs, solver)) in cases.iter().enumerate() {
+        let index = bench::CONTACT_SOLVERS.iter().position(|s| s == solver).unwrap_or(0);
+        eprint!("[{}/{}] ~{dofs} dofs, {:<20} ", k + 1, cases.len(), solver);
+        match run_case::<bench::ContactBenchRow>(&exe, "contact", *dofs, index, &scratch, &parsed.petsc) {
+            Ok(row) => {
+                eprintln!(
+                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
+                    row.contact_seconds,
+                    row.iterations,
+                    row.contact_seconds / row.linear_seconds,
+                    row.worst_residual
+                );
+                rows.push(row);
+            }
+            Err(e) => eprintln!("{e}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    if rows.is_empty() {
+        eprintln!("error: no benchmark case succeeded");
+        return ExitCode::FAILURE;
+    }
+    match bench::write_contact_outputs(&rows, &out) {
+        Ok((md, svg)) => {
+            println!("{}", bench::contact_table(&rows));
+            eprintln!("wrote {}, {}", md.display(), svg.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let (dofs, index) =
+        args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
+    let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no contact solver {index}")))?;
+    let row = bench::contact_case(session, dofs, solver)?;
     if session.rank() == 0 {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }

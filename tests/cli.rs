@@ -81,6 +81,22 @@ fn default_scene_writes_report_and_solution() {
     assert_eq!(r["formulation"], "primal");
     assert_eq!(r["solver"]["ksp_type"], "preonly");
     assert_eq!(r["solver"]["factor_package"], "mumps");
+    // The default scene is a frictional contact problem, checked independently.
+    let c = &r["contact"];
+    assert!(
+        c["points"].as_u64().unwrap() > 0 && c["stick"].as_u64().unwrap() > 0 && c["slip"].as_u64().unwrap() > 0,
+        "{c}"
+    );
+    for k in [
+        "max_penetration",
+        "max_wrong_sign_pressure",
+        "max_cone_violation",
+        "normal_complementarity",
+        "tangential_complementarity",
+    ] {
+        assert!(c["residuals"][k].as_f64().unwrap() < 1e-7, "contact residual {k}: {c}");
+    }
+    assert!(stderr.contains("independent check"), "{stderr}");
     assert!(r["solver"]["relative_residual"].as_f64().unwrap() < 1e-8);
     for phase in ["mesh", "assemble", "solve", "output", "total"] {
         assert!(r["timings"][phase].as_f64().unwrap() >= 0.0, "timings.{phase}");
@@ -160,6 +176,75 @@ fn mpirun_two_ranks_equals_serial() {
 }
 
 #[test]
+fn mpirun_two_ranks_contact_equals_serial() {
+    // Frictional contact (square block) and a body held by contact alone (patch test).
+    for name in ["square_block", "contact_patch"] {
+        let path = scene(&format!("examples/scenes/{name}.toml"));
+        let serial = scratch(&format!("mpi-contact-serial-{name}"));
+        run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+        let parallel = scratch(&format!("mpi-contact-{name}"));
+        let out = Command::new("mpirun")
+            .args(["-n", "2", "--oversubscribe"])
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .env("OMP_NUM_THREADS", "1")
+            .arg(env!("CARGO_BIN_EXE_signorini"))
+            .arg("run")
+            .arg(&path)
+            .args(["--quiet", "--out"])
+            .arg(&parallel)
+            .output()
+            .expect("mpirun");
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+        assert!(d < 1e-8, "{name}: MPI differs from serial by {d:e}");
+        assert_eq!(report(&parallel)["contact"]["stick"], report(&serial)["contact"]["stick"]);
+    }
+}
+
+#[test]
+fn contact_solver_from_the_command_line() {
+    let reference = scratch("cs-ref");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&reference));
+    let dir = scratch("cs-relax");
+    run_ok(bin().args(["run", "--quiet", "--contact-solver", "relaxation", "--out"]).arg(&dir));
+    let r = report(&dir);
+    assert!(r["contact"]["solver"].as_str().unwrap().contains("relaxation"), "{r}");
+    let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
+    assert!(d < 1e-6, "relaxation differs from Newton by {d:e}");
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 1);
+    assert!(msg.contains("frictionless"), "{msg}");
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 1);
+    assert!(msg.contains("unknown solver"), "{msg}");
+}
+
+#[test]
+fn contact_fields_read_back_in_meshio() {
+    let dir = scratch("contact-fields");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    let r = report(&dir);
+    let out = python(&format!(
+        r#"
+m = meshio.read(r'{}')
+p, t, s = m.point_data['contact_pressure'], m.point_data['friction_traction'], m.point_data['contact_status']
+pts = m.points
+bottom = np.abs(pts[:, 1]) < 1e-12
+print(int((s == 0).sum()), int((s == 1).sum()), int((s == 2).sum()), int((s == -1).sum()), float(p[bottom].min()), float(np.abs(t[~bottom]).max()), float((np.abs(t[bottom]) - 1.0 * p[bottom]).max()))
+"#,
+        dir.join("solution.vtu").display()
+    ));
+    let v: Vec<f64> = out.split_whitespace().map(|x| x.parse().unwrap()).collect();
+    let c = &r["contact"];
+    assert_eq!(v[0] as u64, c["open"].as_u64().unwrap(), "{out}");
+    assert_eq!(v[1] as u64, c["stick"].as_u64().unwrap(), "{out}");
+    assert_eq!(v[2] as u64, c["slip"].as_u64().unwrap(), "{out}");
+    assert_eq!((v[0] + v[1] + v[2] + v[3]) as u64, r["nodes"].as_u64().unwrap());
+    assert!(v[4] >= 0.0, "negative contact pressure on the bottom: {out}");
+    assert_eq!(v[5], 0.0, "friction traction off the contact part: {out}");
+    assert!(v[6] <= 1e-6 * 1.5e8, "friction traction above mu * pressure: {out}");
+}
+
+#[test]
 fn solution_vtu_reads_back_in_meshio_with_exact_patch_values() {
     // The patch test: uniform stress, exact for P1 and P2; check the file, not our memory.
     for order in [1, 2] {
@@ -227,6 +312,19 @@ fn bench_elasticity_small_writes_table_and_plot() {
     assert!(svg.starts_with("<?xml") || svg.starts_with("<svg"), "not an SVG");
 }
 
+#[test]
+fn bench_contact_small_writes_table_and_plot() {
+    let dir = scratch("bench-contact");
+    run_ok(bin().args(["bench", "contact", "--max-dofs", "1000", "--out"]).arg(&dir));
+    let table = std::fs::read_to_string(dir.join("bench_contact.md")).unwrap();
+    let rows: Vec<&str> = table.lines().skip(2).collect();
+    assert_eq!(rows.len(), 5, "one row per contact solver: {table}");
+    for solver in ["newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"] {
+        assert!(rows.iter().any(|r| r.contains(&format!("| {solver} |"))), "{solver} missing: {table}");
+    }
+    assert!(std::fs::read_to_string(dir.join("bench_contact.svg")).unwrap().contains("<svg"));
+}
+
 // ------------------------------------------------------------------ errors: clear, typed, no partial output
 
 #[test]
@@ -249,7 +347,7 @@ fn scene_syntax_error_names_file_and_line() {
 fn negative_young_modulus_names_the_line() {
     let dir = scratch("young");
     let path = dir.join("s.toml");
-    let text = std::fs::read_to_string(scene("examples/scenes/default.toml"))
+    let text = std::fs::read_to_string(scene("examples/scenes/block.toml"))
         .unwrap()
         .replace("young = 210e9", "young = -210e9");
     let line = text.lines().position(|l| l.contains("young = -210e9")).unwrap() + 1;
@@ -307,4 +405,29 @@ fn unused_petsc_option_is_reported_as_a_warning() {
     assert!(stderr.contains("-ksp_tyep") && stderr.contains("never used"), "{stderr}");
     let r = report(&dir);
     assert!(r["solver"]["unused_options"].to_string().contains("ksp_tyep"), "{r}");
+}
+
+/// The examples, built by `cargo test`, run with small settings.
+fn example_binary(name: &str) -> PathBuf {
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+    let path = deps.parent().unwrap().join("examples").join(name);
+    assert!(path.exists(), "example {name} not built at {}", path.display());
+    path
+}
+
+#[test]
+fn example_hertz_contact_runs_small() {
+    let out = Command::new(example_binary("hertz_contact")).arg("--small").output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    // The coarse mesh is still within a few per cent of Hertz on the peak pressure.
+    let line = stdout.lines().find(|l| l.contains("peak pressure")).unwrap();
+    let percent: f64 = line.rsplit('(').next().unwrap().trim_end_matches(" %)").trim().parse().unwrap();
+    assert!(percent.abs() < 10.0, "{stdout}");
+}
+
+#[test]
+fn example_assembly_timing_runs_small() {
+    let out = Command::new(example_binary("assembly_timing")).arg("60").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }

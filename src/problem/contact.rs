@@ -142,6 +142,7 @@ impl ContactSetup {
     /// Add the stabilisation springs to the owned diagonal entries (CSR rows `first_row..`).
     pub fn add_springs(
         &mut self,
+        session: &Session,
         first_row: usize,
         indptr: &[usize],
         indices: &[usize],
@@ -155,9 +156,8 @@ impl ContactSetup {
                 indices[indptr[r]..indptr[r + 1]].binary_search(&(first_row + r)).ok().map(|k| values[indptr[r] + k])
             })
             .fold(0.0f64, |a, v| a.max(v.abs()));
-        // The matrix is the same on every rank up to the row split: make k rank-independent by
-        // using the material scale the diagonal reflects (max over owned rows is enough in
-        // practice; ranks with no rows skip).
+        // The same k on every rank: the largest diagonal over all ranks.
+        let max_diag = session.world().max(&[max_diag])?[0];
         let k = STABILISATION * max_diag / self.boundary.points().max(1) as f64;
         self.spring = Some(k);
         for &node in &self.boundary.nodes {

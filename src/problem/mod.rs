@@ -206,7 +206,7 @@ impl<'s> ElasticityProblem<'s> {
         let mut system = assembly::assemble(&self.mesh, &self.material, &self.constraints, &loads, self.rows.clone());
         if let Some(contact) = &mut self.contact {
             let m = &mut system.matrix;
-            contact.add_springs(m.first_row, &m.indptr, &m.indices, &mut m.values)?;
+            contact.add_springs(self.session, m.first_row, &m.indptr, &m.indices, &mut m.values)?;
             if contact.spec.solver == crate::scene::ContactSolverSpec::SnesVi {
                 let n = self.mesh.num_nodes();
                 contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)?;
@@ -303,6 +303,19 @@ impl<'s> ElasticityProblem<'s> {
             )));
         }
         Ok(())
+    }
+
+    /// Time one plain linear solve of the assembled system with the default-configured KSP
+    /// (factorisation included): the yardstick the contact benchmark divides by.
+    pub fn linear_solve_seconds(&self) -> Result<f64> {
+        let (matrix, rhs) =
+            self.system.as_ref().ok_or_else(|| Error::PetscUsage("linear_solve_seconds() before assemble()".into()))?;
+        let start = std::time::Instant::now();
+        let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
+        ksp.set_operator(matrix)?;
+        let mut x = matrix.create_vector()?;
+        ksp.solve(matrix, rhs, &mut x)?;
+        Ok(start.elapsed().as_secs_f64())
     }
 
     /// Stresses, von Mises, reactions per Dirichlet part, global equilibrium.

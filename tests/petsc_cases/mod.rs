@@ -32,7 +32,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("solvers_agree_mumps_icc_hypre_symmlq", solvers_agree),
     ("driver_reports_unconstrained_rigid_motion", driver_reports_unconstrained_rigid_motion),
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
-    ("driver_default_scene_equilibrium", driver_default_scene_equilibrium),
+    ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
     ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),
     ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
@@ -429,12 +429,14 @@ fn driver_reports_unknown_boundary_part(s: &Session) -> Result<(), String> {
 }
 
 fn driver_default_scene_equilibrium(s: &Session) -> Result<(), String> {
-    let mut p = ElasticityProblem::setup_system(s, Scene::default_scene()).map_err(|e| e.to_string())?;
+    let block = manifest("examples/scenes/block.toml");
+    let scene = Scene::from_file(&block).map_err(|e| e.to_string())?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
     p.assemble().map_err(|e| e.to_string())?;
     p.solve().map_err(|e| e.to_string())?;
     p.postprocess().map_err(|e| e.to_string())?;
     let r = &p.results.as_ref().unwrap().report;
-    // Default scene: traction (0, -1e6) on a 0.2 m end: resultant (0, -2e5).
+    // The elastic block: traction (0, -1e6) on a 0.2 m end: resultant (0, -2e5).
     ensure((r.applied_force[1] + 2e5).abs() < 1e-6 * 2e5 && r.applied_force[0].abs() < 1e-6, || {
         format!("{:?}", r.applied_force)
     })?;
