@@ -1489,6 +1489,30 @@ fn assert_close(a: [f64; 2], b: [f64; 2]) {
     assert!((a[0] - b[0]).abs() < 1e-14 && (a[1] - b[1]).abs() < 1e-14, "{a:?} != {b:?}");
 }
 
+/// The scene's obstacle as the driver builds it (`contact::obstacle`, the one projection code).
+#[derive(Debug)]
+struct Projection {
+    distance: f64,
+    normal: [f64; 2],
+    closest: [f64; 2],
+}
+trait Project {
+    fn project(&self, x: [f64; 2]) -> Projection;
+}
+impl Project for ObstacleSpec {
+    fn project(&self, x: [f64; 2]) -> Projection {
+        use signorini::contact::obstacle::Obstacle;
+        let o = match self {
+            ObstacleSpec::Line { point, normal } => Obstacle::new_line(*point, *normal),
+            ObstacleSpec::Circle { center, radius } => Obstacle::new_circle(*center, *radius),
+            ObstacleSpec::Polyline { points } => Obstacle::new_polyline(points.clone()),
+        }
+        .unwrap();
+        let p = o.project(x);
+        Projection { distance: p.signed_distance, normal: p.normal, closest: p.point }
+    }
+}
+
 #[test]
 fn line_obstacle_projection() {
     let line = ObstacleSpec::Line { point: [1.0, 1.0], normal: [0.6, 0.8] };
@@ -1514,7 +1538,8 @@ fn circle_obstacle_projection() {
     let p = circle.project([0.0, -2.5]);
     assert!((p.distance + 0.5).abs() < 1e-14 && p.normal == [0.0, -1.0], "{p:?}");
     let p = circle.project([0.0, -2.0]);
-    assert_eq!((p.distance, p.normal, p.closest), (-1.0, [0.0, 1.0], [0.0, -1.0]));
+    // at the centre: contact::obstacle's documented convention, normal (0, -1)
+    assert_eq!((p.distance, p.normal, p.closest), (-1.0, [0.0, -1.0], [0.0, -3.0]));
 }
 
 #[test]

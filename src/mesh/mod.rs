@@ -71,7 +71,7 @@ pub struct Mesh {
     pub cells: Vec<usize>,
     /// Index into `groups` of each triangle's region, or [`NO_GROUP`].
     pub cell_group: Vec<usize>,
-    /// Flat connectivity of the boundary edges, `order.nodes_per_edge()` nodes each (v0, v1, [mid]).
+    /// Flat connectivity of the boundary edges, `order.nodes_per_edge()` nodes each (v0, v1 and, for P2, the mid node).
     pub edges: Vec<usize>,
     /// Index into `groups` of each boundary edge's part (always set: edges come from groups).
     pub edge_group: Vec<usize>,

@@ -6,7 +6,7 @@
 //! - [`Vector`], [`Matrix`], [`LinearSolver`]: owning handles. They are moved, never copied;
 //!   they borrow the session so they cannot outlive `PetscFinalize`; `Drop` destroys them and
 //!   never panics.
-//! - Every PETSc call goes through [`check`]: a nonzero code becomes [`Error::Petsc`] with
+//! - Every PETSc call goes through `check`: a nonzero code becomes [`Error::Petsc`] with
 //!   PETSc's own message (captured by an error handler we install, so PETSc prints nothing),
 //!   the call's name and the Rust file and line.
 //! - Debian's PETSc is built without debugging checks, so indices and sizes are checked here

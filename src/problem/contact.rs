@@ -139,6 +139,21 @@ impl ContactSetup {
         }
     }
 
+    /// The owned load `f + S anchor`: the springs pull towards the previous iterate.
+    fn anchored_load(&self, f: &[f64], anchor: &[f64], rows: std::ops::Range<usize>) -> Vec<f64> {
+        let mut load = f.to_vec();
+        if let Some(k) = self.spring {
+            for &node in &self.boundary.nodes {
+                for dof in [2 * node, 2 * node + 1] {
+                    if rows.contains(&dof) {
+                        load[dof - rows.start] += k * anchor[dof];
+                    }
+                }
+            }
+        }
+        load
+    }
+
     /// Add the stabilisation springs to the owned diagonal entries (CSR rows `first_row..`).
     pub fn add_springs(
         &mut self,
@@ -268,16 +283,7 @@ impl ContactSetup {
         let (run, force, uc, v_all, reaction, spring) = loop {
             // Proximal iterations on the stabilisation springs, as in `solve` (S = k I is the
             // same in the rotated frames).
-            let mut rk = f.clone();
-            if let Some(k) = self.spring {
-                for &node in &b.nodes {
-                    for dof in [2 * node, 2 * node + 1] {
-                        if rows.contains(&dof) {
-                            rk[dof - rows.start] += k * anchor[dof];
-                        }
-                    }
-                }
-            }
+            let rk = self.anchored_load(&f, &anchor, rows.clone());
             rk_vec.set_owned(&rk)?;
             let run = crate::petsc::bounded::solve_vi(session, matrix, &rk_vec, &lower, &upper, &mut v, "contact_")?;
             newton_steps += run.iterations;
@@ -436,16 +442,7 @@ impl ContactSetup {
         let mut initial_force: Option<Vec<f64>> = None;
         let (mut total_iterations, mut all_changes) = (0usize, Vec::new());
         loop {
-            let mut rk = f.clone();
-            if let Some(k) = self.spring {
-                for &node in &b.nodes {
-                    for dof in [2 * node, 2 * node + 1] {
-                        if rows.contains(&dof) {
-                            rk[dof - rows.start] += k * anchor[dof];
-                        }
-                    }
-                }
-            }
+            let rk = self.anchored_load(&f, &anchor, rows.clone());
             e.set_owned(&rk)?;
             ksp.solve(matrix, &e, &mut x)?;
             solves += 2;

@@ -194,16 +194,23 @@ impl<'s> ElasticityProblem<'s> {
         Ok((body, edge))
     }
 
-    /// Assemble this rank's rows of the stiffness matrix and load vector into PETSc objects.
-    pub fn assemble(&mut self) -> Result<()> {
-        let start = std::time::Instant::now();
+    /// Run `f` with the scene's loads (body force and edge tractions) as `fem` loads.
+    fn with_loads<T>(&self, f: impl FnOnce(&Loads) -> T) -> Result<T> {
         let (body, edge) = self.loads()?;
         let body_fn = body.map(|b| move |_x: [f64; 2]| b);
         let loads = Loads {
             body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
             edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
         };
-        let mut system = assembly::assemble(&self.mesh, &self.material, &self.constraints, &loads, self.rows.clone());
+        Ok(f(&loads))
+    }
+
+    /// Assemble this rank's rows of the stiffness matrix and load vector into PETSc objects.
+    pub fn assemble(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        let mut system = self.with_loads(|loads| {
+            assembly::assemble(&self.mesh, &self.material, &self.constraints, loads, self.rows.clone())
+        })?;
         if let Some(contact) = &mut self.contact {
             let m = &mut system.matrix;
             contact.add_springs(self.session, m.first_row, &m.indptr, &m.indices, &mut m.values)?;
@@ -281,24 +288,18 @@ impl<'s> ElasticityProblem<'s> {
         let free = contact.free_motions.clone().unwrap_or_default();
         if outcome.report.open == outcome.report.points {
             return Err(Error::Unconstrained(format!(
-                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free};                  add a Dirichlet condition or change the loads",
+                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free}; add a Dirichlet condition or change the loads",
                 contact.spec.part
             )));
         }
-        let (body, edge) = self.loads()?;
-        let body_fn = body.map(|b| move |_x: [f64; 2]| b);
-        let loads = Loads {
-            body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
-            edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
-        };
-        let f = assembly::load_vector(&self.mesh, &loads);
+        let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
         let applied = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
         let scale = applied[0].hypot(applied[1]).max(outcome.report.resultant[0].hypot(outcome.report.resultant[1]));
         let spring = outcome.report.stabilisation_force;
         if spring[0].hypot(spring[1]) > contact::EQUILIBRIUM_TOLERANCE * scale {
             let r = &outcome.report;
             return Err(Error::NoEquilibrium(format!(
-                "no static equilibrium: the loads ({:.4e}, {:.4e}) are not balanced by the contact forces ({:.4e}, {:.4e})                  and the supports ({free}); the body slides or moves away (normal contact force {:.4e}, tangential {:.4e},                  friction {})",
+                "no static equilibrium: the loads ({:.4e}, {:.4e}) are not balanced by the contact forces ({:.4e}, {:.4e}) and the supports ({free}); the body slides or moves away (normal contact force {:.4e}, tangential {:.4e}, friction {})",
                 applied[0], applied[1], r.resultant[0], r.resultant[1], r.normal_resultant, r.tangential_resultant, r.friction
             )));
         }
@@ -331,13 +332,7 @@ impl<'s> ElasticityProblem<'s> {
         let max_von_mises = von_mises.iter().cloned().fold(0.0, f64::max);
 
         // Reactions: r = K u − f on the fixed dofs, from unconstrained operators.
-        let (body, edge) = self.loads()?;
-        let body_fn = body.map(|b| move |_x: [f64; 2]| b);
-        let loads = Loads {
-            body_force: body_fn.as_ref().map(|f| f as &(dyn Fn([f64; 2]) -> [f64; 2] + Sync)),
-            edge_loads: edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect(),
-        };
-        let f = assembly::load_vector(&self.mesh, &loads);
+        let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
         let ku = assembly::residual_forces(&self.mesh, &self.material, u);
         let applied_force = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
         let mut reactions = std::collections::BTreeMap::new();

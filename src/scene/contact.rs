@@ -19,7 +19,8 @@
 //!
 //! # Obstacles and the gap
 //!
-//! The obstacle is a rigid region; [`ObstacleSpec::project`] gives, for a point `x` of the body,
+//! The obstacle is a rigid region; `contact::obstacle::Obstacle::project` (the one
+//! implementation, used by the driver) gives, for a point `x` of the body,
 //! the closest point `c` of the obstacle's surface, the unit normal `ν` of the surface at `c`
 //! pointing from the obstacle towards the body, and the signed distance `d` (> 0 on the body's
 //! side, < 0 inside the obstacle). The initial gap of a contact node is `g0 = d + gap` along the
@@ -128,17 +129,6 @@ impl ContactSolverSpec {
     }
 }
 
-/// The closest point of an obstacle's surface to a point of the body.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ObstacleProjection {
-    /// Signed distance: > 0 on the body's side of the surface, < 0 inside the obstacle.
-    pub distance: f64,
-    /// Unit normal of the surface at `closest`, pointing from the obstacle towards the body.
-    pub normal: [f64; 2],
-    /// The closest point of the surface.
-    pub closest: [f64; 2],
-}
-
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
@@ -147,85 +137,6 @@ fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 fn norm(a: [f64; 2]) -> f64 {
     a[0].hypot(a[1])
-}
-fn scaled(a: [f64; 2], s: f64) -> [f64; 2] {
-    [a[0] * s, a[1] * s]
-}
-
-impl ObstacleSpec {
-    /// Closest point, normal and signed distance of `x` (formulas in the module documentation).
-    /// A polyline given to this function must satisfy the checks of the scene parser (at least
-    /// two points, no zero-length segment); otherwise the result is not meaningful (but there is
-    /// no panic).
-    pub fn project(&self, x: [f64; 2]) -> ObstacleProjection {
-        match self {
-            ObstacleSpec::Line { point, normal } => {
-                let distance = dot(sub(x, *point), *normal);
-                ObstacleProjection { distance, normal: *normal, closest: sub(x, scaled(*normal, distance)) }
-            }
-            ObstacleSpec::Circle { center, radius } => {
-                let r = sub(x, *center);
-                let len = norm(r);
-                let normal = if len > 0.0 { scaled(r, 1.0 / len) } else { [0.0, 1.0] };
-                let closest = [center[0] + radius * normal[0], center[1] + radius * normal[1]];
-                ObstacleProjection { distance: len - radius, normal, closest }
-            }
-            ObstacleSpec::Polyline { points } => project_on_polyline(points, x),
-        }
-    }
-}
-
-/// See the module documentation: segments `k` from `points[k]` to `points[k + 1]`, the first one
-/// extended backwards and the last one forwards without end.
-fn project_on_polyline(points: &[[f64; 2]], x: [f64; 2]) -> ObstacleProjection {
-    let last = points.len().saturating_sub(2);
-    let tangent = |k: usize| {
-        let d = sub(points[k + 1], points[k]);
-        scaled(d, 1.0 / norm(d))
-    };
-    let left_normal = |k: usize| {
-        let t = tangent(k);
-        [-t[1], t[0]]
-    };
-    // (squared distance, segment, vertex index if the closest point is an inner vertex)
-    let mut best: Option<(f64, usize, Option<usize>, [f64; 2])> = None;
-    for k in 0..points.len().saturating_sub(1) {
-        let (p, t) = (points[k], tangent(k));
-        let length = norm(sub(points[k + 1], p));
-        let lo = if k == 0 { f64::NEG_INFINITY } else { 0.0 };
-        let hi = if k == last { f64::INFINITY } else { length };
-        let s = dot(sub(x, p), t).clamp(lo, hi);
-        let closest = [p[0] + s * t[0], p[1] + s * t[1]];
-        let vertex = match s {
-            s if s == 0.0 && k > 0 => Some(k),
-            s if s == length && k < last => Some(k + 1),
-            _ => None,
-        };
-        let d2 = dot(sub(x, closest), sub(x, closest));
-        if best.is_none_or(|(b, ..)| d2 < b) {
-            best = Some((d2, k, vertex, closest));
-        }
-    }
-    let Some((_, k, vertex, closest)) = best else {
-        return ObstacleProjection { distance: f64::NAN, normal: [f64::NAN; 2], closest: [f64::NAN; 2] };
-    };
-    match vertex {
-        None => {
-            let normal = left_normal(k);
-            ObstacleProjection { distance: dot(sub(x, points[k]), normal), normal, closest }
-        }
-        Some(j) => {
-            let pseudo = {
-                let (a, b) = (left_normal(j - 1), left_normal(j));
-                [a[0] + b[0], a[1] + b[1]]
-            };
-            let r = sub(x, points[j]);
-            let len = norm(r);
-            let sign = if dot(r, pseudo) >= 0.0 { 1.0 } else { -1.0 };
-            let normal = if len > 0.0 { scaled(r, sign / len) } else { scaled(pseudo, 1.0 / norm(pseudo)) };
-            ObstacleProjection { distance: sign * len, normal, closest: points[j] }
-        }
-    }
 }
 
 // ---- conversion -------------------------------------------------------------------------------

@@ -51,7 +51,7 @@ mod contact;
 mod diagnostic;
 mod raw;
 
-pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleProjection, ObstacleSpec};
+pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
 use crate::error::{Error, Location, Result};
 use crate::mesh::{Mesh, Order};
