@@ -127,6 +127,10 @@ pub fn elasticity_case(
     drop(system);
     let assemble_seconds = t.elapsed().as_secs_f64();
 
+    // Memory of the solve alone: reset the peak (VmHWM) to the current resident size first,
+    // or a solve smaller than the memory freed after assembly would not show.
+    crate::petsc::release_free_memory();
+    resources::reset_peak_memory();
     let before = resources::current_memory_bytes();
     let mut ksp = LinearSolver::new(session, session.world(), solver.prefix)?;
     let t = Instant::now();

@@ -19,6 +19,12 @@ pub fn peak_memory_bytes() -> Option<u64> {
     status_field_bytes("VmHWM")
 }
 
+/// Reset the peak (VmHWM) to the current resident size (Linux: `5` into
+/// `/proc/self/clear_refs`); returns false where that is not possible.
+pub fn reset_peak_memory() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
 /// Current resident memory of this process (`VmRSS`), in bytes.
 pub fn current_memory_bytes() -> Option<u64> {
     status_field_bytes("VmRSS")

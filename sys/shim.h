@@ -12,4 +12,5 @@ int signorini_allreduce_f64(MPI_Comm comm, const double *in, double *out, int n,
 int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, int n, int op);
 PetscReal signorini_petsc_infinity(void);
 PetscBool signorini_mpi_initialized(void);
+int signorini_release_free_memory(void);
 #endif
