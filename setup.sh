@@ -4,6 +4,17 @@
 # when everything is already there. Uses sudo when not run as root.
 set -euo pipefail
 
+# Rust: signorini needs rustc >= 1.87 (rustup); Debian 12's own rustc (1.63) is too old.
+if ! command -v cargo >/dev/null 2>&1; then
+  echo "setup: no cargo on PATH: install Rust >= 1.87 with rustup (https://rustup.rs), then run this again" >&2
+  exit 1
+fi
+rust_minor=$(rustc --version | sed -E 's/^rustc 1\.([0-9]+).*/\1/')
+if [ "${rust_minor:-0}" -lt 87 ]; then
+  echo "setup: $(rustc --version) is too old: signorini needs Rust >= 1.87 (rustup update)" >&2
+  exit 1
+fi
+
 packages=(libpetsc-real3.18-dev libclang-dev pkg-config openmpi-bin gmsh python3 python3-pip)
 
 SUDO=""
