@@ -14,7 +14,7 @@ usage:
   signorini run [SCENE] [--out DIR] [--quiet] [--contact-solver NAME] [PETSc options...]
       Solve the scene (a TOML file; without one, the embedded default scene) and write
       DIR/solution.vtu and DIR/report.json (DIR: --out, else the scene's [output] dir, else ./out).
-      --contact-solver overrides the scene's [contact] solver: newton, relaxation, dpana, uzawa,
+      --contact-solver overrides the scene's [contact] solver: newton_full (default), newton, relaxation, dpana, uzawa,
       tresca_fixed_point, snes_vi (frictionless), tao (Tresca).
       SCENE must come before the PETSc options. Examples:
         signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
@@ -256,15 +256,15 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
         [S::Newton, S::Relaxation { omega: 1.0 }, S::DPana, S::Uzawa, S::TrescaFixedPoint, S::SnesVi, S::Tao];
     let solver = candidates.into_iter().find(|c| c.scene_name() == name).ok_or_else(|| {
         Error::Usage(format!(
-            "--contact-solver {name}: unknown solver; choose one of newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
+            "--contact-solver {name}: unknown solver; choose one of newton_full, newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
         ))
     })?;
     match (&solver, &contact.friction) {
         (S::SnesVi, f) if *f != FrictionSpec::None => {
-            Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton".into()))
+            Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton_full".into()))
         }
         (S::Tao, f) if !matches!(f, FrictionSpec::Tresca { .. }) => {
-            Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton".into()))
+            Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()))
         }
         _ => {
             contact.solver = solver;

@@ -820,7 +820,7 @@ fn contact_patch_example_parses() {
     let c = s.contact.as_ref().unwrap();
     assert_eq!(c.part, "bottom");
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
-    assert_eq!((c.gap, c.friction, c.solver), (0.0, FrictionSpec::None, ContactSolverSpec::Newton));
+    assert_eq!((c.gap, c.friction, c.solver), (0.0, FrictionSpec::None, ContactSolverSpec::FullSpaceNewton));
     assert_eq!((c.tolerance, c.max_iterations), (None, None));
     assert_eq!((c.at.line, c.at.column), (line_of(&text, "part = \"bottom\""), "part = ".len() + 1));
     // the comment's exact solution: uy = -1e-5 y
@@ -860,7 +860,7 @@ fn hertz_example_parses() {
     let c = s.contact.as_ref().unwrap();
     assert_eq!(c.part, "arc");
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
-    assert_eq!((c.friction, c.solver), (FrictionSpec::None, ContactSolverSpec::Newton));
+    assert_eq!((c.friction, c.solver), (FrictionSpec::None, ContactSolverSpec::FullSpaceNewton));
 }
 
 #[test]
@@ -880,7 +880,10 @@ fn square_block_example_parses() {
     let c = s.contact.as_ref().unwrap();
     assert_eq!(c.part, "bottom");
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
-    assert_eq!((c.gap, c.friction, c.solver), (0.0, FrictionSpec::Coulomb { mu: 1.0 }, ContactSolverSpec::Newton));
+    assert_eq!(
+        (c.gap, c.friction, c.solver),
+        (0.0, FrictionSpec::Coulomb { mu: 1.0 }, ContactSolverSpec::FullSpaceNewton)
+    );
     // the mesh has nodes at the reference abscissae and at the fixed corner
     let mesh = signorini::mesh::structured::rectangle(origin, size, 32, 32, Order::P1).unwrap();
     s.check_against_mesh(&mesh).unwrap();
@@ -940,7 +943,8 @@ fn contact_defaults() {
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
     assert_eq!(c.gap, 0.0);
     assert_eq!(c.friction, FrictionSpec::None);
-    assert_eq!(c.solver, ContactSolverSpec::Newton);
+    // the default: the full-space semi-smooth Newton
+    assert_eq!(c.solver, ContactSolverSpec::FullSpaceNewton);
     assert_eq!((c.tolerance, c.max_iterations), (None, None));
     assert_eq!(
         (c.at.file.as_path(), c.at.line, c.at.column),
@@ -965,6 +969,7 @@ fn contact_with_every_option() {
     assert_eq!(c.solver, ContactSolverSpec::Relaxation { omega: 1.0 });
     for (name, solver) in [
         ("newton", ContactSolverSpec::Newton),
+        ("newton_full", ContactSolverSpec::FullSpaceNewton),
         ("dpana", ContactSolverSpec::DPana),
         ("uzawa", ContactSolverSpec::Uzawa),
         ("tresca_fixed_point", ContactSolverSpec::TrescaFixedPoint),
@@ -1239,11 +1244,13 @@ fn contact_unknown_solver() {
     let e = scene_error(&text);
     assert_eq!((e.line, e.column), (line_of(&text, "solver"), "solver = ".len() + 1));
     assert!(e.message.contains("solver") && e.message.contains("\"gauss_seidel\""), "{}", e.message);
-    for name in ["newton", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"] {
+    for name in ["newton", "newton_full", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"] {
         assert!(e.hint.contains(&format!("\"{name}\"")), "{name}: {}", e.hint);
     }
     let e = scene_error(&line_contact("solver = \"newtn\""));
     assert!(e.hint.contains("did you mean \"newton\"?"), "{}", e.hint);
+    let e = scene_error(&line_contact("solver = \"newton_ful\""));
+    assert!(e.hint.contains("did you mean \"newton_full\"?"), "{}", e.hint);
 }
 
 #[test]
@@ -1267,7 +1274,7 @@ fn contact_omega_for_another_solver() {
     assert!(e.message.contains("`omega`") && e.message.contains("solver = \"uzawa\""), "{}", e.message);
     assert!(e.hint.contains("solver = \"relaxation\""), "{}", e.hint);
     let e = scene_error(&line_contact("omega = 1.2"));
-    assert!(e.message.contains("default solver"), "{}", e.message);
+    assert!(e.message.contains("default solver") && e.message.contains("newton_full"), "{}", e.message);
 }
 
 #[test]

@@ -6,6 +6,9 @@
 //! - [`Vector`], [`Matrix`], [`LinearSolver`]: owning handles. They are moved, never copied;
 //!   they borrow the session so they cannot outlive `PetscFinalize`; `Drop` destroys them and
 //!   never panics.
+//! - [`nonlinear::NonlinearSolver`]: SNES on a system whose residual, Jacobian values and
+//!   convergence test are Rust code ([`nonlinear::NonlinearSystem`]); [`bounded`]: SNESVI and
+//!   TAO for bound-constrained problems. Callbacks catch panics and never unwind into C.
 //! - Every PETSc call goes through `check`: a nonzero code becomes [`Error::Petsc`] with
 //!   PETSc's own message (captured by an error handler we install, so PETSc prints nothing),
 //!   the call's name and the Rust file and line.
@@ -22,6 +25,7 @@ use signorini_sys as sys;
 pub mod bounded;
 mod linear_solver;
 mod matrix;
+pub mod nonlinear;
 mod vector;
 
 pub use linear_solver::{LinearSolver, SolveStats};

@@ -1,4 +1,7 @@
-//! Contact with a rigid obstacle in the primal formulation: the driver's part.
+//! Contact with a rigid obstacle in the primal formulation: the driver's part for the
+//! condensed solvers (`solver = "newton"`, `"relaxation"`, ...), SNESVI and TAO. The default,
+//! the full-space semi-smooth Newton (`"newton_full"`), is in `full_space.rs`; it falls back
+//! to the condensed route here.
 //!
 //! ```text
 //! setup     contact points on the scene's part (ContactBoundary: nodes, frames n/t, gaps,
@@ -8,7 +11,7 @@
 //! condense  u_free = B K⁻¹ f;  W = B K⁻¹ Bᵀ by one solve per contact unknown with the
 //!           factorised K (MUMPS by default: one factorisation, 2m triangular solves; m solves
 //!           without friction: the tangential block is not computed)
-//! solve     the condensed problem with the scene's solver (semi-smooth Newton by default)
+//! solve     the condensed problem with the scene's solver
 //! recover   u = K⁻¹ (f + Bᵀ r) by one more solve
 //! verify    residuals of (r, B u) — u from the field solve, not from W — and equilibrium
 //! ```
@@ -131,7 +134,7 @@ impl ContactSetup {
         }
     }
 
-    fn friction_name(&self) -> String {
+    pub(super) fn friction_name(&self) -> String {
         match self.spec.friction {
             FrictionSpec::None => "none".into(),
             FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
@@ -173,8 +176,30 @@ impl ContactSetup {
             .fold(0.0f64, |a, v| a.max(v.abs()));
         // The same k on every rank: the largest diagonal over all ranks.
         let max_diag = session.world().max(&[max_diag])?[0];
-        let k = STABILISATION * max_diag / self.boundary.points().max(1) as f64;
-        self.spring = Some(k);
+        self.set_stabilisation(max_diag);
+        match self.spring {
+            Some(k) => self.add_spring_values(k, first_row, indptr, indices, values),
+            None => Ok(()),
+        }
+    }
+
+    /// Choose the stabilisation spring stiffness from the largest diagonal entry of K (only
+    /// when the Dirichlet conditions leave a rigid motion free): `k = STABILISATION · max_diag / m`.
+    pub fn set_stabilisation(&mut self, max_diag: f64) {
+        if self.free_motions.is_some() {
+            self.spring = Some(STABILISATION * max_diag / self.boundary.points().max(1) as f64);
+        }
+    }
+
+    /// Add springs of stiffness `k` at the contact nodes to the owned diagonal entries.
+    pub fn add_spring_values(
+        &self,
+        k: f64,
+        first_row: usize,
+        indptr: &[usize],
+        indices: &[usize],
+        values: &mut [f64],
+    ) -> Result<()> {
         for &node in &self.boundary.nodes {
             for comp in 0..2 {
                 let row = 2 * node + comp;
@@ -536,7 +561,8 @@ impl ContactSetup {
     ) -> Result<contact::ContactSolution> {
         let m = problem.points();
         let solver = match &self.spec.solver {
-            ContactSolverSpec::Newton => ContactSolver::SemismoothNewton,
+            // The full-space Newton falls back to the condensed one.
+            ContactSolverSpec::Newton | ContactSolverSpec::FullSpaceNewton => ContactSolver::SemismoothNewton,
             ContactSolverSpec::Relaxation { omega } => ContactSolver::ProjectedRelaxation { omega: *omega },
             ContactSolverSpec::DPana => ContactSolver::DPana,
             ContactSolverSpec::Uzawa => ContactSolver::Uzawa { accelerated: true },
@@ -602,7 +628,7 @@ impl ContactSetup {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn report(
+    pub(super) fn report(
         &self,
         mesh: &Mesh,
         force: &[f64],

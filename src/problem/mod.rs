@@ -4,8 +4,11 @@
 //! ElasticityProblem::setup_system   mesh (generate or read), material, Dirichlet constraints,
 //!                                   contact points, rigid-motion check, row partition over MPI ranks
 //!                   ::assemble      stiffness rows and load vector of this rank -> PETSc AIJ
+//!                                   (kept as Rust CSR rows for the full-space contact route)
 //!                   ::solve         KSP (MUMPS Cholesky by default, any PETSc option), checked;
-//!                                   with a [contact] section: solve_contact (see contact.rs)
+//!                                   with a [contact] section: the full-space semi-smooth Newton
+//!                                   on (u, λ) through SNES by default (full_space.rs), or the
+//!                                   condensed solvers / SNESVI / TAO (contact.rs)
 //!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
 //!                   ::write_output  solution.vtu + report.json (rank 0, atomic)
 //! ```
@@ -18,7 +21,9 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 mod contact;
+mod full_space;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use full_space::{dof_ranges, MixedLayout};
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
@@ -28,7 +33,7 @@ use crate::mesh::{self, Mesh, Order};
 use crate::output::{self, vtu};
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::resources::{self, Timings};
-use crate::scene::{self, Scene};
+use crate::scene::{self, ContactSolverSpec, Scene};
 
 /// Everything a run reports (serialised to `report.json`).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -98,6 +103,9 @@ pub struct ElasticityProblem<'s> {
     pub timings: Timings,
     scene_options: Vec<String>,
     system: Option<(Matrix<'s>, Vector<'s>)>,
+    /// The owned rows of K and f, kept in Rust for the full-space contact route (which builds
+    /// its own mixed Jacobian instead of a PETSc K).
+    full_space_system: Option<assembly::LinearSystem>,
     pub stats: Option<SolveStats>,
     /// The whole displacement vector (dof = 2·node + component), on every rank.
     pub displacement: Option<Vec<f64>>,
@@ -153,9 +161,7 @@ impl<'s> ElasticityProblem<'s> {
             },
         };
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
-        let (size, rank) = (session.size(), session.rank());
-        let n = mesh.num_nodes();
-        let rows = 2 * (n * rank / size)..2 * (n * (rank + 1) / size);
+        let rows = dof_ranges(mesh.num_nodes(), session.size())[session.rank()].clone();
         timings.add("setup", start.elapsed().as_secs_f64());
         Ok(ElasticityProblem {
             session,
@@ -167,6 +173,7 @@ impl<'s> ElasticityProblem<'s> {
             timings,
             scene_options,
             system: None,
+            full_space_system: None,
             stats: None,
             displacement: None,
             results: None,
@@ -211,10 +218,21 @@ impl<'s> ElasticityProblem<'s> {
         let mut system = self.with_loads(|loads| {
             assembly::assemble(&self.mesh, &self.material, &self.constraints, loads, self.rows.clone())
         })?;
+        if let Some(contact) = self.contact.as_mut().filter(|c| c.spec.solver == ContactSolverSpec::FullSpaceNewton) {
+            // The full-space route keeps K unmodified (its springs live in the Jacobian only,
+            // and only while the contact does not hold the body) and builds its own matrix.
+            let m = &system.matrix;
+            let max_diag =
+                (0..m.num_rows()).map(|r| m.get(m.first_row + r, m.first_row + r).abs()).fold(0.0f64, f64::max);
+            contact.set_stabilisation(self.session.world().max(&[max_diag])?[0]);
+            self.full_space_system = Some(system);
+            self.timings.add("assemble", start.elapsed().as_secs_f64());
+            return Ok(());
+        }
         if let Some(contact) = &mut self.contact {
             let m = &mut system.matrix;
             contact.add_springs(self.session, m.first_row, &m.indptr, &m.indices, &mut m.values)?;
-            if contact.spec.solver == crate::scene::ContactSolverSpec::SnesVi {
+            if contact.spec.solver == ContactSolverSpec::SnesVi {
                 let n = self.mesh.num_nodes();
                 contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)?;
             }
@@ -242,13 +260,23 @@ impl<'s> ElasticityProblem<'s> {
     /// Solve the linear system with the KSP configured by the options database.
     pub fn solve(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
+        if let (Some(contact), Some(system)) = (&self.contact, &self.full_space_system) {
+            let ranges = dof_ranges(self.mesh.num_nodes(), self.session.size());
+            let (u, outcome, mut stats) =
+                contact.solve_full_space(self.session, &self.mesh, &self.constraints, system, &ranges, &mut |_| {})?;
+            stats.seconds = start.elapsed().as_secs_f64();
+            self.stats = Some(stats);
+            self.check_contact_equilibrium(&outcome)?;
+            self.displacement = Some(u);
+            self.contact_outcome = Some(outcome);
+            self.timings.add("solve", start.elapsed().as_secs_f64());
+            return Ok(());
+        }
         let (matrix, rhs) =
             self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
-        if let Some(contact) =
-            self.contact.as_ref().filter(|c| c.spec.solver == crate::scene::ContactSolverSpec::SnesVi)
-        {
+        if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == ContactSolverSpec::SnesVi) {
             let (u, outcome) = contact.solve_vi(self.session, &self.mesh, matrix, rhs)?;
             self.stats = Some(crate::petsc::SolveStats {
                 ksp_type: "snes vinewtonrsls".into(),
@@ -309,8 +337,30 @@ impl<'s> ElasticityProblem<'s> {
     /// Time one plain linear solve of the assembled system with the default-configured KSP
     /// (factorisation included): the yardstick the contact benchmark divides by.
     pub fn linear_solve_seconds(&self) -> Result<f64> {
-        let (matrix, rhs) =
-            self.system.as_ref().ok_or_else(|| Error::PetscUsage("linear_solve_seconds() before assemble()".into()))?;
+        // The full-space route keeps K as CSR rows only: build the PETSc matrix for the timing.
+        let built;
+        let (matrix, rhs) = match (&self.system, &self.full_space_system) {
+            (Some((m, b)), _) => (m, b),
+            (None, Some(system)) => {
+                let m = &system.matrix;
+                let matrix = Matrix::from_csr_rows(
+                    self.session,
+                    self.session.world(),
+                    self.num_dofs(),
+                    m.first_row,
+                    &m.indptr,
+                    &m.indices,
+                    &m.values,
+                    2,
+                    true,
+                )?;
+                let mut rhs = matrix.create_vector()?;
+                rhs.set_owned(&system.rhs)?;
+                built = (matrix, rhs);
+                (&built.0, &built.1)
+            }
+            _ => return Err(Error::PetscUsage("linear_solve_seconds() before assemble()".into())),
+        };
         let start = std::time::Instant::now();
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;

@@ -98,8 +98,12 @@ pub enum FrictionSpec {
 /// The algorithm for the contact problem (`solver = "..."`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactSolverSpec {
-    /// Semi-smooth Newton on the Alart–Curnier function (the default).
+    /// Semi-smooth Newton on the Alart–Curnier function of the condensed problem (flexibility
+    /// `W = B K⁻¹ Bᵀ` from `2m` solves), `solver = "newton"`.
     Newton,
+    /// Semi-smooth Newton on the whole mixed (displacement, contact force) system through PETSc
+    /// SNES, one sparse LU per step, `solver = "newton_full"` (the default).
+    FullSpaceNewton,
     /// Projected block Gauss–Seidel / SOR, over-relaxation factor `omega` in (0, 2).
     Relaxation { omega: f64 },
     /// D-PANA block relaxation (contact and friction alternately).
@@ -119,6 +123,7 @@ impl ContactSolverSpec {
     pub fn scene_name(&self) -> &'static str {
         match self {
             ContactSolverSpec::Newton => "newton",
+            ContactSolverSpec::FullSpaceNewton => "newton_full",
             ContactSolverSpec::Relaxation { .. } => "relaxation",
             ContactSolverSpec::DPana => "dpana",
             ContactSolverSpec::Uzawa => "uzawa",
@@ -144,7 +149,8 @@ fn norm(a: [f64; 2]) -> f64 {
 const OBSTACLES: &[&str] = &["line", "circle", "polyline"];
 const OBSTACLE_KEYS: &[&str] = &["point", "normal", "center", "radius", "points"];
 const FRICTIONS: &[&str] = &["none", "tresca", "coulomb"];
-const SOLVERS: &[&str] = &["newton", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"];
+const SOLVERS: &[&str] =
+    &["newton", "newton_full", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"];
 
 /// Convert and check `[contact]`; `dirichlet` are the scene's `[[dirichlet]]` tables (a clamped
 /// contact part is refused).
@@ -372,7 +378,7 @@ fn solver_spec(src: &Source, c: &RawContact, friction: &FrictionSpec) -> Result<
     if let (Some(v), false) = (&c.omega, name == Some("relaxation")) {
         let which = match name {
             Some(n) => format!("solver = \"{n}\""),
-            None => "the default solver (\"newton\")".to_string(),
+            None => "the default solver (\"newton_full\")".to_string(),
         };
         return Err(src.error(
             &v.span(),
@@ -390,7 +396,8 @@ fn solver_spec(src: &Source, c: &RawContact, friction: &FrictionSpec) -> Result<
         (FrictionSpec::Coulomb { .. }, _) => "friction = \"coulomb\"".to_string(),
     };
     Ok(match name {
-        None | Some("newton") => ContactSolverSpec::Newton,
+        None | Some("newton_full") => ContactSolverSpec::FullSpaceNewton,
+        Some("newton") => ContactSolverSpec::Newton,
         Some("relaxation") => {
             let omega = match &c.omega {
                 Some(v) => {
@@ -418,7 +425,7 @@ fn solver_spec(src: &Source, c: &RawContact, friction: &FrictionSpec) -> Result<
                     &solver_span,
                     format!("solver = \"snes_vi\" cannot handle {friction_name}"),
                     "PETSc's SNESVI solves bound-constrained problems: it handles the frictionless case only; \
-                     use solver = \"newton\" (semi-smooth Newton, any friction)",
+                     use solver = \"newton_full\" (semi-smooth Newton, any friction)",
                 ));
             }
             ContactSolverSpec::SnesVi
@@ -429,7 +436,7 @@ fn solver_spec(src: &Source, c: &RawContact, friction: &FrictionSpec) -> Result<
                     &solver_span,
                     format!("solver = \"tao\" needs friction = \"tresca\", found {friction_name}"),
                     "TAO's bound-constrained QP (tron, gpcg, bqpip) is for the Tresca problem; use \
-                     solver = \"newton\" (any friction), or \"snes_vi\" for frictionless contact",
+                     solver = \"newton_full\" (any friction), or \"snes_vi\" for frictionless contact",
                 ));
             }
             ContactSolverSpec::Tao

@@ -86,9 +86,16 @@ pub fn contact_patch_frictionless_exact(s: &Session) -> Result<(), String> {
     Ok(())
 }
 
+pub fn full_space_patch_frictionless_exact(s: &Session) -> Result<(), String> {
+    for order in [1, 2] {
+        patch(s, order, "newton_full")?;
+    }
+    Ok(())
+}
+
 /// The stick patch test (SCIENCE.md §7.2): uniform shear q on top of the compressed block, no
 /// support at all in x: the body is held sideways only by friction.
-fn stick_patch_text(q_over_p: f64, mu: f64, order: u32) -> (String, std::path::PathBuf) {
+fn stick_patch_text(q_over_p: f64, mu: f64, order: u32, solver: &str) -> (String, std::path::PathBuf) {
     let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);
     let _ = e;
     let side = nu * p / (1.0 - nu);
@@ -122,6 +129,7 @@ point = [0.0, 0.0]
 normal = [0.0, 1.0]
 friction = "coulomb"
 mu = {mu}
+solver = "{solver}"
 "#,
         mp = -p,
         ms = -side,
@@ -131,10 +139,18 @@ mu = {mu}
 }
 
 pub fn contact_stick_patch_exact_held_by_friction(s: &Session) -> Result<(), String> {
+    stick_patch(s, "newton")
+}
+
+pub fn full_space_stick_patch_exact_held_by_friction(s: &Session) -> Result<(), String> {
+    stick_patch(s, "newton_full")
+}
+
+fn stick_patch(s: &Session, solver: &str) -> Result<(), String> {
     let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);
     let q = 0.3 * p;
     for order in [1, 2] {
-        let (text, path) = stick_patch_text(0.3, 0.5, order);
+        let (text, path) = stick_patch_text(0.3, 0.5, order, solver);
         let pr = solve_text(s, &text, &path).map_err(|e| format!("P{order}: {e}"))?;
         let u = pr.displacement.as_ref().unwrap();
         let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * p / (e * (1.0 - nu));
@@ -157,23 +173,35 @@ pub fn contact_stick_patch_exact_held_by_friction(s: &Session) -> Result<(), Str
 }
 
 pub fn contact_stick_patch_sliding_has_no_static_solution(s: &Session) -> Result<(), String> {
-    let (text, path) = stick_patch_text(0.6, 0.5, 1);
-    match solve_text(s, &text, &path) {
-        Err(Error::NoEquilibrium(m)) => ensure(m.contains("slides"), || m.clone()),
-        Err(e) => Err(format!("wrong error: {e}")),
-        Ok(p) => Err(format!("a sliding body got a static answer: {:?}", p.contact_outcome.map(|o| o.report))),
+    for solver in ["newton", "newton_full"] {
+        let (text, path) = stick_patch_text(0.6, 0.5, 1, solver);
+        match solve_text(s, &text, &path) {
+            Err(Error::NoEquilibrium(m)) => ensure(m.contains("slides"), || format!("{solver}: {m}"))?,
+            Err(e) => return Err(format!("{solver}: wrong error: {e}")),
+            Ok(p) => {
+                return Err(format!(
+                    "{solver}: a sliding body got a static answer: {:?}",
+                    p.contact_outcome.map(|o| o.report)
+                ))
+            }
+        }
     }
+    Ok(())
 }
 
 pub fn contact_lift_off_is_an_error(s: &Session) -> Result<(), String> {
-    let (text, path) = example("contact_patch.toml");
-    // Pull the block up: it leaves the plane and nothing holds it.
-    let text = text.replacen("pressure = 1e6", "pressure = -1e6", 1);
-    match solve_text(s, &text, &path) {
-        Err(Error::Unconstrained(m)) => ensure(m.contains("lifts off"), || m.clone()),
-        Err(e) => Err(format!("wrong error: {e}")),
-        Ok(_) => Err("a body lifting off got an answer".into()),
+    for solver in ["newton", "newton_full"] {
+        let (text, path) = example("contact_patch.toml");
+        // Pull the block up: it leaves the plane and nothing holds it.
+        let text = text.replacen("pressure = 1e6", "pressure = -1e6", 1);
+        let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
+        match solve_text(s, &text, &path) {
+            Err(Error::Unconstrained(m)) => ensure(m.contains("lifts off"), || format!("{solver}: {m}"))?,
+            Err(e) => return Err(format!("{solver}: wrong error: {e}")),
+            Ok(_) => return Err(format!("{solver}: a body lifting off got an answer")),
+        }
     }
+    Ok(())
 }
 
 // ------------------------------------------------------------------ Hertz
@@ -209,7 +237,16 @@ fn hertz_fit(p: &ElasticityProblem) -> (f64, f64, Vec<(f64, f64)>) {
 }
 
 pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
+    hertz(s, "newton")
+}
+
+pub fn full_space_hertz_cylinder(s: &Session) -> Result<(), String> {
+    hertz(s, "newton_full")
+}
+
+fn hertz(s: &Session, solver: &str) -> Result<(), String> {
     let (text, path) = example("hertz.toml");
+    let text = format!("{text}solver = \"{solver}\"\n");
     let (r, e, nu) = (0.1, 210e9, 0.3);
     let load = 2.25e8 * 2.0 * r;
     let estar = e / (1.0 - nu * nu);
@@ -244,7 +281,16 @@ pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
 // ------------------------------------------------------------------ square block
 
 pub fn square_block_raous(s: &Session) -> Result<(), String> {
+    raous(s, "newton")
+}
+
+pub fn full_space_square_block_raous(s: &Session) -> Result<(), String> {
+    raous(s, "newton_full")
+}
+
+fn raous(s: &Session, solver: &str) -> Result<(), String> {
     let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
     let p = solve_text(s, &text, &path).map_err(|e| e.to_string())?;
     let u = p.displacement.as_ref().unwrap();
     let reference = [(0.0, 2.86e-5), (1.25e-3, 2.72e-5), (5e-3, 2.28e-5), (7.5e-3, 1.98e-5), (11.25e-3, 1.50e-5)];
@@ -303,6 +349,7 @@ pub fn contact_solvers_agree(s: &Session) -> Result<(), String> {
 
 pub fn newton_iterations_mesh_independent(s: &Session) -> Result<(), String> {
     let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "solver", "solver = \"newton\"");
     let mut its = Vec::new();
     for cell in ["1e-2", "5e-3", "2.5e-3", "1.25e-3", "6.25e-4"] {
         let t = set_line(&text, "cell_size", &format!("cell_size = {cell}"));
@@ -312,18 +359,102 @@ pub fn newton_iterations_mesh_independent(s: &Session) -> Result<(), String> {
     ensure(its.iter().all(|&n| (1..=12).contains(&n)), || format!("Newton iterations from coarse to fine: {its:?}"))
 }
 
-pub fn friction_coefficient_sweep_0_to_10(s: &Session) -> Result<(), String> {
+/// The full-space Newton on the square block from 4 to 64 cells per side: the same narrow
+/// range of Newton steps at every size, and no fallback to the condensed method.
+pub fn full_space_iterations_mesh_independent(s: &Session) -> Result<(), String> {
     let (text, path) = example("square_block.toml");
-    let text = set_line(&text, "cell_size", "cell_size = 5e-3");
-    let mut stick = Vec::new();
-    for mu in [0.0, 0.05, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0] {
-        let t = set_line(&text, "mu", &format!("mu = {mu}"));
-        let p = solve_text(s, &t, &path).map_err(|e| format!("mu = {mu}: {e}"))?;
-        let o = p.contact_outcome.as_ref().unwrap();
-        stick.push(o.report.stick);
-        if mu == 0.0 {
-            ensure(o.force.iter().skip(1).step_by(2).all(|&t| t == 0.0), || "mu = 0 produced friction forces".into())?;
-        }
+    let text = set_line(&text, "solver", "solver = \"newton_full\"");
+    let mut its = Vec::new();
+    for cell in ["1e-2", "5e-3", "2.5e-3", "1.25e-3", "6.25e-4"] {
+        let t = set_line(&text, "cell_size", &format!("cell_size = {cell}"));
+        let p = solve_text(s, &t, &path).map_err(|e| format!("{cell}: {e}"))?;
+        let r = &p.contact_outcome.as_ref().unwrap().report;
+        ensure(r.solver.starts_with("full-space"), || format!("{cell}: fell back: {:?}", r.notes))?;
+        its.push(r.iterations);
     }
-    ensure(stick.windows(2).all(|w| w[0] <= w[1]), || format!("stick counts not monotone in mu: {stick:?}"))
+    ensure(its.iter().all(|&n| (1..=15).contains(&n)), || {
+        format!("full-space Newton steps from coarse to fine: {its:?}")
+    })
+}
+
+/// The full-space and the condensed semi-smooth Newton methods give the same displacements on
+/// the small square block (Coulomb, Tresca, frictionless).
+pub fn full_space_agrees_with_condensed(s: &Session) -> Result<(), String> {
+    for friction in ["coulomb", "tresca", "none"] {
+        let mut fields = Vec::new();
+        for solver in ["newton", "newton_full"] {
+            let (text, path) = small_block(friction, solver);
+            let p = solve_text(s, &text, &path).map_err(|e| format!("{friction}/{solver}: {e}"))?;
+            let r = &p.contact_outcome.as_ref().unwrap().report;
+            ensure(solver == "newton" || r.solver.starts_with("full-space"), || {
+                format!("{friction}: the full-space run fell back: {:?}", r.notes)
+            })?;
+            fields.push(p.displacement.clone().unwrap());
+        }
+        let d = relative_difference(&fields[0], &fields[1]);
+        ensure(d < 1e-6, || format!("{friction}: newton_full differs from newton by {d:e}"))?;
+    }
+    Ok(())
+}
+
+pub fn friction_coefficient_sweep_0_to_10(s: &Session) -> Result<(), String> {
+    for solver in ["newton", "newton_full"] {
+        let (text, path) = example("square_block.toml");
+        let text = set_line(&text, "cell_size", "cell_size = 5e-3");
+        let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
+        let mut stick = Vec::new();
+        for mu in [0.0, 0.05, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0] {
+            let t = set_line(&text, "mu", &format!("mu = {mu}"));
+            let p = solve_text(s, &t, &path).map_err(|e| format!("{solver}, mu = {mu}: {e}"))?;
+            let o = p.contact_outcome.as_ref().unwrap();
+            stick.push(o.report.stick);
+            if mu == 0.0 {
+                ensure(o.force.iter().skip(1).step_by(2).all(|&t| t == 0.0), || {
+                    format!("{solver}: mu = 0 produced friction forces")
+                })?;
+            }
+            ensure(solver == "newton" || o.report.solver.starts_with("full-space"), || {
+                format!("mu = {mu}: the full-space Newton fell back: {:?}", o.report.notes)
+            })?;
+        }
+        ensure(stick.windows(2).all(|w| w[0] <= w[1]), || {
+            format!("{solver}: stick counts not monotone in mu: {stick:?}")
+        })?;
+    }
+    Ok(())
+}
+
+/// The default contact solver is the full-space Newton, and its report says what it did.
+pub fn full_space_is_the_default_and_reports(s: &Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "solver", "");
+    let p = solve_text(s, &text, &path).map_err(|e| e.to_string())?;
+    let r = &p.contact_outcome.as_ref().unwrap().report;
+    ensure(r.solver.starts_with("full-space semi-smooth Newton") && r.solver.contains("mumps"), || {
+        format!("default solver: {}", r.solver)
+    })?;
+    ensure(r.status_changes.len() == r.iterations && r.status_changes.last() == Some(&0), || {
+        format!("status changes {:?} over {} iterations", r.status_changes, r.iterations)
+    })?;
+    ensure(r.linear_solves == r.iterations, || format!("{} linear solves, {} steps", r.linear_solves, r.iterations))?;
+    let stats = p.stats.as_ref().unwrap();
+    ensure(stats.ksp_type.contains("snes newtonls") && stats.iterations == r.iterations, || format!("{stats:?}"))
+}
+
+/// A full-space run that cannot finish hands over to the condensed Newton; when that fails too,
+/// the error says what both tried.
+pub fn full_space_failure_falls_back_and_says_so(s: &Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let text = set_line(&text, "solver", "solver = \"newton_full\"\nmax_iterations = 3");
+    match solve_text(s, &text, &path) {
+        Err(Error::SolverDiverged { solver, tried, .. }) => ensure(
+            solver.contains("fallback from the full-space")
+                && tried.contains("first the full-space semi-smooth Newton")
+                && tried.contains("DIVERGED_MAX_IT")
+                && tried.contains("-contact_snes_monitor"),
+            || format!("{solver} / {tried}"),
+        ),
+        Err(e) => Err(format!("wrong error: {e}")),
+        Ok(p) => Err(format!("3 Newton steps were enough? {:?}", p.contact_outcome.map(|o| o.report))),
+    }
 }

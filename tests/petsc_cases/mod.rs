@@ -42,6 +42,15 @@ pub const TESTS: &[(&str, Case)] = &[
     ("contact_solvers_agree", contact::contact_solvers_agree),
     ("newton_iterations_mesh_independent", contact::newton_iterations_mesh_independent),
     ("friction_coefficient_sweep_0_to_10", contact::friction_coefficient_sweep_0_to_10),
+    ("full_space_patch_frictionless_exact", contact::full_space_patch_frictionless_exact),
+    ("full_space_stick_patch_exact_held_by_friction", contact::full_space_stick_patch_exact_held_by_friction),
+    ("full_space_agrees_with_condensed", contact::full_space_agrees_with_condensed),
+    ("full_space_square_block_raous", contact::full_space_square_block_raous),
+    ("full_space_iterations_mesh_independent", contact::full_space_iterations_mesh_independent),
+    ("full_space_hertz_cylinder", contact::full_space_hertz_cylinder),
+    ("full_space_is_the_default_and_reports", contact::full_space_is_the_default_and_reports),
+    ("full_space_failure_falls_back_and_says_so", contact::full_space_failure_falls_back_and_says_so),
+    ("nonlinear_solver_newton_and_callback_errors", nonlinear_solver_newton_and_callback_errors),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
@@ -443,4 +452,116 @@ fn driver_default_scene_equilibrium(s: &Session) -> Result<(), String> {
     let left = r.reactions.get("left").ok_or("no reaction on left")?;
     ensure((left[1] - 2e5).abs() < 1e-8 * 2e5 && left[0].abs() < 1e-8 * 2e5, || format!("reaction {left:?}"))?;
     ensure(r.equilibrium_residual < 1e-10, || format!("equilibrium {}", r.equilibrium_residual))
+}
+
+// ---------------------------------------------------------------- SNES wrapper
+
+/// F_i(x) = x_i² − (i + 1) + 0.1 (x_{i−1} + x_{i+1}) on a chain: a tridiagonal Jacobian.
+struct Chain {
+    n: usize,
+    first: usize,
+    local_columns: Vec<usize>,
+    indptr: Vec<usize>,
+    columns: Vec<usize>,
+    panic_in_residual: bool,
+    give_up: bool,
+}
+
+impl signorini::petsc::nonlinear::NonlinearSystem for Chain {
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> signorini::Result<()> {
+        if self.panic_in_residual {
+            panic!("residual exploded");
+        }
+        for (r, fr) in f.iter_mut().enumerate() {
+            let i = self.first + r;
+            let mut v = -((i + 1) as f64);
+            for p in self.indptr[r]..self.indptr[r + 1] {
+                let xj = x[self.local_columns[p]];
+                v += if self.columns[p] == i { xj * xj } else { 0.1 * xj };
+            }
+            *fr = v;
+        }
+        Ok(())
+    }
+    fn jacobian(&mut self, x: &[f64], values: &mut [f64]) -> signorini::Result<()> {
+        for r in 0..self.indptr.len() - 1 {
+            for p in self.indptr[r]..self.indptr[r + 1] {
+                let xj = x[self.local_columns[p]];
+                values[p] = if self.columns[p] == self.first + r { 2.0 * xj } else { 0.1 };
+            }
+        }
+        Ok(())
+    }
+    fn converged(
+        &mut self,
+        iteration: usize,
+        _x: &[f64],
+        f: &[f64],
+    ) -> signorini::Result<signorini::petsc::nonlinear::Convergence> {
+        use signorini::petsc::nonlinear::Convergence;
+        let worst = f.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        Ok(if self.give_up && iteration == 2 {
+            Convergence::Diverged("the chain gave up on purpose".into())
+        } else if worst < 1e-13 * self.n as f64 {
+            Convergence::Converged(format!("chain residual {worst:e}"))
+        } else {
+            Convergence::Iterating
+        })
+    }
+}
+
+fn nonlinear_solver_newton_and_callback_errors(s: &Session) -> Result<(), String> {
+    use signorini::petsc::nonlinear::NonlinearSolver;
+    let n: usize = 12;
+    let (mut indptr, mut columns) = (vec![0], Vec::new());
+    for i in 0..n {
+        columns.extend((i.saturating_sub(1)..(i + 2).min(n)).collect::<Vec<_>>());
+        indptr.push(columns.len());
+    }
+    let mut solver =
+        NonlinearSolver::new(s, s.world(), n, 0, &indptr, &columns, "chain_").map_err(|e| e.to_string())?;
+    ensure(solver.ghosts().is_empty(), || "ghosts on one rank".into())?;
+    let mut chain = Chain {
+        n,
+        first: 0,
+        local_columns: solver.local_columns().to_vec(),
+        indptr: indptr.clone(),
+        columns: columns.clone(),
+        panic_in_residual: false,
+        give_up: false,
+    };
+    let mut x = vec![1.0; n];
+    let run = solver.solve(&mut x, &mut chain, 50).map_err(|e| e.to_string())?;
+    // Check the answer against the equations themselves.
+    for i in 0..n {
+        let left = if i > 0 { x[i - 1] } else { 0.0 };
+        let right = if i + 1 < n { x[i + 1] } else { 0.0 };
+        let r = x[i] * x[i] - (i + 1) as f64 + 0.1 * (left + right);
+        ensure(r.abs() < 1e-11, || format!("equation {i}: residual {r:e} ({run:?})"))?;
+    }
+    ensure(run.iterations >= 3 && run.iterations <= 8 && run.converged_reason.contains("chain residual"), || {
+        format!("{run:?}")
+    })?;
+    ensure(run.factor_package.as_deref() == Some("mumps") && run.method.contains("newtonls"), || format!("{run:?}"))?;
+    // A panic inside a callback is an error, not an abort.
+    chain.panic_in_residual = true;
+    let mut y = vec![1.0; n];
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {})); // the panic is expected: keep the output clean
+    let outcome = solver.solve(&mut y, &mut chain, 50);
+    std::panic::set_hook(hook);
+    match outcome {
+        Err(Error::PetscUsage(m)) => ensure(m.contains("panicked") && m.contains("residual exploded"), || m.clone())?,
+        other => return Err(format!("expected a callback error, got {other:?}")),
+    }
+    // The system's own verdict stops the iteration with its reason.
+    chain.panic_in_residual = false;
+    chain.give_up = true;
+    match solver.solve(&mut y, &mut chain, 50) {
+        Err(Error::SolverDiverged { reason, iterations, tried, .. }) => ensure(
+            reason.contains("gave up on purpose") && iterations == 2 && tried.contains("-chain_snes_monitor"),
+            || format!("{reason} / {iterations} / {tried}"),
+        ),
+        other => Err(format!("expected SolverDiverged, got {other:?}")),
+    }
 }

@@ -1,0 +1,579 @@
+//! Nonlinear systems `F(x) = 0` through PETSc SNES, with the residual, the Jacobian and the
+//! convergence test written in Rust ([`NonlinearSystem`]).
+//!
+//! ```text
+//!   NonlinearSolver::new     the Jacobian's sparsity (this rank's CSR rows, global columns):
+//!                            an AIJ matrix preallocated exactly (every entry of the pattern is
+//!                            stored, zeros included), and the "ghosted" layout of x below
+//!   NonlinearSolver::solve   SNES newtonls (line search "basic": full Newton steps; any
+//!                            -<prefix>snes_linesearch_type from the options), KSP preonly + LU
+//!                            (MUMPS) unless -<prefix>ksp_type / -<prefix>pc_type are given
+//! ```
+//!
+//! ## What the callbacks see
+//!
+//! Every callback gets the **ghosted** iterate `x_local`: first this rank's owned entries (in
+//! global order), then the *ghosts* — the off-rank entries that appear as columns of the owned
+//! rows of the Jacobian pattern, in increasing global order. So the residual of a row may use
+//! every unknown its Jacobian row couples to, and nothing else (that is what the pattern
+//! means). [`NonlinearSolver::local_columns`] maps each pattern entry to its position in
+//! `x_local`. The ghosts are brought in by one `VecScatter` per callback.
+//!
+//! - residual: `f[r] = F_{first_row + r}(x)` for the owned rows;
+//! - Jacobian: the values of the owned rows in the pattern's order (`values[k]` is the entry
+//!   of pattern position `k`); the matrix is refilled from them at every evaluation (a solver
+//!   may modify its Jacobian in place, and the pattern never changes, so the LU symbolic
+//!   analysis is reused);
+//! - convergence: called after every Newton step (and once at the initial guess, iteration 0)
+//!   with the iterate and its residual; it decides (PETSc's norm tests are not used: a mixed
+//!   system's residual mixes units);
+//! - step length: a factor in `(0, 1]` applied to every Newton direction before PETSc's line
+//!   search (with the default line search "basic", the step actually taken): the system's own
+//!   globalization (a line search on its own merit function, damping when its active set
+//!   cycles). It sees the owned entries of the iterate and of the direction.
+//!
+//! ## Safety rules
+//!
+//! Callbacks run inside `catch_unwind` (a panic never crosses the FFI boundary: it becomes an
+//! error). A callback's `Err` is kept and returned by [`NonlinearSolver::solve`] instead of
+//! PETSc's generic code. The context pointer given to PETSc points to a box that lives on
+//! `solve`'s stack frame until the SNES, which holds the pointer, is destroyed (a guard
+//! destroys it before the box is dropped). A negative SNES reason becomes
+//! [`Error::SolverDiverged`] with the method that ran and the options to try.
+use std::ffi::c_void;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use super::{cstring, from_c, petsc, to_petsc_int, Comm, Matrix, Session, Vector};
+use crate::error::{Error, Result};
+use signorini_sys as sys;
+
+/// PETSc error code returned by a callback that failed or panicked (PETSC_ERR_LIB).
+const CALLBACK_FAILED: sys::PetscErrorCode = 76;
+
+/// The verdict of [`NonlinearSystem::converged`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum Convergence {
+    Iterating,
+    /// Converged; the text says by which test (it becomes the reported reason).
+    Converged(String),
+    /// Give up; the text says why.
+    Diverged(String),
+}
+
+/// A nonlinear system for [`NonlinearSolver::solve`] (see the module documentation for what
+/// `x` holds in each callback).
+pub trait NonlinearSystem {
+    /// `f = F(x)` on the owned rows.
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()>;
+    /// The Jacobian's values at `x`, one per pattern entry of the owned rows.
+    fn jacobian(&mut self, x: &[f64], values: &mut [f64]) -> Result<()>;
+    /// After Newton step `iteration` (0: the initial guess), with `f = F(x)` on the owned rows.
+    fn converged(&mut self, iteration: usize, x: &[f64], f: &[f64]) -> Result<Convergence>;
+    /// Length `t ∈ (0, 1]` of the next step along the Newton direction `d` (the update is
+    /// `x − t d`, PETSc's sign convention), from this rank's owned entries of `x` and `d`:
+    /// the system's own line search or damping. Default 1 (full steps).
+    fn step_length(&mut self, x: &[f64], direction: &[f64]) -> Result<f64> {
+        let _ = (x, direction);
+        Ok(1.0)
+    }
+}
+
+/// What a nonlinear solve did.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct NonlinearSolve {
+    /// e.g. "PETSc SNES newtonls (line search basic), KSP preonly + lu (mumps)".
+    pub method: String,
+    pub ksp_type: String,
+    pub pc_type: String,
+    pub factor_package: Option<String>,
+    /// Newton steps.
+    pub iterations: usize,
+    /// Krylov iterations over all steps (1 per step for a direct solve).
+    pub linear_iterations: usize,
+    pub residual_evaluations: usize,
+    pub converged_reason: String,
+}
+
+/// A SNES solver for one sparsity pattern (see the module documentation).
+pub struct NonlinearSolver<'s> {
+    session: &'s Session,
+    comm: Comm,
+    jacobian: Matrix<'s>,
+    first_row: usize,
+    indptr: Vec<usize>,
+    columns: Vec<sys::PetscInt>,
+    local_columns: Vec<usize>,
+    ghosts: Vec<usize>,
+    local: Vector<'s>,
+    scatter: ScatterGuard,
+    prefix: String,
+}
+
+struct ScatterGuard(sys::VecScatter);
+impl Drop for ScatterGuard {
+    fn drop(&mut self) {
+        // SAFETY: owned handle; errors ignored (Drop never panics).
+        let _ = unsafe { sys::VecScatterDestroy(&mut self.0) };
+    }
+}
+struct SnesGuard(sys::SNES);
+impl Drop for SnesGuard {
+    fn drop(&mut self) {
+        // SAFETY: owned handle; errors ignored.
+        let _ = unsafe { sys::SNESDestroy(&mut self.0) };
+    }
+}
+struct IsGuard(sys::IS);
+impl Drop for IsGuard {
+    fn drop(&mut self) {
+        // SAFETY: owned handle; errors ignored.
+        let _ = unsafe { sys::ISDestroy(&mut self.0) };
+    }
+}
+
+impl<'s> NonlinearSolver<'s> {
+    /// The solver for a system of order `global` whose Jacobian has, on this rank, the CSR rows
+    /// `first_row .. first_row + indptr.len() − 1` (global column indices, strictly increasing
+    /// per row; the ranks' blocks follow each other in rank order). Options are read with
+    /// `prefix` (e.g. `contact_`: `-contact_snes_monitor`, `-contact_ksp_type gmres`).
+    pub fn new(
+        session: &'s Session,
+        comm: Comm,
+        global: usize,
+        first_row: usize,
+        indptr: &[usize],
+        indices: &[usize],
+        prefix: &str,
+    ) -> Result<Self> {
+        let zeros = vec![0.0; indices.len()];
+        // Checks the pattern (sorted, in range, layout) and stores every entry, zeros included.
+        let jacobian = Matrix::from_csr_rows(session, comm, global, first_row, indptr, indices, &zeros, 1, false)?;
+        let owned = jacobian.owned_rows();
+        let mut ghosts: Vec<usize> = indices.iter().copied().filter(|c| !owned.contains(c)).collect();
+        ghosts.sort_unstable();
+        ghosts.dedup();
+        let local_columns: Vec<usize> =
+            indices
+                .iter()
+                .map(|&c| {
+                    if owned.contains(&c) {
+                        c - owned.start
+                    } else {
+                        owned.len() + ghosts.binary_search(&c).unwrap_or(0)
+                    }
+                })
+                .collect();
+        let columns =
+            indices.iter().map(|&c| to_petsc_int(c, "column index")).collect::<Result<Vec<sys::PetscInt>>>()?;
+        let from: Vec<sys::PetscInt> = owned
+            .clone()
+            .chain(ghosts.iter().copied())
+            .map(|c| to_petsc_int(c, "ghosted index"))
+            .collect::<Result<_>>()?;
+        let n_local = from.len();
+        let local = Vector::new(session, session.self_comm(), n_local, n_local)?;
+        let template = jacobian.create_vector()?;
+        let mut is: sys::IS = std::ptr::null_mut();
+        petsc!(ISCreateGeneral(
+            session.self_comm().raw(),
+            to_petsc_int(n_local, "ghosted size")?,
+            from.as_ptr(),
+            sys::PetscCopyMode::PETSC_COPY_VALUES,
+            &mut is
+        ))?;
+        let is = IsGuard(is);
+        let mut scatter: sys::VecScatter = std::ptr::null_mut();
+        petsc!(VecScatterCreate(template.raw, is.0, local.raw, std::ptr::null_mut(), &mut scatter))?;
+        Ok(NonlinearSolver {
+            session,
+            comm,
+            jacobian,
+            first_row,
+            indptr: indptr.to_vec(),
+            columns,
+            local_columns,
+            ghosts,
+            local,
+            scatter: ScatterGuard(scatter),
+            prefix: prefix.to_string(),
+        })
+    }
+
+    /// For each entry of the pattern (in order), its position in the ghosted `x` of the
+    /// callbacks.
+    pub fn local_columns(&self) -> &[usize] {
+        &self.local_columns
+    }
+
+    /// The off-rank unknowns the owned rows couple to (global indices, increasing); they follow
+    /// the owned entries in the ghosted `x`.
+    pub fn ghosts(&self) -> &[usize] {
+        &self.ghosts
+    }
+
+    /// Solve `F(x) = 0` from the initial guess `x` (this rank's owned entries), which receives
+    /// the solution. At most `max_iterations` Newton steps.
+    pub fn solve(
+        &mut self,
+        x: &mut [f64],
+        system: &mut dyn NonlinearSystem,
+        max_iterations: usize,
+    ) -> Result<NonlinearSolve> {
+        let owned = self.jacobian.owned_rows();
+        if x.len() != owned.len() {
+            return Err(Error::PetscUsage(format!(
+                "nonlinear solve: {} initial values for {} owned unknowns",
+                x.len(),
+                owned.len()
+            )));
+        }
+        let mut xv = self.jacobian.create_vector()?;
+        xv.set_owned(x)?;
+        let residual = xv.duplicate()?;
+        let mut context = Box::new(Context {
+            system,
+            scatter: self.scatter.0,
+            local: self.local.raw,
+            owned: owned.len(),
+            first_row: self.first_row,
+            indptr: &self.indptr,
+            columns: &self.columns,
+            values: vec![0.0; self.columns.len()],
+            error: None,
+            verdict: None,
+        });
+        let ctx = &mut *context as *mut Context as *mut c_void;
+        let mut snes: sys::SNES = std::ptr::null_mut();
+        petsc!(SNESCreate(self.comm.raw(), &mut snes))?;
+        let guard = SnesGuard(snes);
+        let prefix = cstring(&self.prefix)?;
+        petsc!(SNESSetOptionsPrefix(snes, prefix.as_ptr()))?;
+        petsc!(SNESSetType(snes, c"newtonls".as_ptr()))?;
+        petsc!(SNESSetFunction(snes, residual.raw, Some(residual_callback), ctx))?;
+        petsc!(SNESSetJacobian(snes, self.jacobian.raw, self.jacobian.raw, Some(jacobian_callback), ctx))?;
+        petsc!(SNESSetConvergenceTest(snes, Some(convergence_callback), ctx, None))?;
+        let max_it = to_petsc_int(max_iterations.max(1), "iteration limit")?;
+        petsc!(SNESSetTolerances(snes, 0.0, 0.0, 0.0, max_it, 1_000_000))?;
+        let mut line_search: sys::SNESLineSearch = std::ptr::null_mut();
+        petsc!(SNESGetLineSearch(snes, &mut line_search))?;
+        petsc!(SNESLineSearchSetType(line_search, c"basic".as_ptr()))?;
+        let mut ksp: sys::KSP = std::ptr::null_mut();
+        petsc!(SNESGetKSP(snes, &mut ksp))?;
+        let (ksp_opt, pc_opt) = (format!("-{}ksp_type", self.prefix), format!("-{}pc_type", self.prefix));
+        if !self.session.has_option(&ksp_opt)? && !self.session.has_option(&pc_opt)? {
+            let mut pc: sys::PC = std::ptr::null_mut();
+            petsc!(KSPGetPC(ksp, &mut pc))?;
+            petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
+            petsc!(PCSetType(pc, c"lu".as_ptr()))?;
+            petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
+            // AMF ordering, as for the linear solves (Debian's MUMPS has no METIS).
+            let ordering = format!("-{}mat_mumps_icntl_7", self.prefix);
+            if !self.session.has_option(&ordering)? {
+                self.session.set_option(&ordering, Some("2"))?;
+            }
+        } else {
+            // Iterative inner solves: tight by default, so that Newton keeps its speed.
+            petsc!(KSPSetTolerances(ksp, 1e-12, 1e-50, 1e8, 10_000))?;
+        }
+        petsc!(SNESSetFromOptions(snes))?;
+        // After SetFromOptions: a line search type chosen there keeps the damping hook.
+        petsc!(SNESGetLineSearch(snes, &mut line_search))?;
+        petsc!(SNESLineSearchSetPreCheck(line_search, Some(precheck_callback), ctx))?;
+        let code = {
+            // SAFETY: snes and xv are live handles; ctx outlives the call (it is dropped after
+            // the SNES guard).
+            unsafe { sys::SNESSolve(snes, std::ptr::null_mut(), xv.raw) }
+        };
+        if let Some(e) = context.error.take() {
+            return Err(e);
+        }
+        super::check(code, "SNESSolve")?;
+        let mut reason = sys::SNESConvergedReason(0);
+        petsc!(SNESGetConvergedReason(snes, &mut reason))?;
+        let mut reason_str: *const std::ffi::c_char = std::ptr::null();
+        petsc!(SNESGetConvergedReasonString(snes, &mut reason_str))?;
+        let (mut its, mut lits, mut fevals): (sys::PetscInt, sys::PetscInt, sys::PetscInt) = (0, 0, 0);
+        petsc!(SNESGetIterationNumber(snes, &mut its))?;
+        petsc!(SNESGetLinearSolveIterations(snes, &mut lits))?;
+        petsc!(SNESGetNumberFunctionEvals(snes, &mut fevals))?;
+        let mut fnorm = 0.0;
+        petsc!(SNESGetFunctionNorm(snes, &mut fnorm))?;
+        let (ksp_type, pc_type, factor_package) = ksp_names(ksp)?;
+        let mut ls_type: sys::SNESLineSearchType = std::ptr::null();
+        petsc!(SNESLineSearchGetType(line_search, &mut ls_type))?;
+        let mut snes_type: sys::SNESType = std::ptr::null();
+        petsc!(SNESGetType(snes, &mut snes_type))?;
+        let method = format!(
+            "PETSc SNES {} (line search {}), KSP {ksp_type} + {pc_type}{}",
+            from_c(snes_type),
+            from_c(ls_type),
+            factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default()
+        );
+        let verdict = context.verdict.take();
+        drop(guard);
+        drop(context);
+        let petsc_reason = from_c(reason_str);
+        let solve = NonlinearSolve {
+            method: method.clone(),
+            ksp_type,
+            pc_type,
+            factor_package,
+            iterations: its.max(0) as usize,
+            linear_iterations: lits.max(0) as usize,
+            residual_evaluations: fevals.max(0) as usize,
+            converged_reason: match &verdict {
+                Some(Convergence::Converged(why)) => why.clone(),
+                _ => petsc_reason.clone(),
+            },
+        };
+        if reason.0 < 0 {
+            let why = match verdict {
+                Some(Convergence::Diverged(why)) => why,
+                _ => petsc_reason,
+            };
+            return Err(Error::SolverDiverged {
+                solver: method.clone(),
+                reason: why,
+                iterations: solve.iterations,
+                residual: fnorm,
+                tried: format!(
+                    "{method}, up to {max_iterations} Newton steps; watch it with -{p}snes_monitor \
+                     -{p}snes_converged_reason, try -{p}snes_linesearch_type bt, or another inner solver \
+                     (-{p}ksp_type, -{p}pc_type)",
+                    p = self.prefix
+                ),
+            });
+        }
+        x.copy_from_slice(&xv.owned_values()?);
+        Ok(solve)
+    }
+}
+
+fn ksp_names(ksp: sys::KSP) -> Result<(String, String, Option<String>)> {
+    let mut kt: sys::KSPType = std::ptr::null();
+    petsc!(KSPGetType(ksp, &mut kt))?;
+    let mut pc: sys::PC = std::ptr::null_mut();
+    petsc!(KSPGetPC(ksp, &mut pc))?;
+    let mut pt: sys::PCType = std::ptr::null();
+    petsc!(PCGetType(pc, &mut pt))?;
+    let (k, p) = (from_c(kt), from_c(pt));
+    let package = if p == "lu" || p == "cholesky" {
+        let mut st: sys::MatSolverType = std::ptr::null();
+        petsc!(PCFactorGetMatSolverType(pc, &mut st))?;
+        Some(if st.is_null() { "petsc".to_string() } else { from_c(st) })
+    } else {
+        None
+    };
+    Ok((k, p, package))
+}
+
+/// What the callbacks reach through PETSc's context pointer.
+struct Context<'a> {
+    system: &'a mut dyn NonlinearSystem,
+    scatter: sys::VecScatter,
+    /// The ghosted sequential vector.
+    local: sys::Vec,
+    owned: usize,
+    first_row: usize,
+    indptr: &'a [usize],
+    columns: &'a [sys::PetscInt],
+    values: Vec<f64>,
+    /// The first error a callback returned (or a panic), reported by `solve`.
+    error: Option<Error>,
+    /// The last verdict of the convergence test.
+    verdict: Option<Convergence>,
+}
+
+impl Context<'_> {
+    fn keep(&mut self, e: Error) -> sys::PetscErrorCode {
+        if self.error.is_none() {
+            self.error = Some(e);
+        }
+        CALLBACK_FAILED
+    }
+
+    /// Scatter `x` into the ghosted vector and run `f` on its entries.
+    fn with_ghosted<T>(&mut self, x: sys::Vec, f: impl FnOnce(&mut Self, &[f64]) -> T) -> Result<T> {
+        petsc!(VecScatterBegin(
+            self.scatter,
+            x,
+            self.local,
+            sys::InsertMode::INSERT_VALUES,
+            sys::ScatterMode::SCATTER_FORWARD
+        ))?;
+        petsc!(VecScatterEnd(
+            self.scatter,
+            x,
+            self.local,
+            sys::InsertMode::INSERT_VALUES,
+            sys::ScatterMode::SCATTER_FORWARD
+        ))?;
+        let mut n: sys::PetscInt = 0;
+        petsc!(VecGetLocalSize(self.local, &mut n))?;
+        let mut ptr: *const f64 = std::ptr::null();
+        petsc!(VecGetArrayRead(self.local, &mut ptr))?;
+        let copy: Vec<f64> = if n > 0 {
+            // SAFETY: the array holds n entries until restored.
+            unsafe { std::slice::from_raw_parts(ptr, n as usize) }.to_vec()
+        } else {
+            Vec::new()
+        };
+        petsc!(VecRestoreArrayRead(self.local, &mut ptr))?;
+        Ok(f(self, &copy))
+    }
+}
+
+/// Run `body` on the context, catching panics and keeping errors.
+fn guarded(ctx: *mut c_void, body: impl FnOnce(&mut Context) -> Result<()>) -> sys::PetscErrorCode {
+    // SAFETY: ctx is the boxed Context of `solve`, alive during SNESSolve; PETSc calls back
+    // on this thread only, one callback at a time.
+    let context = unsafe { &mut *(ctx as *mut Context) };
+    let outcome = catch_unwind(AssertUnwindSafe(|| body(&mut *context)));
+    match outcome {
+        Ok(Ok(())) => 0,
+        Ok(Err(e)) => context.keep(e),
+        Err(panic) => {
+            let message = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            context.keep(Error::PetscUsage(format!("a nonlinear-system callback panicked: {message}")))
+        }
+    }
+}
+
+unsafe extern "C" fn residual_callback(
+    _snes: sys::SNES,
+    x: sys::Vec,
+    f: sys::Vec,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| {
+        let owned = c.owned;
+        let mut ptr: *mut f64 = std::ptr::null_mut();
+        petsc!(VecGetArray(f, &mut ptr))?;
+        let result = c.with_ghosted(x, |c, xl| {
+            let out: &mut [f64] = if owned > 0 {
+                // SAFETY: f has the layout of the unknowns: `owned` local entries.
+                unsafe { std::slice::from_raw_parts_mut(ptr, owned) }
+            } else {
+                &mut []
+            };
+            c.system.residual(xl, out)
+        });
+        petsc!(VecRestoreArray(f, &mut ptr))?;
+        result?
+    })
+}
+
+unsafe extern "C" fn jacobian_callback(
+    _snes: sys::SNES,
+    x: sys::Vec,
+    jac: sys::Mat,
+    pre: sys::Mat,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| {
+        let mut values = std::mem::take(&mut c.values);
+        let result = c.with_ghosted(x, |c, xl| c.system.jacobian(xl, &mut values));
+        let fill = |m: sys::Mat, c: &Context| -> Result<()> {
+            for r in 0..c.indptr.len() - 1 {
+                let (a, b) = (c.indptr[r], c.indptr[r + 1]);
+                let row = (c.first_row + r) as sys::PetscInt;
+                petsc!(MatSetValues(
+                    m,
+                    1,
+                    &row,
+                    (b - a) as sys::PetscInt,
+                    c.columns[a..b].as_ptr(),
+                    values[a..b].as_ptr(),
+                    sys::InsertMode::INSERT_VALUES
+                ))?;
+            }
+            petsc!(MatAssemblyBegin(m, sys::MatAssemblyType::MAT_FINAL_ASSEMBLY))?;
+            petsc!(MatAssemblyEnd(m, sys::MatAssemblyType::MAT_FINAL_ASSEMBLY))
+        };
+        let outcome = result.and_then(|r| r).and_then(|_| {
+            fill(pre, c)?;
+            if jac != pre {
+                fill(jac, c)?;
+            }
+            Ok(())
+        });
+        c.values = values;
+        outcome
+    })
+}
+
+unsafe extern "C" fn convergence_callback(
+    snes: sys::SNES,
+    iteration: sys::PetscInt,
+    _xnorm: f64,
+    _snorm: f64,
+    _fnorm: f64,
+    reason: *mut sys::SNESConvergedReason,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| {
+        let mut x: sys::Vec = std::ptr::null_mut();
+        petsc!(SNESGetSolution(snes, &mut x))?;
+        let mut f: sys::Vec = std::ptr::null_mut();
+        petsc!(SNESGetFunction(snes, &mut f, std::ptr::null_mut(), std::ptr::null_mut()))?;
+        let owned = c.owned;
+        let mut ptr: *const f64 = std::ptr::null();
+        petsc!(VecGetArrayRead(f, &mut ptr))?;
+        let f_owned: Vec<f64> = if owned > 0 {
+            // SAFETY: the residual vector has `owned` local entries.
+            unsafe { std::slice::from_raw_parts(ptr, owned) }.to_vec()
+        } else {
+            Vec::new()
+        };
+        petsc!(VecRestoreArrayRead(f, &mut ptr))?;
+        let verdict = c.with_ghosted(x, |c, xl| c.system.converged(iteration.max(0) as usize, xl, &f_owned))??;
+        let code = match &verdict {
+            Convergence::Iterating => sys::SNESConvergedReason::SNES_CONVERGED_ITERATING,
+            Convergence::Converged(_) => sys::SNESConvergedReason::SNES_CONVERGED_FNORM_ABS,
+            Convergence::Diverged(_) => sys::SNESConvergedReason::SNES_DIVERGED_DTOL,
+        };
+        // SAFETY: PETSc passes a valid pointer to the reason.
+        unsafe { *reason = code };
+        c.verdict = Some(verdict);
+        Ok(())
+    })
+}
+
+unsafe extern "C" fn precheck_callback(
+    _line_search: sys::SNESLineSearch,
+    x: sys::Vec,
+    y: sys::Vec,
+    changed: *mut sys::PetscBool,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| {
+        let owned = c.owned;
+        let read = |v: sys::Vec| -> Result<Vec<f64>> {
+            let mut ptr: *const f64 = std::ptr::null();
+            petsc!(VecGetArrayRead(v, &mut ptr))?;
+            let out = if owned > 0 {
+                // SAFETY: the vectors have the unknowns' layout: `owned` local entries.
+                unsafe { std::slice::from_raw_parts(ptr, owned) }.to_vec()
+            } else {
+                Vec::new()
+            };
+            petsc!(VecRestoreArrayRead(v, &mut ptr))?;
+            Ok(out)
+        };
+        let (xs, ys) = (read(x)?, read(y)?);
+        let scale = c.system.step_length(&xs, &ys)?;
+        if !(scale > 0.0 && scale <= 1.0) {
+            return Err(Error::PetscUsage(format!("step scale {scale} is not in (0, 1]")));
+        }
+        if scale < 1.0 {
+            petsc!(VecScale(y, scale))?;
+            // SAFETY: PETSc passes a valid pointer.
+            unsafe { *changed = sys::PetscBool::PETSC_TRUE };
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,1116 @@
+//! Contact with a rigid obstacle: the full-space semi-smooth Newton method on the mixed
+//! (displacement, contact force) system through PETSc SNES — the driver's part.
+//!
+//! P. Alart, A. Curnier, "A mixed formulation for frictional contact problems prone to Newton
+//! like solution methods", Comput. Methods Appl. Mech. Engrg. 92 (1991) 353–375; for the
+//! Signorini part this is the primal–dual active set method (M. Hintermüller, K. Ito,
+//! K. Kunisch, SIAM J. Optim. 13 (2002) 865–888; S. Hüeber, B. Wohlmuth, Comput. Methods Appl.
+//! Mech. Engrg. 194 (2005) 3147–3166 for the semi-smooth Newton form on the whole system).
+//! Unlike the condensed route (`contact.rs`), nothing is condensed: no flexibility matrix, no
+//! `2m` solves; every Newton step is one sparse LU of the whole system, so the cost grows like a
+//! linear solve with the mesh, and the iteration count does not.
+//!
+//! ## Unknowns and equations
+//!
+//! `z = (u, λ)`: `u` the displacements (`dof = 2·node + component`, Dirichlet rows eliminated
+//! as in the linear solve), `λ = (λN_i, λT_i)` the contact forces of the condensed problem's
+//! conventions (`contact/mod.rs`: force on the body in the frame `(n_i, t_i)`, compression
+//! `λN ≤ 0`). Without friction the tangential forces are not unknowns at all (one `λN` per
+//! point; no friction machinery runs). With `uN = n·u_k`, `uT = t·u_k` at the point's node `k`:
+//!
+//! ```text
+//!   F_u = K u − f − Bᵀ λ                                        (force rows)
+//!   τN  = λN − ρN (uN − g0)        C_N = (λN − min(τN, 0)) / ρN  (displacement rows)
+//!   τT  = λT − ρT uT               C_T = (λT − clamp(τT, −s, s)) / ρT
+//!   s   = Tresca threshold (force per point, g·w_i), or μ max(−τN, 0) (Coulomb)
+//! ```
+//!
+//! `C = 0` is exactly the contact law (Signorini + friction, `contact/mod.rs`): the
+//! Alart–Curnier projections, divided by `ρ` so that the rows are displacements (`C_N = uN − g0`
+//! on a closed point, `C_T = uT` on a sticking one).
+//!
+//! ### The augmentation ρ (no user parameter)
+//!
+//! `ρN_i = nᵀ K_kk n`, `ρT_i = tᵀ K_kk t`, with `K_kk` the 2×2 diagonal block of the stiffness
+//! at the point's node: the force that moves the node by a unit displacement along `n` (or `t`)
+//! with every other node held. It is a stiffness of the order of `E_eff = E/(1 − ν²)` in 2D
+//! whatever the mesh size (the stiffness entries `∫ ∇φ C ∇φ` are dimensionless geometry times
+//! `C`), it follows the units and the local mesh (curved P2 edges, graded meshes), and it is
+//! read from the matrix on the rank that owns the node. Frictionless iterates do not depend on
+//! it after the first step (the active-set tests reduce to the signs of `λN` and of the gap);
+//! for friction it weighs `λT` against `uT` in the stick/slip test.
+//!
+//! ### Generalized Jacobian
+//!
+//! `[K, −Bᵀ; ∂C/∂u, ∂C/∂λ]`, with per point (columns `u_k,x  u_k,y  λN  λT`):
+//!
+//! ```text
+//!   closed  (τN ≤ 0):   C_N row  [ nᵀ          0        0    ]
+//!   open    (τN > 0):   C_N row  [ 0           1/ρN     0    ]
+//!   stick   (|τT| < s): C_T row  [ tᵀ          0        0    ]
+//!   free    (s = 0):    C_T row  [ 0           0        1/ρT ]
+//!   slip σ, Tresca:     C_T row  [ 0           0        1/ρT ]
+//!   slip σ, Coulomb:    C_T row  [ −σμρN/ρT nᵀ σμ/ρT    1/ρT ]   (non-symmetric)
+//! ```
+//!
+//! the same pieces as the condensed semi-smooth Newton (`contact/semismooth_newton.rs`) with
+//! `uN = (B u)_N`. At `τN = 0` (a point touching with no force: every point of a body resting on
+//! the obstacle at the first step) the closed branch is taken, and a closed point with `s = 0`
+//! and `τT = 0` is taken as sticking: the first step then solves the *bonded* problem on the
+//! touching points, which holds a body that rests on the obstacle. A point whose slip
+//! direction reverses from one step to the next sticks for that step (as in the condensed
+//! method). The residual is always the continuous formula above, so these choices only pick an
+//! element of the generalized Jacobian.
+//!
+//! ## Layout over MPI ranks
+//!
+//! ```text
+//!   global unknowns:  [ u rows of rank 0 | λ of rank 0's points | u rows of rank 1 | λ of rank 1's points | … ]
+//!   rank r's block:   offset_r = Σ_{q<r} (2 n_q + c m_q)
+//!     u dof d (owned by r)        → offset_r + (d − first_dof_r)
+//!     λ component k of point i    → offset_r + 2 n_r + c (i − first_point_r) + k       (c = 1 or 2)
+//! ```
+//!
+//! Rank `r` owns the rows of its nodes (the driver's contiguous node blocks) and the contact
+//! points whose node it owns (contact nodes are sorted, so these are a contiguous run of
+//! points). Every rank computes the whole map ([`MixedLayout`]) from the node partition and the
+//! contact nodes, which every rank knows. A contact row couples only to unknowns of its own
+//! rank; the force rows couple to off-rank displacements through `K` (the ghosts of the SNES
+//! wrapper, `petsc/nonlinear.rs`). The Jacobian's pattern `[K  Bᵀ; B  D]` (every entry of the
+//! 4-entry contact rows stored, zeros included) is preallocated exactly and refilled at every
+//! Newton step.
+//!
+//! ## Bodies held by contact (before the contact set closes)
+//!
+//! With Dirichlet conditions that leave a rigid motion free, the mixed Jacobian is nonsingular
+//! as soon as the closed normal rows and the sticking tangential rows, with the Dirichlet rows,
+//! block every rigid motion (`K` is singular only on rigid motions, `B` restricted to the
+//! closed rows has full row rank: one node per point). That is checked at every Jacobian
+//! evaluation, exactly as the driver checks the Dirichlet conditions (rank of the 3×3 Gram
+//! matrix of the constraint rows applied to the rigid motions `(a − ωy, b + ωx)`). When it fails
+//! — typically at the first steps, before the contact zone has formed — springs `S = k I` at the
+//! contact nodes (`k = 10⁻³ · max diag K / m`, as the condensed route's) are added to the
+//! Jacobian only: the residual is unchanged, so the step is a regularised Newton step
+//! (Levenberg–Marquardt on the free rigid motions) and the solution is the exact one. Once the
+//! set closes, steps are exact Newton steps again. A body that stays unheld (it lifts off, or
+//! friction cannot hold the tangential load) keeps a regularised Jacobian and an equilibrium
+//! residual that does not decrease: after three such steps the run stops and says why
+//! ([`Error::Unconstrained`] "lifts off", or [`Error::NoEquilibrium`] "slides").
+//!
+//! ## Convergence, globalization, fallback
+//!
+//! Converged when the backward error of the force rows,
+//! `max|F_u| / max_r (Σ_j |K_rj u_j| + |Bᵀλ|_r + |f_r|)`, and the contact rows `max|C| / U`
+//! (`U` the largest displacement or gap) are below `10⁻² × tolerance` (`10⁻¹¹` by default), or
+//! below the tolerance after an exact full step that changed no point's status (the
+//! semi-smooth Newton step on an unchanged active set is the solution of that piece).
+//!
+//! Steps are full Newton steps (SNES line search "basic": the primal–dual active set method).
+//! Active-set cycles (a status set met again two or more steps later without the merit
+//! `½ (‖C‖² + ‖F_u / max diag K‖²)` having halved since) cap the steps at 1/2 then 1/4 until
+//! the statuses settle, and switch on a monotone Armijo line search on that merit; 20 steps
+//! without halving the merit switch it on too. A third cycle, 20 more steps without progress,
+//! a failed line search, the iteration limit or a singular Jacobian stop SNES, and the run
+//! falls back to the condensed semi-smooth Newton (with its own damping and relaxation
+//! fallbacks), saying so in the notes (and in the error, if that fails too). The answer is
+//! then verified independently, as on the other routes: the contact residuals of `(λ, B u)`
+//! with `u` from the solve, and the equilibrium of the force rows recomputed from the gathered
+//! solution.
+use std::ops::Range;
+
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+use super::contact::{ContactOutcome, ContactSetup};
+use crate::contact::{self, ContactSolution, FrictionLaw, IterationRecord, PointState, PointStatus, TangentialState};
+use crate::error::{Error, Result};
+use crate::fem::assembly::{Constraints, LinearSystem};
+use crate::mesh::Mesh;
+use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
+use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
+
+/// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
+pub const OPTIONS_PREFIX: &str = "contact_";
+/// Newton steps allowed when the scene does not say.
+const DEFAULT_MAX_ITERATIONS: usize = 100;
+/// Cycles of the active set before giving up on the full-space iteration.
+const CYCLES_BEFORE_FALLBACK: usize = 3;
+/// Regularised steps without halving the equilibrium residual after which the body is taken
+/// as not held.
+const FLOATING_STEPS: usize = 3;
+/// Line search after a cycle: Armijo constant, smallest step.
+const ARMIJO: f64 = 1e-4;
+const SMALLEST_STEP: f64 = 1e-6;
+/// Newton steps without halving the merit after which the full-space iteration gives up.
+const STEPS_WITHOUT_PROGRESS: usize = 20;
+
+/// The global numbering of the mixed unknowns (see the module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MixedLayout {
+    blocks: Vec<RankBlock>,
+    per_point: usize,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct RankBlock {
+    dofs: Range<usize>,
+    points: Range<usize>,
+    offset: usize,
+}
+
+impl MixedLayout {
+    /// `dof_ranges[r]`: the displacement dofs rank `r` owns (contiguous, in rank order, each
+    /// a whole number of nodes); `contact_nodes`: the node of each contact point, increasing;
+    /// `per_point`: contact unknowns per point (1 without friction, 2 with).
+    pub fn new(dof_ranges: &[Range<usize>], contact_nodes: &[usize], per_point: usize) -> Self {
+        let mut offset = 0;
+        let blocks = dof_ranges
+            .iter()
+            .map(|d| {
+                let lo = contact_nodes.partition_point(|&k| 2 * k < d.start);
+                let hi = contact_nodes.partition_point(|&k| 2 * k < d.end);
+                let block = RankBlock { dofs: d.clone(), points: lo..hi, offset };
+                offset += d.len() + per_point * (hi - lo);
+                block
+            })
+            .collect();
+        MixedLayout { blocks, per_point }
+    }
+
+    /// Number of unknowns of the mixed system.
+    pub fn global_size(&self) -> usize {
+        self.blocks.last().map_or(0, |b| b.offset + b.dofs.len() + self.per_point * b.points.len())
+    }
+
+    /// The unknowns rank `rank` owns.
+    pub fn owned(&self, rank: usize) -> Range<usize> {
+        let b = &self.blocks[rank];
+        b.offset..b.offset + b.dofs.len() + self.per_point * b.points.len()
+    }
+
+    /// The contact points rank `rank` owns.
+    pub fn points(&self, rank: usize) -> Range<usize> {
+        self.blocks[rank].points.clone()
+    }
+
+    /// Global index of displacement dof `dof`.
+    pub fn u(&self, dof: usize) -> usize {
+        let b = &self.blocks[self.blocks.partition_point(|b| b.dofs.end <= dof)];
+        b.offset + dof - b.dofs.start
+    }
+
+    /// Global index of component `k` (0 normal, 1 tangential) of contact point `i`.
+    pub fn lambda(&self, i: usize, k: usize) -> usize {
+        let b = &self.blocks[self.blocks.partition_point(|b| b.points.end <= i)];
+        b.offset + b.dofs.len() + self.per_point * (i - b.points.start) + k
+    }
+}
+
+/// The owned displacement dofs of every rank, as the driver partitions the nodes.
+pub fn dof_ranges(num_nodes: usize, ranks: usize) -> Vec<Range<usize>> {
+    (0..ranks).map(|r| 2 * (num_nodes * r / ranks)..2 * (num_nodes * (r + 1) / ranks)).collect()
+}
+
+/// The Alart–Curnier quantities of one point at `(u_k, λ)`.
+#[derive(Debug, Clone, Copy)]
+struct PointEval {
+    tau_n: f64,
+    tau_t: f64,
+    threshold: f64,
+    c_n: f64,
+    c_t: f64,
+}
+
+/// The friction law as the mixed system sees it.
+#[derive(Debug, Clone)]
+enum Law {
+    None,
+    Tresca(Vec<f64>),
+    Coulomb(Vec<f64>),
+}
+
+impl Law {
+    fn of(friction: FrictionLaw) -> Self {
+        match friction {
+            FrictionLaw::Tresca { threshold } if threshold.iter().any(|&s| s > 0.0) => Law::Tresca(threshold),
+            FrictionLaw::Coulomb { mu } if mu.iter().any(|&v| v > 0.0) => Law::Coulomb(mu),
+            _ => Law::None,
+        }
+    }
+    fn frictional(&self) -> bool {
+        !matches!(self, Law::None)
+    }
+    /// Threshold of point `i` for the independent check (Coulomb: from the force itself).
+    fn threshold(&self, i: usize, normal_force: f64) -> f64 {
+        match self {
+            Law::None => 0.0,
+            Law::Tresca(s) => s[i],
+            Law::Coulomb(mu) => mu[i] * (-normal_force).max(0.0),
+        }
+    }
+    fn name(&self) -> &'static str {
+        match self {
+            Law::None => "frictionless",
+            Law::Tresca(_) => "Tresca",
+            Law::Coulomb(_) => "Coulomb",
+        }
+    }
+}
+
+/// Evaluate point `i` (augmentation `rho`, gap `gap`) at contact displacements `(uN, uT)` and
+/// forces `(λN, λT)`.
+fn evaluate(law: &Law, i: usize, rho: [f64; 2], gap: f64, u: [f64; 2], lambda: [f64; 2]) -> PointEval {
+    let tau_n = lambda[0] - rho[0] * (u[0] - gap);
+    let c_n = (lambda[0] - tau_n.min(0.0)) / rho[0];
+    let (tau_t, threshold, c_t) = match law {
+        Law::None => (0.0, 0.0, 0.0),
+        _ => {
+            let s = match law {
+                Law::Tresca(s) => s[i],
+                Law::Coulomb(mu) => mu[i] * (-tau_n).max(0.0),
+                Law::None => 0.0,
+            };
+            let tau_t = lambda[1] - rho[1] * u[1];
+            (tau_t, s, (lambda[1] - tau_t.clamp(-s, s)) / rho[1])
+        }
+    };
+    PointEval { tau_n, tau_t, threshold, c_n, c_t }
+}
+
+/// The piece of the generalized Jacobian at a point (see the module documentation).
+fn classify(law: &Law, e: &PointEval) -> PointState {
+    let contact = e.tau_n <= 0.0;
+    let tangential = if !law.frictional() {
+        TangentialState::Free
+    } else if e.threshold > 0.0 {
+        if e.tau_t.abs() < e.threshold {
+            TangentialState::Stick
+        } else {
+            TangentialState::Slip { positive: e.tau_t > 0.0 }
+        }
+    } else if contact && e.tau_t == 0.0 {
+        TangentialState::Stick
+    } else {
+        TangentialState::Free
+    };
+    PointState { contact, tangential }
+}
+
+/// The status reported for a point: open unless it carries a normal force or sits on the
+/// obstacle under compression (`τN < 0`).
+fn status_of(law: &Law, e: &PointEval) -> PointStatus {
+    if e.tau_n >= 0.0 {
+        return PointStatus::Open;
+    }
+    match classify(law, e).tangential {
+        TangentialState::Stick => PointStatus::Stick,
+        _ => PointStatus::Slip,
+    }
+}
+
+/// A contact point owned by this rank, with the positions of its unknowns.
+#[derive(Debug, Clone)]
+struct OwnedPoint {
+    index: usize,
+    normal: [f64; 2],
+    tangent: [f64; 2],
+    /// Node coordinates, centred and scaled (rigid-motion check).
+    scaled: [f64; 2],
+    gap: f64,
+    rho: [f64; 2],
+    /// Positions in the ghosted iterate: u_x, u_y of the node, then λN (and λT).
+    ux: usize,
+    lambda: usize,
+    /// Position in the owned residual of the normal row (the tangential row follows).
+    row: usize,
+    /// Pattern position of the first entry of the normal row (each contact row has
+    /// `2 + per_point` entries).
+    start: usize,
+}
+
+/// Rigid motions left free by the Dirichlet conditions: the Gram matrix of their rows.
+#[derive(Debug, Clone)]
+struct RigidCheck {
+    dirichlet: Matrix3<f64>,
+}
+
+fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
+    Vector3::new(direction[0], direction[1], direction[1] * scaled[0] - direction[0] * scaled[1])
+}
+
+fn full_rank(gram: &Matrix3<f64>) -> bool {
+    let eigen = SymmetricEigen::new(*gram);
+    let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+    largest > 0.0 && eigen.eigenvalues.iter().all(|&l| l > 1e-10 * largest)
+}
+
+/// What the failure of a body that nothing holds looks like.
+#[derive(Debug, Clone, Copy)]
+struct Floating {
+    closed: usize,
+    imbalance: [f64; 2],
+}
+
+/// The mixed system of this rank, for the SNES wrapper.
+struct MixedSystem {
+    comm: Comm,
+    law: Law,
+    per_point: usize,
+    /// Owned displacement rows (they come first in the owned block) and their first dof.
+    num_u: usize,
+    first_dof: usize,
+    indptr: Vec<usize>,
+    local_columns: Vec<usize>,
+    /// Values of the force rows' entries (K and −Bᵀ); the contact rows' entries are 0 here.
+    base: Vec<f64>,
+    rhs: Vec<f64>,
+    fixed_row: Vec<bool>,
+    points: Vec<OwnedPoint>,
+    /// Spring stiffness and the pattern positions of the contact nodes' diagonal entries.
+    spring: Option<(f64, Vec<usize>)>,
+    rigid: Option<RigidCheck>,
+    gap_scale: f64,
+    tight: f64,
+    tolerance: f64,
+    // ---- iteration state
+    step_states: Option<Vec<PointState>>,
+    previous: Option<Vec<PointState>>,
+    /// Status sets met since the last cycle, with the merit then.
+    seen: Vec<(Vec<PointState>, f64)>,
+    history: Vec<IterationRecord>,
+    notes: Vec<String>,
+    cycles: usize,
+    step_cap: f64,
+    last_step_scale: f64,
+    regularized: bool,
+    regularized_steps: usize,
+    floating_steps: usize,
+    previous_equilibrium: f64,
+    floating: Option<Floating>,
+    equilibrium: f64,
+    contact_residual: f64,
+    /// Scale of the force rows in the merit (the largest diagonal entry of K).
+    force_scale: f64,
+    /// `½ ‖F_u / k_ref‖²` and the whole merit at the current iterate.
+    force_merit: f64,
+    merit: f64,
+    monotone: bool,
+    line_search_failed: bool,
+    shortened_steps: usize,
+    best_merit: f64,
+    best_at: usize,
+}
+
+impl MixedSystem {
+    fn eval(&self, p: &OwnedPoint, x: &[f64]) -> PointEval {
+        self.eval_with(p, |k| x[k])
+    }
+
+    /// Evaluate a point with its unknowns read through `x` (positions in the owned block).
+    fn eval_with(&self, p: &OwnedPoint, x: impl Fn(usize) -> f64) -> PointEval {
+        let (ux, uy) = (x(p.ux), x(p.ux + 1));
+        let u = [p.normal[0] * ux + p.normal[1] * uy, p.tangent[0] * ux + p.tangent[1] * uy];
+        let lambda = [x(p.lambda), if self.per_point == 2 { x(p.lambda + 1) } else { 0.0 }];
+        evaluate(&self.law, p.index, p.rho, p.gap, u, lambda)
+    }
+
+    /// The merit `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` at `x − t d` (every rank; see `step_length`).
+    fn merit_at(&self, x: &[f64], d: &[f64], t: f64) -> Result<f64> {
+        let mut sum = 0.0;
+        for p in &self.points {
+            let e = self.eval_with(p, |k| x[k] - t * d[k]);
+            sum += e.c_n * e.c_n + e.c_t * e.c_t;
+        }
+        let contact = self.comm.sum(&[sum])?[0];
+        Ok(0.5 * contact + (1.0 - t) * (1.0 - t) * self.force_merit)
+    }
+
+    fn states(&self, x: &[f64]) -> Vec<PointState> {
+        self.points.iter().map(|p| classify(&self.law, &self.eval(p, x))).collect()
+    }
+
+    /// Do the Dirichlet rows and the closed/sticking rows of `states` block every rigid motion?
+    fn held(&self, states: &[PointState]) -> Result<bool> {
+        let Some(rigid) = &self.rigid else { return Ok(true) };
+        let mut gram = Matrix3::<f64>::zeros();
+        for (p, s) in self.points.iter().zip(states) {
+            if s.contact {
+                let r = rigid_row(p.normal, p.scaled);
+                gram += r * r.transpose();
+            }
+            if s.tangential == TangentialState::Stick {
+                let r = rigid_row(p.tangent, p.scaled);
+                gram += r * r.transpose();
+            }
+        }
+        let summed = self.comm.sum(gram.as_slice())?;
+        Ok(full_rank(&(rigid.dirichlet + Matrix3::from_column_slice(&summed))))
+    }
+}
+
+impl NonlinearSystem for MixedSystem {
+    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()> {
+        for (r, fr) in f.iter_mut().enumerate().take(self.num_u) {
+            let span = self.indptr[r]..self.indptr[r + 1];
+            *fr = self.base[span.clone()].iter().zip(&self.local_columns[span]).map(|(v, &c)| v * x[c]).sum::<f64>()
+                - self.rhs[r];
+        }
+        for p in &self.points {
+            let e = self.eval(p, x);
+            f[p.row] = e.c_n;
+            if self.per_point == 2 {
+                f[p.row + 1] = e.c_t;
+            }
+        }
+        Ok(())
+    }
+
+    fn jacobian(&mut self, x: &[f64], values: &mut [f64]) -> Result<()> {
+        values.copy_from_slice(&self.base);
+        let mut states = self.states(x);
+        // A slip point whose slip direction reverses sticks for this step.
+        if let Some(before) = &self.step_states {
+            for (now, before) in states.iter_mut().zip(before) {
+                if let (TangentialState::Slip { positive: a }, TangentialState::Slip { positive: b }) =
+                    (now.tangential, before.tangential)
+                {
+                    if a != b {
+                        now.tangential = TangentialState::Stick;
+                    }
+                }
+            }
+        }
+        let held = self.held(&states)?;
+        self.regularized = !held;
+        if !held {
+            if let Some((k, positions)) = &self.spring {
+                for &pos in positions {
+                    values[pos] += k;
+                }
+            }
+        }
+        let coulomb = match &self.law {
+            Law::Coulomb(mu) => Some(mu),
+            _ => None,
+        };
+        for (p, s) in self.points.iter().zip(&states) {
+            let w = 2 + self.per_point;
+            let (n, t) = (p.normal, p.tangent);
+            let row_n = &mut values[p.start..p.start + w];
+            if s.contact {
+                row_n[0] = n[0];
+                row_n[1] = n[1];
+            } else {
+                row_n[2] = 1.0 / p.rho[0];
+            }
+            if self.per_point == 2 {
+                let row_t = &mut values[p.start + w..p.start + 2 * w];
+                match (s.tangential, coulomb) {
+                    (TangentialState::Stick, _) => {
+                        row_t[0] = t[0];
+                        row_t[1] = t[1];
+                    }
+                    (TangentialState::Slip { positive }, Some(mu)) if s.contact => {
+                        let sigma = if positive { 1.0 } else { -1.0 };
+                        let a = -sigma * mu[p.index] * p.rho[0] / p.rho[1];
+                        row_t[0] = a * n[0];
+                        row_t[1] = a * n[1];
+                        row_t[2] = sigma * mu[p.index] / p.rho[1];
+                        row_t[3] = 1.0 / p.rho[1];
+                    }
+                    _ => row_t[3] = 1.0 / p.rho[1],
+                }
+            }
+        }
+        self.step_states = Some(states);
+        Ok(())
+    }
+
+    fn converged(&mut self, iteration: usize, x: &[f64], f: &[f64]) -> Result<Convergence> {
+        // Backward error of the force rows, contact rows relative to the displacement scale.
+        let (mut eq_num, mut eq_den, mut umax) = (0.0f64, 0.0f64, 0.0f64);
+        let mut imbalance = [0.0f64; 2];
+        for r in 0..self.num_u {
+            let span = self.indptr[r]..self.indptr[r + 1];
+            let terms: f64 =
+                self.base[span.clone()].iter().zip(&self.local_columns[span]).map(|(v, &c)| (v * x[c]).abs()).sum();
+            eq_num = eq_num.max(f[r].abs());
+            eq_den = eq_den.max(terms + self.rhs[r].abs());
+            umax = umax.max(x[r].abs());
+            if !self.fixed_row[r] {
+                imbalance[(self.first_dof + r) % 2] += f[r];
+            }
+        }
+        let mut c_max = 0.0f64;
+        let (mut c_sq, mut f_sq) = (0.0f64, 0.0f64);
+        for p in &self.points {
+            c_max = c_max.max(f[p.row].abs());
+            c_sq += f[p.row] * f[p.row];
+            if self.per_point == 2 {
+                c_max = c_max.max(f[p.row + 1].abs());
+                c_sq += f[p.row + 1] * f[p.row + 1];
+            }
+        }
+        for fr in f.iter().take(self.num_u) {
+            f_sq += (fr / self.force_scale).powi(2);
+        }
+        let states = self.states(x);
+        let changes = self.previous.as_ref().map_or(0, |prev| contact::count_changes(prev, &states));
+        let off_piece = self.step_states.as_ref().map_or(states.len(), |s| contact::count_changes(s, &states));
+        let closed = states.iter().filter(|s| s.contact).count();
+        // Cycle detection: the status set equals one met two or more iterations before.
+        let local_equal: Vec<f64> = self
+            .seen
+            .iter()
+            .take(self.seen.len().saturating_sub(1))
+            .map(|(earlier, _)| if *earlier == states { 1.0 } else { 0.0 })
+            .collect();
+        let maxima = self.comm.max(&[eq_num, eq_den, c_max, umax])?;
+        let sums = self.comm.sum(&[
+            changes as f64,
+            off_piece as f64,
+            closed as f64,
+            imbalance[0],
+            imbalance[1],
+            c_sq,
+            f_sq,
+        ])?;
+        self.force_merit = 0.5 * sums[6];
+        self.merit = 0.5 * (sums[5] + sums[6]);
+        let equal = if local_equal.is_empty() { Vec::new() } else { self.comm.min(&local_equal)? };
+        let equilibrium = if maxima[1] > 0.0 { maxima[0] / maxima[1] } else { maxima[0] };
+        let u_scale = if maxima[3].max(self.gap_scale) > 0.0 { maxima[3].max(self.gap_scale) } else { 1.0 };
+        let contact_residual = maxima[2] / u_scale;
+        let (changes, off_piece, closed) = (sums[0] as usize, sums[1] as usize, sums[2] as usize);
+        self.equilibrium = equilibrium;
+        self.contact_residual = contact_residual;
+        if iteration > 0 {
+            self.history.push(IterationRecord { residual: equilibrium.max(contact_residual), status_changes: changes });
+        }
+        self.previous = Some(states.clone());
+        let exact_step = iteration > 0 && !self.regularized && self.last_step_scale == 1.0 && off_piece == 0;
+        let within = |tol: f64| equilibrium <= tol && contact_residual <= tol;
+        if within(self.tight) || (exact_step && within(self.tolerance)) {
+            return Ok(Convergence::Converged(format!(
+                "converged after {iteration} Newton steps: equilibrium {equilibrium:.2e}, contact {contact_residual:.2e}"
+            )));
+        }
+        if !(equilibrium.is_finite() && contact_residual.is_finite()) {
+            return Ok(Convergence::Diverged("the iterate became non-finite".into()));
+        }
+        if self.line_search_failed {
+            return Ok(Convergence::Diverged(format!("the line search failed at Newton step {iteration}")));
+        }
+        if self.merit < 0.5 * self.best_merit {
+            self.best_merit = self.merit;
+            self.best_at = iteration;
+        }
+        if !self.regularized && iteration >= self.best_at + STEPS_WITHOUT_PROGRESS {
+            if self.monotone {
+                return Ok(Convergence::Diverged(format!(
+                    "no progress in {STEPS_WITHOUT_PROGRESS} Newton steps (the merit did not halve)"
+                )));
+            }
+            // Wandering without a cycle: damp as after a cycle, give it another round.
+            self.monotone = true;
+            self.best_at = iteration;
+            self.notes.push(format!(
+                "no progress in {STEPS_WITHOUT_PROGRESS} full Newton steps: monotone line search from step {iteration}"
+            ));
+        }
+        if iteration > 0 && changes == 0 {
+            self.step_cap = 1.0;
+        }
+        // A status set met again without the merit having halved since: a cycle (with
+        // shortened steps a set may come back while the iterate progresses).
+        let merit = self.merit;
+        if equal.iter().zip(&self.seen).any(|(&e, (_, then))| e == 1.0 && merit > 0.5 * then) {
+            self.cycles += 1;
+            let what = format!(
+                "active-set cycle at Newton step {iteration}: the status set of {} points repeats an earlier one",
+                closed
+            );
+            if self.cycles >= CYCLES_BEFORE_FALLBACK {
+                self.notes.push(what);
+                return Ok(Convergence::Diverged(format!(
+                    "{CYCLES_BEFORE_FALLBACK} active-set cycles despite damping"
+                )));
+            }
+            self.step_cap = 0.5f64.powi(self.cycles as i32);
+            self.monotone = true;
+            self.notes.push(format!(
+                "{what}; steps capped at {} until the statuses settle, monotone line search",
+                self.step_cap
+            ));
+            self.seen.clear();
+        }
+        self.seen.push((states, self.merit));
+        // A body that nothing holds: regularised steps that do not reduce the imbalance.
+        if iteration > 0 && self.regularized {
+            self.regularized_steps += 1;
+            let stalled = equilibrium > 0.5 * self.previous_equilibrium;
+            self.floating_steps = if stalled { self.floating_steps + 1 } else { 0 };
+            self.floating = Some(Floating { closed, imbalance: [sums[3], sums[4]] });
+            if self.floating_steps >= FLOATING_STEPS {
+                return Ok(Convergence::Diverged(format!(
+                    "the closed contact points do not hold the body ({closed} closed) and the equilibrium residual \
+                     stays at {equilibrium:.2e}"
+                )));
+            }
+        } else {
+            self.floating_steps = 0;
+            self.floating = None;
+        }
+        self.previous_equilibrium = equilibrium;
+        Ok(Convergence::Iterating)
+    }
+
+    /// Full semi-smooth Newton steps (the primal–dual active set method: on piecewise-linear
+    /// equations they land on the solution of the current piece), capped after active-set
+    /// cycles; once a cycle has been seen, a monotone Armijo backtracking on the merit
+    /// `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` (both parts in displacement units; the force rows are
+    /// linear, so along an exact Newton direction `F_u(x − t d) = (1 − t) F_u(x)`), halving
+    /// from the cap down to 10⁻⁶. (A non-monotone Armijo search from the start, as in the
+    /// condensed method, shortened useful steps and lost the hard cases: μ ≥ 2 on fine P2
+    /// meshes took more steps or failed.) Regularised steps are taken as they are.
+    fn step_length(&mut self, x: &[f64], d: &[f64]) -> Result<f64> {
+        let cap = self.step_cap;
+        if self.regularized || !self.monotone {
+            self.last_step_scale = cap;
+            return Ok(cap);
+        }
+        let reference = self.merit;
+        let mut t = cap;
+        loop {
+            let trial = self.merit_at(x, d, t)?;
+            if trial <= (1.0 - ARMIJO * t) * reference {
+                break;
+            }
+            t *= 0.5;
+            if t < SMALLEST_STEP {
+                self.line_search_failed = true;
+                t = SMALLEST_STEP;
+                break;
+            }
+        }
+        if t < cap {
+            self.shortened_steps += 1;
+        }
+        self.last_step_scale = t;
+        Ok(t)
+    }
+}
+
+impl ContactSetup {
+    /// The full-space semi-smooth Newton method (see the module documentation). `system` holds
+    /// this rank's rows of the constrained stiffness (no stabilisation springs) and load;
+    /// `dof_ranges` the owned dofs of every rank. Returns the displacement field (every rank),
+    /// the checked contact outcome and what the solver did.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_full_space<'s>(
+        &self,
+        session: &'s Session,
+        mesh: &Mesh,
+        constraints: &Constraints,
+        system: &LinearSystem,
+        dof_ranges: &[Range<usize>],
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
+        let start = std::time::Instant::now();
+        let comm = session.world();
+        let rank = session.rank();
+        let b = &self.boundary;
+        let m = b.points();
+        let n = 2 * mesh.num_nodes();
+        let law = Law::of(self.friction_law());
+        let per_point = if law.frictional() { 2 } else { 1 };
+        let k = &system.matrix;
+        let owned_dofs =
+            dof_ranges.get(rank).cloned().ok_or_else(|| Error::PetscUsage(format!("no dof range for rank {rank}")))?;
+        if k.first_row != owned_dofs.start || k.num_rows() != owned_dofs.len() || system.rhs.len() != owned_dofs.len() {
+            return Err(Error::PetscUsage(format!(
+                "full-space contact: the stiffness rows {}..{} differ from this rank's dofs {owned_dofs:?}",
+                k.first_row,
+                k.first_row + k.num_rows()
+            )));
+        }
+        let layout = MixedLayout::new(dof_ranges, &b.nodes, per_point);
+        let block = layout.owned(rank);
+        let my_points = layout.points(rank);
+        let num_u = owned_dofs.len();
+
+        // Augmentation from the diagonal blocks of K at the contact nodes (owned), shared with
+        // every rank for the final classification.
+        let mut rho_all = vec![0.0; 2 * m];
+        for i in my_points.clone() {
+            let node = b.nodes[i];
+            let kb = [
+                [k.get(2 * node, 2 * node), k.get(2 * node, 2 * node + 1)],
+                [k.get(2 * node + 1, 2 * node), k.get(2 * node + 1, 2 * node + 1)],
+            ];
+            let quad =
+                |v: [f64; 2]| v[0] * (kb[0][0] * v[0] + kb[0][1] * v[1]) + v[1] * (kb[1][0] * v[0] + kb[1][1] * v[1]);
+            rho_all[2 * i] = quad(b.normal[i]);
+            rho_all[2 * i + 1] = quad(b.tangent[i]);
+            if !(rho_all[2 * i] > 0.0 && rho_all[2 * i + 1] > 0.0) {
+                return Err(Error::mesh(
+                    format!("node {node} of contact part '{}'", self.spec.part),
+                    "its stiffness diagonal block is not positive definite: the node belongs to no element",
+                ));
+            }
+        }
+        let rho_all = comm.sum(&rho_all)?;
+
+        // The pattern of the owned rows: force rows (K, −Bᵀ), then the contact rows.
+        let mut indptr = vec![0usize];
+        let mut indices: Vec<usize> = Vec::new();
+        let mut base: Vec<f64> = Vec::new();
+        let mut spring_positions = Vec::new();
+        let mut row: Vec<(usize, f64)> = Vec::new();
+        for r in 0..num_u {
+            let dof = owned_dofs.start + r;
+            let (cols, vals) = k.row(dof);
+            row.clear();
+            row.extend(cols.iter().zip(vals).map(|(&c, &v)| (layout.u(c), v)));
+            if let Ok(i) = b.nodes.binary_search(&(dof / 2)) {
+                let c = dof % 2;
+                row.push((layout.lambda(i, 0), -b.normal[i][c]));
+                if per_point == 2 {
+                    row.push((layout.lambda(i, 1), -b.tangent[i][c]));
+                }
+                row.sort_unstable_by_key(|e| e.0);
+                let diagonal = layout.u(dof);
+                let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
+                    Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
+                })?;
+                spring_positions.push(indices.len() + at);
+            } else {
+                row.sort_unstable_by_key(|e| e.0);
+            }
+            indices.extend(row.iter().map(|e| e.0));
+            base.extend(row.iter().map(|e| e.1));
+            indptr.push(indices.len());
+        }
+        // Coordinates for the rigid-motion check, centred and scaled as the driver's.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &mesh.nodes {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        let mut extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        if !(extent.is_finite() && extent > 0.0) {
+            extent = 1.0;
+        }
+        let scaled = |p: [f64; 2]| [(p[0] - centre[0]) / extent, (p[1] - centre[1]) / extent];
+        let mut points = Vec::with_capacity(my_points.len());
+        for i in my_points.clone() {
+            let node = b.nodes[i];
+            let columns: Vec<usize> =
+                [layout.u(2 * node), layout.u(2 * node + 1), layout.lambda(i, 0), layout.lambda(i, 1)]
+                    .into_iter()
+                    .take(2 + per_point)
+                    .collect();
+            let start = indices.len();
+            for _ in 0..per_point {
+                indices.extend(&columns);
+                base.extend(std::iter::repeat_n(0.0, columns.len()));
+                indptr.push(indices.len());
+            }
+            points.push(OwnedPoint {
+                index: i,
+                normal: b.normal[i],
+                tangent: b.tangent[i],
+                scaled: scaled(mesh.nodes[node]),
+                gap: b.gap[i],
+                rho: [rho_all[2 * i], rho_all[2 * i + 1]],
+                ux: layout.u(2 * node) - block.start,
+                lambda: layout.lambda(i, 0) - block.start,
+                row: layout.lambda(i, 0) - block.start,
+                start,
+            });
+        }
+        let mut solver =
+            NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
+        let rigid = self.free_motions.as_ref().map(|_| {
+            let mut gram = Matrix3::<f64>::zeros();
+            for (dof, _) in constraints.fixed() {
+                if let Some(&p) = mesh.nodes.get(dof / 2) {
+                    let direction = if dof % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
+                    let r = rigid_row(direction, scaled(p));
+                    gram += r * r.transpose();
+                }
+            }
+            RigidCheck { dirichlet: gram }
+        });
+        let max_diag = (0..num_u).map(|r| k.get(owned_dofs.start + r, owned_dofs.start + r).abs()).fold(0.0, f64::max);
+        let force_scale = comm.max(&[max_diag])?[0].max(f64::MIN_POSITIVE);
+        let tolerance = self.spec.tolerance.unwrap_or(1e-9);
+        let gap_scale = b.gap.iter().fold(0.0f64, |a, g| a.max(g.abs()));
+        let mut mixed = MixedSystem {
+            comm,
+            law: law.clone(),
+            per_point,
+            num_u,
+            first_dof: owned_dofs.start,
+            local_columns: solver.local_columns().to_vec(),
+            indptr,
+            base,
+            rhs: system.rhs.clone(),
+            fixed_row: owned_dofs.clone().map(|d| constraints.is_fixed(d)).collect(),
+            points,
+            spring: self.spring.map(|k| (k, spring_positions)),
+            rigid,
+            gap_scale,
+            tight: (1e-2 * tolerance).max(1e-14),
+            tolerance,
+            step_states: None,
+            previous: None,
+            seen: Vec::new(),
+            history: Vec::new(),
+            notes: Vec::new(),
+            cycles: 0,
+            step_cap: 1.0,
+            last_step_scale: 1.0,
+            regularized: false,
+            regularized_steps: 0,
+            floating_steps: 0,
+            previous_equilibrium: f64::INFINITY,
+            floating: None,
+            equilibrium: f64::NAN,
+            contact_residual: f64::NAN,
+            force_scale,
+            force_merit: 0.0,
+            merit: 0.0,
+            monotone: false,
+            line_search_failed: false,
+            shortened_steps: 0,
+            best_merit: f64::INFINITY,
+            best_at: 0,
+        };
+        progress(&format!(
+            "  contact: {m} points, full-space semi-smooth Newton on {} unknowns ({} friction)",
+            layout.global_size(),
+            law.name()
+        ));
+        let max_iterations = self.spec.max_iterations.unwrap_or(DEFAULT_MAX_ITERATIONS);
+        let mut z = vec![0.0; block.len()];
+        let run = match solver.solve(&mut z, &mut mixed, max_iterations) {
+            Ok(run) => run,
+            Err(Error::SolverDiverged { solver: method, reason, iterations, residual, tried }) => {
+                if let (true, Some(floating)) = (mixed.regularized, mixed.floating) {
+                    return Err(self.not_held(floating, iterations));
+                }
+                let failure = format!(
+                    "{method} stopped after {iterations} Newton steps: {reason} (residual {residual:.3e}; {tried})"
+                );
+                return self.fall_back(session, mesh, system, failure, mixed.notes, start, progress);
+            }
+            Err(e) => return Err(e),
+        };
+
+        // Gather (u, λ) everywhere and check the answer independently of the iteration.
+        let global = layout.global_size();
+        let mut zv = Vector::new(session, comm, block.len(), global)?;
+        zv.set_owned(&z)?;
+        let z_all = zv.gather_all()?;
+        let u: Vec<f64> = (0..n).map(|d| z_all[layout.u(d)]).collect();
+        let mut force = vec![0.0; 2 * m];
+        for i in 0..m {
+            for c in 0..per_point {
+                force[2 * i + c] = z_all[layout.lambda(i, c)];
+            }
+        }
+        let uc = b.gather(&u);
+        // Displacement scale: the largest displacement of the body or gap (the contact
+        // displacements alone are round-off on a body resting on the obstacle).
+        let mut displacement_scale = u.iter().chain(b.gap.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
+        if displacement_scale == 0.0 {
+            displacement_scale = 1.0;
+        }
+        let mut force_scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        if force_scale == 0.0 {
+            force_scale = 1.0;
+        }
+        let scale = contact::ResidualScale { force: force_scale, displacement: displacement_scale };
+        let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|i, rn| law.threshold(i, rn), scale);
+        // Equilibrium of the force rows, recomputed from the gathered solution.
+        let mut contact_load = vec![0.0; n];
+        b.scatter_add(&force, &mut contact_load);
+        let (mut num, mut den) = (0.0f64, 0.0f64);
+        for r in 0..num_u {
+            let dof = owned_dofs.start + r;
+            let (cols, vals) = k.row(dof);
+            let (mut ku, mut terms) = (0.0, 0.0);
+            for (&c, &v) in cols.iter().zip(vals) {
+                ku += v * u[c];
+                terms += (v * u[c]).abs();
+            }
+            num = num.max((ku - system.rhs[r] - contact_load[dof]).abs());
+            den = den.max(terms + system.rhs[r].abs() + contact_load[dof].abs());
+        }
+        let nd = comm.max(&[num, den])?;
+        let equilibrium = if nd[1] > 0.0 { nd[0] / nd[1] } else { nd[0] };
+        let accepted = 100.0 * tolerance.max(1e-10);
+        if !residuals.is_acceptable(accepted) || equilibrium.is_nan() || equilibrium > accepted {
+            return Err(Error::SolverDiverged {
+                solver: run.method.clone(),
+                reason: format!(
+                    "{} but the answer fails the independent check: {residuals}; equilibrium of the force rows {equilibrium:.3e}",
+                    run.converged_reason
+                ),
+                iterations: run.iterations,
+                residual: residuals.worst().max(equilibrium),
+                tried: "full-space semi-smooth Newton; use solver = \"newton\" (condensed semi-smooth Newton)".into(),
+            });
+        }
+        let status: Vec<PointStatus> = (0..m)
+            .map(|i| {
+                let e = evaluate(
+                    &law,
+                    i,
+                    [rho_all[2 * i], rho_all[2 * i + 1]],
+                    b.gap[i],
+                    [uc[2 * i], uc[2 * i + 1]],
+                    [force[2 * i], force[2 * i + 1]],
+                );
+                status_of(&law, &e)
+            })
+            .collect();
+        let mut notes = vec![
+            run.converged_reason.clone(),
+            "augmentation ρ from the diagonal 2×2 stiffness blocks at the contact nodes".to_string(),
+        ];
+        if mixed.shortened_steps > 0 {
+            notes.push(format!("{} steps shortened by the line search", mixed.shortened_steps));
+        }
+        if mixed.regularized_steps > 0 {
+            notes.push(format!(
+                "{} regularised steps (springs in the Jacobian while the closed points left a rigid motion free)",
+                mixed.regularized_steps
+            ));
+        }
+        notes.extend(mixed.notes.iter().cloned());
+        let solution = ContactSolution {
+            force: force.clone(),
+            displacement: uc,
+            iterations: run.iterations,
+            history: mixed.history.clone(),
+            status: status.clone(),
+            residuals,
+            solver: format!("full-space semi-smooth Newton (Alart–Curnier), {}", run.method),
+            notes,
+        };
+        let report = self.report(mesh, &force, &status, &u, &residuals, run.iterations, &solution);
+        let stats = stats_of(&run, equilibrium, start.elapsed().as_secs_f64());
+        Ok((u, ContactOutcome { force, status, report }, stats))
+    }
+
+    /// The error for a body that the contact does not hold (see the module documentation).
+    fn not_held(&self, floating: Floating, iterations: usize) -> Error {
+        let free = self.free_motions.clone().unwrap_or_default();
+        if floating.closed == 0 {
+            Error::Unconstrained(format!(
+                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free}; \
+                 add a Dirichlet condition or change the loads",
+                self.spec.part
+            ))
+        } else {
+            Error::NoEquilibrium(format!(
+                "no static equilibrium: the loads are not balanced by the contact forces on '{}' and the supports \
+                 ({free}); the body slides or moves away (unbalanced force ({:.4e}, {:.4e}) after {iterations} \
+                 full-space Newton steps with {} closed points, friction {})",
+                self.spec.part,
+                floating.imbalance[0],
+                floating.imbalance[1],
+                floating.closed,
+                self.friction_name()
+            ))
+        }
+    }
+
+    /// The condensed semi-smooth Newton on the same problem, after a failed full-space run.
+    #[allow(clippy::too_many_arguments)]
+    fn fall_back<'s>(
+        &self,
+        session: &'s Session,
+        mesh: &Mesh,
+        system: &LinearSystem,
+        failure: String,
+        notes: Vec<String>,
+        start: std::time::Instant,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
+        progress(&format!("  contact: {failure}; falling back to the condensed semi-smooth Newton"));
+        let k = &system.matrix;
+        let mut values = k.values.clone();
+        if let Some(spring) = self.spring {
+            self.add_spring_values(spring, k.first_row, &k.indptr, &k.indices, &mut values)?;
+        }
+        let n = 2 * mesh.num_nodes();
+        let matrix =
+            Matrix::from_csr_rows(session, session.world(), n, k.first_row, &k.indptr, &k.indices, &values, 2, true)?;
+        let mut rhs = matrix.create_vector()?;
+        rhs.set_owned(&system.rhs)?;
+        let mut ksp = LinearSolver::new(session, session.world(), "")?;
+        ksp.set_operator(&matrix)?;
+        let (u, mut outcome) = self.solve(session, mesh, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
+            Error::SolverDiverged { solver, reason, iterations, residual, tried } => Error::SolverDiverged {
+                solver: format!("{solver} (fallback from the full-space semi-smooth Newton)"),
+                reason,
+                iterations,
+                residual,
+                tried: format!("first the full-space semi-smooth Newton: {failure}; then {tried}"),
+            },
+            other => other,
+        })?;
+        let mut all = vec![format!("full-space semi-smooth Newton failed ({failure}); fell back to the condensed one")];
+        all.extend(notes);
+        all.append(&mut outcome.report.notes);
+        outcome.report.notes = all;
+        outcome.report.solver = format!("condensed {} (fallback from the full-space Newton)", outcome.report.solver);
+        let mut stats = ksp.last_stats().ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?;
+        stats.seconds = start.elapsed().as_secs_f64();
+        Ok((u, outcome, stats))
+    }
+}
+
+fn stats_of(run: &NonlinearSolve, equilibrium: f64, seconds: f64) -> SolveStats {
+    SolveStats {
+        ksp_type: format!("snes newtonls + {}", run.ksp_type),
+        pc_type: run.pc_type.clone(),
+        factor_package: run.factor_package.clone(),
+        iterations: run.iterations,
+        converged_reason: run.converged_reason.clone(),
+        relative_residual: equilibrium,
+        seconds,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{dof_ranges, MixedLayout};
+
+    #[test]
+    fn layout_interleaves_rank_blocks() {
+        // 10 nodes on 2 ranks (nodes 0..5 and 5..10); contact nodes 1, 4, 7 with friction.
+        let ranges = dof_ranges(10, 2);
+        assert_eq!(ranges, vec![0..10, 10..20]);
+        let layout = MixedLayout::new(&ranges, &[1, 4, 7], 2);
+        assert_eq!(layout.global_size(), 26);
+        assert_eq!(layout.owned(0), 0..14);
+        assert_eq!(layout.owned(1), 14..26);
+        assert_eq!((layout.u(0), layout.u(9), layout.u(10), layout.u(19)), (0, 9, 14, 23));
+        assert_eq!((layout.lambda(0, 0), layout.lambda(0, 1), layout.lambda(1, 0)), (10, 11, 12));
+        assert_eq!((layout.lambda(2, 0), layout.lambda(2, 1)), (24, 25));
+        assert_eq!((layout.points(0), layout.points(1)), (0..2, 2..3));
+        // Frictionless: one unknown per point; a rank with no contact point.
+        let layout = MixedLayout::new(&ranges, &[7, 8], 1);
+        assert_eq!((layout.owned(0), layout.owned(1)), (0..10, 10..22));
+        assert_eq!((layout.lambda(0, 0), layout.lambda(1, 0)), (20, 21));
+        // One rank: [u | λ].
+        let layout = MixedLayout::new(&dof_ranges(10, 1), &[1, 4, 7], 1);
+        assert_eq!((layout.global_size(), layout.u(19), layout.lambda(2, 0)), (23, 19, 22));
+    }
+}
