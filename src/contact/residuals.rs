@@ -105,6 +105,20 @@ fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
     v.fold(0.0, |acc, x| if x.is_nan() { f64::INFINITY } else { acc.max(x.abs()) })
 }
 
+impl ResidualScale {
+    /// Scales for full-space solvers (no W): the largest contact force, and the largest
+    /// displacement of the whole body or gap — not the contact displacements alone, which are
+    /// round-off for a body resting on the obstacle. Zero scales become 1.
+    pub fn from_field(force: &[f64], body_displacement: &[f64], gap: &[f64]) -> Self {
+        let largest = |v: &mut dyn Iterator<Item = &f64>| v.fold(0.0f64, |a, x| a.max(x.abs()));
+        let nonzero = |x: f64| if x == 0.0 { 1.0 } else { x };
+        ResidualScale {
+            force: nonzero(largest(&mut force.iter())),
+            displacement: nonzero(largest(&mut body_displacement.iter().chain(gap.iter()))),
+        }
+    }
+}
+
 /// The scales of the residuals at `(r, u)`.
 pub(crate) fn scale(problem: &CondensedProblem, r: &[f64], u: &[f64]) -> ResidualScale {
     let mut displacement = max_abs(problem.free_displacement().iter().copied())

@@ -358,15 +358,8 @@ impl ContactSetup {
             u[2 * node + 1] = n[1] * vn + t[1] * vt;
         }
         // Independent check (no W here): residuals of (r, B u) with the law itself.
-        let mut displacement_scale = uc.iter().chain(b.gap.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
-        if displacement_scale == 0.0 {
-            displacement_scale = 1.0;
-        }
-        let mut force_scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        if force_scale == 0.0 {
-            force_scale = 1.0;
-        }
-        let scale = contact::ResidualScale { force: force_scale, displacement: displacement_scale };
+        let scale = contact::ResidualScale::from_field(&force, &u, &b.gap);
+        let force_scale = scale.force;
         // Residual of the reduced (tangential) rows: must vanish for a frictionless solution.
         let tangential: f64 = b.nodes.iter().map(|&node| reaction[2 * node + 1].abs()).fold(0.0, f64::max);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);

@@ -925,15 +925,7 @@ impl ContactSetup {
         let uc = b.gather(&u);
         // Displacement scale: the largest displacement of the body or gap (the contact
         // displacements alone are round-off on a body resting on the obstacle).
-        let mut displacement_scale = u.iter().chain(b.gap.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
-        if displacement_scale == 0.0 {
-            displacement_scale = 1.0;
-        }
-        let mut force_scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        if force_scale == 0.0 {
-            force_scale = 1.0;
-        }
-        let scale = contact::ResidualScale { force: force_scale, displacement: displacement_scale };
+        let scale = contact::ResidualScale::from_field(&force, &u, &b.gap);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|i, rn| law.threshold(i, rn), scale);
         // Equilibrium of the force rows, recomputed from the gathered solution.
         let mut contact_load = vec![0.0; n];

@@ -237,22 +237,7 @@ impl<'s> ElasticityProblem<'s> {
                 contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)?;
             }
         }
-        let world = self.session.world();
-        let m = &system.matrix;
-        let matrix = Matrix::from_csr_rows(
-            self.session,
-            world,
-            self.num_dofs(),
-            m.first_row,
-            &m.indptr,
-            &m.indices,
-            &m.values,
-            2,
-            true,
-        )?;
-        let mut rhs = matrix.create_vector()?;
-        rhs.set_owned(&system.rhs)?;
-        self.system = Some((matrix, rhs));
+        self.system = Some(self.to_petsc(&system)?);
         self.timings.add("assemble", start.elapsed().as_secs_f64());
         Ok(())
     }
@@ -334,6 +319,25 @@ impl<'s> ElasticityProblem<'s> {
         Ok(())
     }
 
+    /// This rank's rows of a CSR system as a PETSc matrix (SPD, block size 2) and vector.
+    fn to_petsc(&self, system: &assembly::LinearSystem) -> Result<(Matrix<'s>, Vector<'s>)> {
+        let m = &system.matrix;
+        let matrix = Matrix::from_csr_rows(
+            self.session,
+            self.session.world(),
+            self.num_dofs(),
+            m.first_row,
+            &m.indptr,
+            &m.indices,
+            &m.values,
+            2,
+            true,
+        )?;
+        let mut rhs = matrix.create_vector()?;
+        rhs.set_owned(&system.rhs)?;
+        Ok((matrix, rhs))
+    }
+
     /// Time one plain linear solve of the assembled system with the default-configured KSP
     /// (factorisation included): the yardstick the contact benchmark divides by.
     pub fn linear_solve_seconds(&self) -> Result<f64> {
@@ -342,21 +346,7 @@ impl<'s> ElasticityProblem<'s> {
         let (matrix, rhs) = match (&self.system, &self.full_space_system) {
             (Some((m, b)), _) => (m, b),
             (None, Some(system)) => {
-                let m = &system.matrix;
-                let matrix = Matrix::from_csr_rows(
-                    self.session,
-                    self.session.world(),
-                    self.num_dofs(),
-                    m.first_row,
-                    &m.indptr,
-                    &m.indices,
-                    &m.values,
-                    2,
-                    true,
-                )?;
-                let mut rhs = matrix.create_vector()?;
-                rhs.set_owned(&system.rhs)?;
-                built = (matrix, rhs);
+                built = self.to_petsc(system)?;
                 (&built.0, &built.1)
             }
             _ => return Err(Error::PetscUsage("linear_solve_seconds() before assemble()".into())),
