@@ -5,6 +5,7 @@
 //! ```text
 //! cargo run --release --example hertz_contact             # fine mesh (a/20 at the contact)
 //! cargo run --release --example hertz_contact -- --small  # coarse, a few seconds
+//! cargo run --release --example hertz_contact -- --plot hertz.svg   # also plot p(x) vs Hertz
 //! ```
 //! PETSc options work as usual after the flags, e.g. `-- -ksp_view`.
 use std::f64::consts::PI;
@@ -17,7 +18,13 @@ use signorini::scene::Scene;
 fn main() -> Result<(), signorini::Error> {
     let args: Vec<String> = std::env::args().collect();
     let small = args.iter().any(|a| a == "--small");
-    let petsc_args: Vec<String> = args.iter().filter(|a| *a != "--small").cloned().collect();
+    let plot = args.iter().position(|a| a == "--plot").and_then(|i| args.get(i + 1)).cloned();
+    let petsc_args: Vec<String> = args
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| *a != "--small" && *a != "--plot" && !(*i > 0 && args[i - 1] == "--plot"))
+        .map(|(_, a)| a.clone())
+        .collect();
     let session = Session::init(&petsc_args)?;
 
     // The problem, in SI units.
@@ -79,6 +86,37 @@ normal = [0.0, 1.0]
             "  independent check: penetration {:.1e}, complementarity {:.1e}; {} Newton iterations",
             r.max_penetration, r.normal_complementarity, outcome.report.iterations
         );
+    }
+    if let (Some(path), 0) = (plot, session.rank()) {
+        // Nodal pressures (vertex and mid-edge nodes alike, −rN/w) against Hertz's curve.
+        let (nodal, _) = contact.boundary.tractions(&outcome.force);
+        let mut computed: Vec<(f64, f64)> = contact
+            .boundary
+            .nodes
+            .iter()
+            .zip(&nodal)
+            .map(|(&n, &p)| (problem.mesh.nodes[n][0], p))
+            .filter(|(x, _)| x.abs() <= 1.5 * a)
+            .collect();
+        computed.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let theory: Vec<(f64, f64)> = (0..=400)
+            .map(|k| {
+                let x = -1.5 * a + 3.0 * a * k as f64 / 400.0;
+                (x, if x.abs() < a { p0 * (1.0 - (x / a).powi(2)).sqrt() } else { 0.0 })
+            })
+            .collect();
+        signorini::output::plot::write_linear_svg(
+            Path::new(&path),
+            "Hertz line contact: contact pressure",
+            "x (m)",
+            "pressure (Pa)",
+            &[
+                signorini::output::plot::Series { label: "Hertz".into(), points: theory },
+                signorini::output::plot::Series { label: "signorini, P2 nodes".into(), points: computed },
+            ],
+            &[true, false],
+        )?;
+        println!("  wrote {path}");
     }
     Ok(())
 }

@@ -426,13 +426,16 @@ fn example_binary(name: &str) -> PathBuf {
 
 #[test]
 fn example_hertz_contact_runs_small() {
-    let out = Command::new(example_binary("hertz_contact")).arg("--small").output().unwrap();
+    let plot = scratch("hertz-plot").join("hertz.svg");
+    let out = Command::new(example_binary("hertz_contact")).arg("--small").arg("--plot").arg(&plot).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     // The coarse mesh is still within a few per cent of Hertz on the peak pressure.
     let line = stdout.lines().find(|l| l.contains("peak pressure")).unwrap();
     let percent: f64 = line.rsplit('(').next().unwrap().trim_end_matches(" %)").trim().parse().unwrap();
     assert!(percent.abs() < 10.0, "{stdout}");
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("Hertz") && svg.contains("P2 nodes"), "plot");
 }
 
 #[test]

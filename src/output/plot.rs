@@ -422,3 +422,150 @@ fn draw_legend(s: &mut String, series: &[Series], pixels: &[Vec<Option<(f64, f64
         let _ = writeln!(s, r#"<text x="{:.2}" y="{:.2}">{}</text>"#, x0 + 48.0, y + 5.0, escape_text(&se.label));
     }
 }
+
+// ------------------------------------------------------------------------------------------
+// Linear axes, for fields along a line (e.g. a contact pressure against position).
+
+/// A linear axis from `lo` to `hi` with ticks every `step` (1, 2 or 5 × 10^k, about 6 ticks).
+#[derive(Debug, Clone, Copy)]
+struct LinearAxis {
+    lo: f64,
+    hi: f64,
+    step: f64,
+}
+
+impl LinearAxis {
+    fn enclosing(min: f64, max: f64) -> Self {
+        let (min, max) = if max > min { (min, max) } else { (min - 1.0, min + 1.0) };
+        let raw = (max - min) / 6.0;
+        let magnitude = 10f64.powf(raw.log10().floor());
+        let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * magnitude).find(|s| *s >= raw).unwrap_or(10.0 * magnitude);
+        LinearAxis { lo: (min / step).floor() * step, hi: (max / step).ceil() * step, step }
+    }
+    fn fraction(&self, v: f64) -> f64 {
+        (v - self.lo) / (self.hi - self.lo)
+    }
+}
+
+/// Write a plot with linear axes. `lines[i]` says whether series `i` is drawn as a line (true)
+/// or as markers only (false: measured or computed samples).
+pub fn write_linear_svg(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    lines: &[bool],
+) -> Result<()> {
+    let text = render_linear(title, x_label, y_label, series, lines);
+    write_atomically(path, |w| w.write_all(text.as_bytes()))
+}
+
+fn render_linear(title: &str, x_label: &str, y_label: &str, series: &[Series], lines: &[bool]) -> String {
+    let finite = || series.iter().flat_map(|s| s.points.iter()).filter(|p| p.0.is_finite() && p.1.is_finite());
+    let bounds = finite().fold((f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY), |b, p| {
+        (b.0.min(p.0), b.1.max(p.0), b.2.min(p.1), b.3.max(p.1))
+    });
+    let (x_axis, y_axis) = if bounds.0.is_finite() {
+        (LinearAxis::enclosing(bounds.0, bounds.1), LinearAxis::enclosing(bounds.2, bounds.3))
+    } else {
+        (LinearAxis::enclosing(0.0, 1.0), LinearAxis::enclosing(0.0, 1.0))
+    };
+    let px = |v: f64| LEFT + x_axis.fraction(v) * (RIGHT - LEFT);
+    let py = |v: f64| BOTTOM - y_axis.fraction(v) * (BOTTOM - TOP);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif" font-size="{FONT}">
+<rect x="0" y="0" width="{WIDTH}" height="{HEIGHT}" fill="white"/>"#
+    );
+    for (axis, is_x) in [(&x_axis, true), (&y_axis, false)] {
+        let n = ((axis.hi - axis.lo) / axis.step).round() as i64;
+        for k in 0..=n {
+            let v = axis.lo + k as f64 * axis.step;
+            let label = format!("{:.4}", v).trim_end_matches('0').trim_end_matches('.').to_string();
+            let label = if v.abs() >= 1e4 || (v != 0.0 && v.abs() < 1e-3) { format!("{v:.3e}") } else { label };
+            if is_x {
+                let x = px(v);
+                let _ = writeln!(s, r##"<line x1="{x:.2}" y1="{TOP}" x2="{x:.2}" y2="{BOTTOM}" stroke="#e6e6e6"/>"##);
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{x:.2}" y="{}" text-anchor="middle">{}</text>"#,
+                    BOTTOM + 20.0,
+                    escape_text(&label)
+                );
+            } else {
+                let y = py(v);
+                let _ = writeln!(s, r##"<line x1="{LEFT}" y1="{y:.2}" x2="{RIGHT}" y2="{y:.2}" stroke="#e6e6e6"/>"##);
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{}" y="{:.2}" text-anchor="end">{}</text>"#,
+                    LEFT - 8.0,
+                    y + 5.0,
+                    escape_text(&label)
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        r#"<rect x="{LEFT}" y="{TOP}" width="{}" height="{}" fill="none" stroke="black" stroke-width="1.2"/>"#,
+        RIGHT - LEFT,
+        BOTTOM - TOP
+    );
+    let mut pixels: Vec<Vec<Option<(f64, f64)>>> = Vec::new();
+    for (i, se) in series.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let pts: Vec<Option<(f64, f64)>> = se
+            .points
+            .iter()
+            .map(|p| if p.0.is_finite() && p.1.is_finite() { Some((px(p.0), py(p.1))) } else { None })
+            .collect();
+        let _ = writeln!(s, r#"<g fill="{colour}" stroke="{colour}">"#);
+        if lines.get(i).copied().unwrap_or(true) {
+            let mut d = String::new();
+            let mut pen_down = false;
+            for p in &pts {
+                match p {
+                    Some((x, y)) => {
+                        let _ = write!(d, "{}{x:.2},{y:.2} ", if pen_down { "L" } else { "M" });
+                        pen_down = true;
+                    }
+                    None => pen_down = false,
+                }
+            }
+            let _ = writeln!(s, r#"<path d="{}" fill="none" stroke-width="2"/>"#, d.trim_end());
+        } else {
+            for (x, y) in pts.iter().flatten() {
+                draw_marker(&mut s, MARKERS[i % MARKERS.len()], *x, *y);
+            }
+        }
+        let _ = writeln!(s, "</g>");
+        pixels.push(pts);
+    }
+    draw_legend(&mut s, series, &pixels);
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="28" text-anchor="middle" font-size="{}" font-weight="bold">{}</text>"#,
+        (LEFT + RIGHT) / 2.0,
+        FONT + 3.0,
+        escape_text(title)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
+        (LEFT + RIGHT) / 2.0,
+        HEIGHT - 30.0,
+        escape_text(x_label)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="22" y="{:.2}" text-anchor="middle" transform="rotate(-90 22 {:.2})">{}</text>"#,
+        (TOP + BOTTOM) / 2.0,
+        (TOP + BOTTOM) / 2.0,
+        escape_text(y_label)
+    );
+    let _ = writeln!(s, "</svg>");
+    s
+}
