@@ -297,6 +297,30 @@ impl Default for SolverSettings {
     }
 }
 
+/// Validate a friction law for `m` points; an all-zero threshold or coefficient is no friction
+/// (so that no friction machinery runs for μ = 0).
+fn checked_friction(friction: FrictionLaw, m: usize) -> Result<FrictionLaw> {
+    Ok(match friction {
+        FrictionLaw::None => FrictionLaw::None,
+        FrictionLaw::Tresca { threshold } => {
+            check_per_point(&threshold, m, "Tresca threshold", false)?;
+            if threshold.iter().all(|&s| s == 0.0) {
+                FrictionLaw::None
+            } else {
+                FrictionLaw::Tresca { threshold }
+            }
+        }
+        FrictionLaw::Coulomb { mu } => {
+            check_per_point(&mu, m, "Coulomb friction coefficient", false)?;
+            if mu.iter().all(|&v| v == 0.0) {
+                FrictionLaw::None
+            } else {
+                FrictionLaw::Coulomb { mu }
+            }
+        }
+    })
+}
+
 fn check_finite(values: &[f64], what: &str) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
         Some(i) => Err(Error::Usage(format!(
@@ -362,25 +386,7 @@ impl CondensedProblem {
             )));
         }
         check_finite(&free_displacement, "free displacement")?;
-        let friction = match friction {
-            FrictionLaw::None => FrictionLaw::None,
-            FrictionLaw::Tresca { threshold } => {
-                check_per_point(&threshold, m, "Tresca threshold", false)?;
-                if threshold.iter().all(|&s| s == 0.0) {
-                    FrictionLaw::None
-                } else {
-                    FrictionLaw::Tresca { threshold }
-                }
-            }
-            FrictionLaw::Coulomb { mu } => {
-                check_per_point(&mu, m, "Coulomb friction coefficient", false)?;
-                if mu.iter().all(|&v| v == 0.0) {
-                    FrictionLaw::None
-                } else {
-                    FrictionLaw::Coulomb { mu }
-                }
-            }
-        };
+        let friction = checked_friction(friction, m)?;
         let weights = match weights {
             Some(w) => {
                 check_per_point(&w, m, "weight", true)?;
@@ -430,25 +436,7 @@ impl CondensedProblem {
     /// The same problem with another friction law (shares `W`; validates the new data).
     pub fn with_friction(&self, friction: FrictionLaw) -> Result<Self> {
         let m = self.points();
-        let friction = match friction {
-            FrictionLaw::None => FrictionLaw::None,
-            FrictionLaw::Tresca { threshold } => {
-                check_per_point(&threshold, m, "Tresca threshold", false)?;
-                if threshold.iter().all(|&s| s == 0.0) {
-                    FrictionLaw::None
-                } else {
-                    FrictionLaw::Tresca { threshold }
-                }
-            }
-            FrictionLaw::Coulomb { mu } => {
-                check_per_point(&mu, m, "Coulomb friction coefficient", false)?;
-                if mu.iter().all(|&v| v == 0.0) {
-                    FrictionLaw::None
-                } else {
-                    FrictionLaw::Coulomb { mu }
-                }
-            }
-        };
+        let friction = checked_friction(friction, m)?;
         Ok(CondensedProblem { friction, ..self.clone() })
     }
 
