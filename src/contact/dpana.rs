@@ -26,7 +26,7 @@
 use nalgebra::DMatrix;
 
 use super::{
-    box_qp, classify, count_changes, needs_dense, residuals, CondensedProblem, FrictionLaw, IterationRecord, Run,
+    box_qp, classify, needs_dense, residuals, update_states, CondensedProblem, FrictionLaw, IterationRecord, Run,
     SolverSettings,
 };
 use crate::error::Result;
@@ -145,9 +145,7 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
             r[2 * i + 1] = r_t[i];
         }
         u = problem.displacement_unchecked(&r);
-        let new_states = classify(problem, &r, &u);
-        let status_changes = count_changes(&states, &new_states);
-        states = new_states;
+        let status_changes = update_states(problem, &r, &u, &mut states);
         let residual = residuals::compute(problem, &r, &u).worst();
         history.push(IterationRecord { residual, status_changes });
         if inner_fallbacks > 0 && !notes.iter().any(|n: &String| n.starts_with("box QP")) {

@@ -736,6 +736,15 @@ pub(crate) fn classify(problem: &CondensedProblem, r: &[f64], u: &[f64]) -> Vec<
 }
 
 /// Number of points whose state differs.
+/// Classify the points at `(r, u)`, replace `states` with the result and return how many
+/// points changed state (the per-iteration count every solver records).
+pub(crate) fn update_states(problem: &CondensedProblem, r: &[f64], u: &[f64], states: &mut Vec<PointState>) -> usize {
+    let new_states = classify(problem, r, u);
+    let changes = count_changes(states, &new_states);
+    *states = new_states;
+    changes
+}
+
 pub(crate) fn count_changes(a: &[PointState], b: &[PointState]) -> usize {
     a.iter().zip(b).filter(|(x, y)| x != y).count()
 }

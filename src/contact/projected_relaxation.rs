@@ -34,7 +34,7 @@
 //!
 //! [`Delassus::Dense`]: super::Delassus::Dense
 use super::{
-    classify, count_changes, needs_dense, CondensedProblem, FrictionLaw, IterationRecord, Run, SolverSettings,
+    classify, needs_dense, update_states, CondensedProblem, FrictionLaw, IterationRecord, Run, SolverSettings,
 };
 use crate::error::Result;
 
@@ -191,9 +191,7 @@ pub(crate) fn run(problem: &CondensedProblem, omega: f64, settings: &SolverSetti
             r[kn] = next[0];
             r[kt] = next[1];
         }
-        let new_states = classify(problem, &r, &u);
-        let status_changes = count_changes(&states, &new_states);
-        states = new_states;
+        let status_changes = update_states(problem, &r, &u, &mut states);
         let mut residual = super::residuals::compute(problem, &r, &u).worst();
         if residual <= settings.tolerance || sweep % 100 == 0 {
             // Remove the drift of the incremental updates before trusting the residual.

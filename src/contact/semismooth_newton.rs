@@ -65,7 +65,7 @@ use std::collections::{HashMap, VecDeque};
 use nalgebra::{DMatrix, DVector};
 
 use super::{
-    classify, count_changes, krylov, projected_relaxation, residuals, uzawa, CondensedProblem, ContactSolver,
+    classify, krylov, projected_relaxation, residuals, update_states, uzawa, CondensedProblem, ContactSolver,
     FrictionLaw, IterationRecord, PointState, Run, SolverSettings, TangentialState,
 };
 use crate::error::Result;
@@ -437,9 +437,7 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
         }
         u = problem.displacement_unchecked(&r);
         iteration += 1;
-        let new_states = classify(problem, &r, &u);
-        let status_changes = count_changes(&states, &new_states);
-        states = new_states;
+        let status_changes = update_states(problem, &r, &u, &mut states);
         if status_changes == 0 {
             // Same affine piece: the next full step is exact, no cycling possible.
             step_cap = 1.0;

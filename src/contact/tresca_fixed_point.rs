@@ -18,7 +18,7 @@
 //!
 //! For frictionless or Tresca problems the outer loop is void: the inner solver is run once.
 use super::{
-    classify, count_changes, residuals, run_solver, CondensedProblem, ContactSolver, FrictionLaw, IterationRecord, Run,
+    classify, residuals, run_solver, update_states, CondensedProblem, ContactSolver, FrictionLaw, IterationRecord, Run,
     SolverSettings,
 };
 use crate::error::Result;
@@ -76,9 +76,7 @@ pub(crate) fn run(
         }
         r = run.force;
         u = problem.displacement_unchecked(&r);
-        let new_states = classify(problem, &r, &u);
-        let status_changes = count_changes(&states, &new_states);
-        states = new_states;
+        let status_changes = update_states(problem, &r, &u, &mut states);
         let residual = residuals::compute(problem, &r, &u).worst();
         history.push(IterationRecord { residual, status_changes });
         if residual <= settings.tolerance {

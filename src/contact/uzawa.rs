@@ -32,7 +32,7 @@
 //!
 //! Works with [`Delassus::Operator`](super::Delassus::Operator) (products only).
 use super::{
-    classify, count_changes, residuals, CondensedProblem, ContactSolver, FrictionLaw, IterationRecord, Run,
+    classify, residuals, update_states, CondensedProblem, ContactSolver, FrictionLaw, IterationRecord, Run,
     SolverSettings,
 };
 
@@ -152,9 +152,7 @@ pub(crate) fn run(problem: &CondensedProblem, accelerated: bool, settings: &Solv
             y.copy_from_slice(&r);
             u_y.copy_from_slice(&u);
         }
-        let new_states = classify(problem, &r, &u);
-        let status_changes = count_changes(&states, &new_states);
-        states = new_states;
+        let status_changes = update_states(problem, &r, &u, &mut states);
         let mut residual = residuals::compute(problem, &r, &u).worst();
         if residual <= settings.tolerance {
             u = problem.displacement_unchecked(&r);
