@@ -26,6 +26,7 @@ pub mod bounded;
 mod linear_solver;
 mod matrix;
 pub mod nonlinear;
+pub mod schur;
 mod vector;
 
 pub use linear_solver::{LinearSolver, SolveStats};
@@ -291,6 +292,12 @@ impl Session {
             n.as_ptr(),
             v.as_ref().map_or(std::ptr::null(), |v| v.as_ptr())
         ))
+    }
+
+    /// Remove `-name` from the options database.
+    pub fn clear_option(&self, name: &str) -> Result<()> {
+        let n = cstring(name)?;
+        petsc!(PetscOptionsClearValue(std::ptr::null_mut(), n.as_ptr()))
     }
 
     /// Insert options given as tokens (`["-ksp_type", "cg", "-ksp_monitor"]`) as *defaults*: an

@@ -1047,16 +1047,17 @@ impl ContactSetup {
         rhs.set_owned(&system.rhs)?;
         let mut ksp = LinearSolver::new(session, session.world(), "")?;
         ksp.set_operator(&matrix)?;
-        let (u, mut outcome) = self.solve(session, mesh, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
-            Error::SolverDiverged { solver, reason, iterations, residual, tried } => Error::SolverDiverged {
-                solver: format!("{solver} (fallback from the full-space semi-smooth Newton)"),
-                reason,
-                iterations,
-                residual,
-                tried: format!("first the full-space semi-smooth Newton: {failure}; then {tried}"),
-            },
-            other => other,
-        })?;
+        let (u, mut outcome, _) =
+            self.solve(session, mesh, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
+                Error::SolverDiverged { solver, reason, iterations, residual, tried } => Error::SolverDiverged {
+                    solver: format!("{solver} (fallback from the full-space semi-smooth Newton)"),
+                    reason,
+                    iterations,
+                    residual,
+                    tried: format!("first the full-space semi-smooth Newton: {failure}; then {tried}"),
+                },
+                other => other,
+            })?;
         let mut all = vec![format!("full-space semi-smooth Newton failed ({failure}); fell back to the condensed one")];
         all.extend(notes);
         all.append(&mut outcome.report.notes);

@@ -276,8 +276,8 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {
-            let (u, outcome) = contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &mut |_| {})?;
-            self.stats = Some(ksp.last_stats().ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
+            let (u, outcome, stats) = contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &mut |_| {})?;
+            self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
             self.check_contact_equilibrium(&outcome)?;
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);

@@ -458,3 +458,32 @@ pub fn full_space_failure_falls_back_and_says_so(s: &Session) -> Result<(), Stri
         Ok(p) => Err(format!("3 Newton steps were enough? {:?}", p.contact_outcome.map(|o| o.report))),
     }
 }
+
+/// `-contact_condense_schur`: W from one MUMPS factorisation with the Schur complement gives the
+/// solve-per-column answer (square block, Coulomb; Hertz small, frictionless).
+pub fn condensation_by_schur_complement_agrees(s: &Session) -> Result<(), String> {
+    let cases = [("square_block.toml", "1.25e-3"), ("hertz.toml", "1e-3")];
+    for (name, cell) in cases {
+        let (text, path) = example(name);
+        let text = if name == "hertz.toml" {
+            set_line(&text, "refine", &format!("refine = {{ point = [0.0, 0.0], cell_size = {cell}, radius = 0.015 }}"))
+        } else {
+            text
+        };
+        let text = if text.lines().any(|l| l.trim_start().starts_with("solver")) {
+            set_line(&text, "solver", "solver = \"newton\"")
+        } else {
+            text.replace("[contact]\n", "[contact]\nsolver = \"newton\"\n")
+        };
+        let columns = solve_text(s, &text, &path).map_err(|e| format!("{name}: {e}"))?;
+        s.set_option("-contact_condense_schur", None).unwrap();
+        let schur = solve_text(s, &text, &path);
+        s.clear_option("-contact_condense_schur").unwrap();
+        let schur = schur.map_err(|e| format!("{name} (Schur): {e}"))?;
+        let d = relative_difference(columns.displacement.as_ref().unwrap(), schur.displacement.as_ref().unwrap());
+        ensure(d < 1e-8, || format!("{name}: Schur condensation differs by {d:e}"))?;
+        let stats = schur.stats.as_ref().unwrap();
+        ensure(stats.factor_package.as_deref().unwrap_or("").contains("Schur"), || format!("{stats:?}"))?;
+    }
+    Ok(())
+}

@@ -33,7 +33,9 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_reports_unconstrained_rigid_motion", driver_reports_unconstrained_rigid_motion),
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
     ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
+    ("mumps_schur_complement_is_the_inverse_block", mumps_schur_complement_is_the_inverse_block),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
+    ("condensation_by_schur_complement_agrees", contact::condensation_by_schur_complement_agrees),
     ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),
     ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
     ("contact_lift_off_is_an_error", contact::contact_lift_off_is_an_error),
@@ -564,4 +566,59 @@ fn nonlinear_solver_newton_and_callback_errors(s: &Session) -> Result<(), String
         ),
         other => Err(format!("expected SolverDiverged, got {other:?}")),
     }
+}
+
+/// S = K_cc − K_ci K_ii⁻¹ K_ic from MUMPS: S⁻¹ must equal (K⁻¹)_cc computed column by column,
+/// and the factor must solve full systems like the KSP does.
+fn mumps_schur_complement_is_the_inverse_block(s: &Session) -> Result<(), String> {
+    use signorini::petsc::schur::SchurFactor;
+    let (mesh, c) = clamped_cantilever(Order::P2);
+    let n = 2 * mesh.num_nodes();
+    let right = mesh.require_group("right", 1).unwrap();
+    let loads = Loads {
+        body_force: None,
+        edge_loads: vec![EdgeLoad { group: right, traction: Traction::Constant([1e5, -1e6]) }],
+    };
+    let system = assembly::assemble(&mesh, &steel(), &c, &loads, 0..n);
+    let m = &system.matrix;
+    let a = Matrix::from_csr_rows(s, s.world(), n, 0, &m.indptr, &m.indices, &m.values, 2, true)
+        .map_err(|e| e.to_string())?;
+    let bottom = mesh.require_group("bottom", 1).unwrap();
+    let mut nodes: Vec<usize> = mesh.edges_in_group(bottom).flat_map(|e| mesh.edge(e).to_vec()).collect();
+    nodes.sort();
+    nodes.dedup();
+    nodes.retain(|&k| !c.is_fixed(2 * k));
+    let rows: Vec<usize> = nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
+    let factor = SchurFactor::new(s, &a, &rows).map_err(|e| e.to_string())?;
+    let k = rows.len();
+    let schur = nalgebra::DMatrix::from_row_slice(k, k, factor.schur());
+    let inverse = schur.clone().try_inverse().ok_or("singular Schur complement")?;
+    // (K⁻¹)_cc by solves with the default KSP.
+    let mut ksp = LinearSolver::new(s, s.world(), "schur_ref_").map_err(|e| e.to_string())?;
+    ksp.set_operator(&a).map_err(|e| e.to_string())?;
+    let mut e = a.create_vector().map_err(|e| e.to_string())?;
+    let mut x = a.create_vector().map_err(|e| e.to_string())?;
+    let mut worst = 0.0f64;
+    let scale = inverse.amax();
+    for (j, &col) in rows.iter().enumerate() {
+        let mut unit = vec![0.0; n];
+        unit[col] = 1.0;
+        e.set_owned(&unit).map_err(|e| e.to_string())?;
+        ksp.solve(&a, &e, &mut x).map_err(|e| e.to_string())?;
+        let xv = x.owned_values().map_err(|e| e.to_string())?;
+        for (i, &row) in rows.iter().enumerate() {
+            worst = worst.max((xv[row] - inverse[(i, j)]).abs());
+        }
+    }
+    ensure(worst <= 1e-8 * scale, || format!("S⁻¹ differs from (K⁻¹)_cc by {worst:e} (scale {scale:e})"))?;
+    // Full solves with the factor.
+    let mut b = a.create_vector().map_err(|e| e.to_string())?;
+    b.set_owned(&system.rhs).map_err(|e| e.to_string())?;
+    let mut y = a.create_vector().map_err(|e| e.to_string())?;
+    factor.solve(&b, &mut y).map_err(|e| e.to_string())?;
+    ksp.solve(&a, &b, &mut x).map_err(|e| e.to_string())?;
+    let (yv, xv) = (y.owned_values().unwrap(), x.owned_values().unwrap());
+    let norm = xv.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let diff = xv.iter().zip(&yv).map(|(p, q)| (p - q).powi(2)).sum::<f64>().sqrt();
+    ensure(diff <= 1e-10 * norm, || format!("factor solve differs from KSP by {:e}", diff / norm))
 }
