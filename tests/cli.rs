@@ -225,6 +225,20 @@ fn contact_solver_from_the_command_line() {
 }
 
 #[test]
+fn schur_condensation_needs_the_default_linear_solver() {
+    let msg = run_err(
+        bin().args(["run", "--quiet", "--contact-solver", "newton", "-contact_condense_schur", "-ksp_type", "cg"]),
+        1,
+    );
+    assert!(msg.contains("-contact_condense_schur needs"), "{msg}");
+    let dir = scratch("schur-ok");
+    run_ok(
+        bin().args(["run", "--quiet", "--contact-solver", "newton", "--out"]).arg(&dir).arg("-contact_condense_schur"),
+    );
+    assert!(report(&dir)["solver"]["factor_package"].as_str().unwrap().contains("Schur"));
+}
+
+#[test]
 fn contact_fields_read_back_in_meshio() {
     let dir = scratch("contact-fields");
     run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
