@@ -71,8 +71,7 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
     let mut states = classify(problem, &r, &u);
     let mut history = Vec::new();
     let mut notes = Vec::new();
-    let mut best = f64::INFINITY;
-    let mut best_at = 0;
+    let mut stagnation = super::Stagnation::new(STAGNATION_WINDOW);
     let mut first_residual = None;
     let mut inner_fallbacks = 0;
     let lower_n = vec![f64::NEG_INFINITY; m];
@@ -167,10 +166,8 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
                 )),
             ));
         }
-        if residual < best * (1.0 - 1e-3) {
-            best = residual;
-            best_at = k;
-        } else if k - best_at >= STAGNATION_WINDOW {
+        if stagnation.stalled(residual, k) {
+            let best = stagnation.best();
             return Ok(run(
                 r,
                 k,

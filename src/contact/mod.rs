@@ -95,6 +95,35 @@ const SYMMETRY_TOLERANCE: f64 = 1e-8;
 /// methods (projected relaxation, Uzawa) declare stagnation.
 pub(crate) const STAGNATION_WINDOW: usize = 500;
 
+/// The best residual of an iterative solver so far, and whether it has stopped improving: no
+/// 0.1 % progress in `window` iterations.
+pub(crate) struct Stagnation {
+    best: f64,
+    best_at: usize,
+    window: usize,
+}
+
+impl Stagnation {
+    pub(crate) fn new(window: usize) -> Self {
+        Stagnation { best: f64::INFINITY, best_at: 0, window }
+    }
+
+    /// Record the residual of `iteration`; true when the solver has stagnated.
+    pub(crate) fn stalled(&mut self, residual: f64, iteration: usize) -> bool {
+        if residual < self.best * (1.0 - 1e-3) {
+            self.best = residual;
+            self.best_at = iteration;
+            false
+        } else {
+            iteration - self.best_at >= self.window
+        }
+    }
+
+    pub(crate) fn best(&self) -> f64 {
+        self.best
+    }
+}
+
 /// The friction law on the contact points.
 #[derive(Debug, Clone, PartialEq)]
 pub enum FrictionLaw {

@@ -148,8 +148,7 @@ pub(crate) fn run(problem: &CondensedProblem, omega: f64, settings: &SolverSetti
         FrictionLaw::Coulomb { mu } => Some(mu),
         _ => None,
     };
-    let mut best = f64::INFINITY;
-    let mut best_at = 0;
+    let mut stagnation = super::Stagnation::new(super::STAGNATION_WINDOW);
     for sweep in 1..=settings.max_iterations {
         for i in 0..m {
             let (kn, kt) = (2 * i, 2 * i + 1);
@@ -210,10 +209,8 @@ pub(crate) fn run(problem: &CondensedProblem, omega: f64, settings: &SolverSetti
                 solver: name,
             });
         }
-        if residual < best * (1.0 - 1e-3) {
-            best = residual;
-            best_at = sweep;
-        } else if sweep - best_at >= super::STAGNATION_WINDOW {
+        if stagnation.stalled(residual, sweep) {
+            let best = stagnation.best();
             return Ok(Run {
                 force: r,
                 iterations: sweep,

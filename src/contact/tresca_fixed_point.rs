@@ -53,8 +53,7 @@ pub(crate) fn run(
     let mut history = Vec::new();
     let mut notes = Vec::new();
     let mut inner_iterations = 0;
-    let mut best = f64::INFINITY;
-    let mut best_at = 0;
+    let mut stagnation = super::Stagnation::new(STAGNATION_WINDOW);
     let mut first = None;
     for k in 1..=settings.max_iterations {
         let threshold: Vec<f64> = (0..m).map(|i| mu[i] * (-r[2 * i]).max(0.0)).collect();
@@ -86,14 +85,11 @@ pub(crate) fn run(
         let first = *first.get_or_insert(residual);
         let failure = if !residual.is_finite() || residual > 1e3 * f64::max(first, settings.tolerance) {
             Some(format!("the residual grew from {first:.2e} to {residual:.2e}: the threshold map does not contract"))
-        } else if residual < best * (1.0 - 1e-3) {
-            best = residual;
-            best_at = k;
-            None
-        } else if k - best_at >= STAGNATION_WINDOW {
+        } else if stagnation.stalled(residual, k) {
             Some(format!(
-                "the residual stagnated at {best:.2e} (no 0.1 % progress in {STAGNATION_WINDOW} \
-                 outer iterations): the threshold map does not contract (friction too large?)"
+                "the residual stagnated at {:.2e} (no 0.1 % progress in {STAGNATION_WINDOW} \
+                 outer iterations): the threshold map does not contract (friction too large?)",
+                stagnation.best()
             ))
         } else {
             None

@@ -106,8 +106,7 @@ pub(crate) fn run(problem: &CondensedProblem, accelerated: bool, settings: &Solv
     let mut step_halvings = 0usize;
     let mut current_energy = energy(&r, &u, free, &gap_vector);
     let mut iteration = 0;
-    let mut best = f64::INFINITY;
-    let mut best_at = 0;
+    let mut stagnation = super::Stagnation::new(super::STAGNATION_WINDOW);
     while iteration < settings.max_iterations {
         projected_step(problem, &y, &u_y, rho, &mut next);
         problem.delassus().apply(&next, &mut u_next);
@@ -175,10 +174,8 @@ pub(crate) fn run(problem: &CondensedProblem, accelerated: bool, settings: &Solv
                 solver: name,
             };
         }
-        if residual < best * (1.0 - 1e-3) {
-            best = residual;
-            best_at = iteration;
-        } else if iteration - best_at >= super::STAGNATION_WINDOW {
+        if stagnation.stalled(residual, iteration) {
+            let best = stagnation.best();
             return Run {
                 force: r,
                 iterations: iteration,
