@@ -343,9 +343,7 @@ impl ContactSetup {
             history.push(largest);
             let scale = force.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             let all_open = force.iter().step_by(2).all(|&r| r >= 0.0);
-            let converged = largest <= 1e-12 * scale;
-            let stalled = history.len() > 10 && largest > 0.5 * history[history.len() - 6];
-            if converged || (all_open && history.len() >= 3) || stalled || history.len() >= 200 {
+            if proximal_iterations_done(&history, scale, all_open) {
                 break (run, force, uc, v_all, reaction, spring);
             }
             anchor = v_all;
@@ -546,10 +544,7 @@ impl ContactSetup {
             history.push(largest);
             outcome.report.stabilisation_force = spring;
             outcome.report.stabilisation_iterations = history.len();
-            let converged = largest <= 1e-12 * scale;
-            let lifted = outcome.report.open == outcome.report.points && history.len() >= 3;
-            let stalled = history.len() > 10 && largest > 0.5 * history[history.len() - 6];
-            if converged || lifted || stalled || history.len() >= 200 {
+            if proximal_iterations_done(&history, scale, outcome.report.open == outcome.report.points) {
                 return Ok((u, outcome, linear.stats()));
             }
             anchor = u;
@@ -746,6 +741,21 @@ impl ContactSetup {
             linear_solves,
         }
     }
+}
+
+/// Stop the proximal iterations on the stabilisation springs? `history` holds the largest
+/// spring force of each iteration so far (the last is the current one), `scale` the largest
+/// contact force. Stop when the spring force is negligible (converged), when no point is in
+/// contact after three iterations (the body lifts off), when the force no longer halves over
+/// five iterations (the body slides), or after 200 iterations; the caller's equilibrium check
+/// tells these apart.
+fn proximal_iterations_done(history: &[f64], scale: f64, all_open: bool) -> bool {
+    let n = history.len();
+    let largest = history[n - 1];
+    let converged = largest <= 1e-12 * scale;
+    let lifted = all_open && n >= 3;
+    let stalled = n > 10 && largest > 0.5 * history[n - 6];
+    converged || lifted || stalled || n >= 200
 }
 
 /// The factorised stiffness the condensed route solves with: a MUMPS factor with the Schur
