@@ -211,33 +211,22 @@ pub fn elasticity_table(rows: &[BenchRow]) -> String {
 /// Write `bench_elasticity.md` (table) and `bench_elasticity.svg` (solve time against dofs, one
 /// line per solver, plus assembly) into `dir`.
 pub fn write_elasticity_outputs(rows: &[BenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
-    let md = dir.join("bench_elasticity.md");
-    let table = elasticity_table(rows);
-    output::write_atomically(&md, |w| w.write_all(table.as_bytes()))?;
-    let mut series: Vec<plot::Series> = Vec::new();
-    for solver in SOLVERS {
-        let points: Vec<(f64, f64)> =
-            rows.iter().filter(|r| r.solver == solver.name).map(|r| (r.dofs as f64, r.solve_seconds)).collect();
-        if !points.is_empty() {
-            series.push(plot::Series { label: format!("solve: {}", solver.name), points });
-        }
-    }
-    let mut assembly: Vec<(f64, f64)> = Vec::new();
-    for r in rows {
-        if !assembly.iter().any(|p| p.0 == r.dofs as f64) {
-            assembly.push((r.dofs as f64, r.assemble_seconds));
-        }
-    }
-    series.push(plot::Series { label: "assembly".into(), points: assembly });
-    let svg = dir.join("bench_elasticity.svg");
-    plot::write_loglog_svg(
-        &svg,
+    let solvers = SOLVERS
+        .iter()
+        .map(|solver| {
+            let points = rows.iter().filter(|r| r.solver == solver.name).map(|r| (r.dofs as f64, r.solve_seconds));
+            (format!("solve: {}", solver.name), points.collect())
+        })
+        .collect();
+    let assembly = once_per_size(rows.iter().map(|r| (r.dofs as f64, r.assemble_seconds)));
+    write_table_and_plot(
+        dir,
+        "bench_elasticity",
+        &elasticity_table(rows),
         "Plane elasticity, P1: wall time against size",
-        "degrees of freedom",
-        "seconds",
-        &series,
-    )?;
-    Ok((md, svg))
+        solvers,
+        plot::Series { label: "assembly".into(), points: assembly },
+    )
 }
 
 // ------------------------------------------------------------------------------------------
@@ -359,31 +348,54 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
 
 /// `bench_contact.md` and `bench_contact.svg` (contact solve time against dofs, per solver).
 pub fn write_contact_outputs(rows: &[ContactBenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
-    let md = dir.join("bench_contact.md");
-    let table = contact_table(rows);
-    output::write_atomically(&md, |w| w.write_all(table.as_bytes()))?;
-    let mut series: Vec<plot::Series> = Vec::new();
-    for solver in CONTACT_SOLVERS {
-        let points: Vec<(f64, f64)> =
-            rows.iter().filter(|r| r.solver == *solver).map(|r| (r.dofs as f64, r.contact_seconds)).collect();
-        if !points.is_empty() {
-            series.push(plot::Series { label: format!("contact: {solver}"), points });
-        }
-    }
-    let mut linear: Vec<(f64, f64)> = Vec::new();
-    for r in rows {
-        if !linear.iter().any(|p| p.0 == r.dofs as f64) {
-            linear.push((r.dofs as f64, r.linear_seconds));
-        }
-    }
-    series.push(plot::Series { label: "one linear solve (MUMPS)".into(), points: linear });
-    let svg = dir.join("bench_contact.svg");
-    plot::write_loglog_svg(
-        &svg,
+    let solvers = CONTACT_SOLVERS
+        .iter()
+        .map(|solver| {
+            let points = rows.iter().filter(|r| r.solver == *solver).map(|r| (r.dofs as f64, r.contact_seconds));
+            (format!("contact: {solver}"), points.collect())
+        })
+        .collect();
+    let linear = once_per_size(rows.iter().map(|r| (r.dofs as f64, r.linear_seconds)));
+    write_table_and_plot(
+        dir,
+        "bench_contact",
+        &contact_table(rows),
         "Square block, Coulomb friction: wall time against size",
-        "degrees of freedom",
-        "seconds",
-        &series,
-    )?;
+        solvers,
+        plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
+    )
+}
+
+/// The first point of each size (x), in order: per-size quantities repeated on every row.
+fn once_per_size(points: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for p in points {
+        if !out.iter().any(|q| q.0 == p.0) {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Write `<stem>.md` (the table) and `<stem>.svg` (time against dofs: one line per solver that
+/// has points, then the reference line) into `dir`.
+fn write_table_and_plot(
+    dir: &Path,
+    stem: &str,
+    table: &str,
+    title: &str,
+    solvers: Vec<(String, Vec<(f64, f64)>)>,
+    reference: plot::Series,
+) -> Result<(PathBuf, PathBuf)> {
+    let md = dir.join(format!("{stem}.md"));
+    output::write_atomically(&md, |w| w.write_all(table.as_bytes()))?;
+    let mut series: Vec<plot::Series> = solvers
+        .into_iter()
+        .filter(|(_, points)| !points.is_empty())
+        .map(|(label, points)| plot::Series { label, points })
+        .collect();
+    series.push(reference);
+    let svg = dir.join(format!("{stem}.svg"));
+    plot::write_loglog_svg(&svg, title, "degrees of freedom", "seconds", &series)?;
     Ok((md, svg))
 }
