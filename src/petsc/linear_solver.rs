@@ -155,11 +155,7 @@ impl<'s> LinearSolver<'s> {
             None => format!("KSP {ksp_type} + {pc_type}"),
         };
         // Independent check: the true residual.
-        let mut r = b.duplicate()?;
-        matrix.multiply(x, &mut r)?;
-        r.axpy(-1.0, b)?;
-        let bnorm = b.norm2()?;
-        let relative_residual = if bnorm > 0.0 { r.norm2()? / bnorm } else { r.norm2()? };
+        let relative_residual = matrix.relative_residual(x, b)?;
         let (mut rtol, mut abstol, mut dtol, mut maxits) = (0.0, 0.0, 0.0, 0 as sys::PetscInt);
         petsc!(KSPGetTolerances(self.raw, &mut rtol, &mut abstol, &mut dtol, &mut maxits))?;
         let stats = SolveStats {

@@ -140,6 +140,17 @@ impl<'s> Matrix<'s> {
         Ok(v)
     }
 
+    /// The true relative residual ‖b − A x‖ / ‖b‖ (‖b − A x‖ when b = 0), the independent check
+    /// applied to every linear solve.
+    pub fn relative_residual(&self, x: &Vector<'s>, b: &Vector<'s>) -> Result<f64> {
+        let mut r = b.duplicate()?;
+        self.multiply(x, &mut r)?;
+        r.axpy(-1.0, b)?;
+        let bnorm = b.norm2()?;
+        let rnorm = r.norm2()?;
+        Ok(if bnorm > 0.0 { rnorm / bnorm } else { rnorm })
+    }
+
     /// y = A x
     pub fn multiply(&self, x: &Vector<'s>, y: &mut Vector<'s>) -> Result<()> {
         if x.global_size() != self.global || y.global_size() != self.global {

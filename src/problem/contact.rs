@@ -774,11 +774,7 @@ impl<'s> Factorised<'_, 's> {
             Factorised::Krylov(ksp) => ksp.solve(matrix, b, x).map(|_| ()),
             Factorised::Schur(factor, _) => {
                 factor.solve(b, x)?;
-                let mut r = b.duplicate()?;
-                matrix.multiply(x, &mut r)?;
-                r.axpy(-1.0, b)?;
-                let bnorm = b.norm2()?;
-                let relative = if bnorm > 0.0 { r.norm2()? / bnorm } else { r.norm2()? };
+                let relative = matrix.relative_residual(x, b)?;
                 if !(relative <= 1e-6) {
                     return Err(Error::SolverDiverged {
                         solver: "MUMPS Cholesky with Schur complement".into(),
