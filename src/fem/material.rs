@@ -83,6 +83,16 @@ impl Material {
         self.young / (2.0 * (1.0 + self.poisson))
     }
 
+    /// The plane modulus `E' = E / (1 − ν²)` (plane strain) or `E` (plane stress): the
+    /// stiffness of the model against a uniaxial in-plane strain with the other in-plane
+    /// component free.
+    pub fn plane_modulus(&self) -> f64 {
+        match self.plane {
+            PlaneModel::Strain => self.young / (1.0 - self.poisson * self.poisson),
+            PlaneModel::Stress => self.young,
+        }
+    }
+
     /// In-plane Lamé parameters `(λ*, μ)` of the model (see the module doc).
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);

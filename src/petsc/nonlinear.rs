@@ -76,6 +76,19 @@ pub trait NonlinearSystem {
         let _ = (x, direction);
         Ok(1.0)
     }
+    /// Whether the system solves its own Jacobians (asked once, before the solve), and under
+    /// which name the reports show that solver. When it does, and no
+    /// `-<prefix>ksp_type`/`-<prefix>pc_type` is given, the KSP is `preonly` with a shell
+    /// preconditioner calling [`NonlinearSystem::solve_jacobian`].
+    fn jacobian_solver(&self) -> Option<String> {
+        None
+    }
+    /// `d = J⁻¹ r` (owned entries) with the Jacobian of the last [`NonlinearSystem::jacobian`]
+    /// call. Called only when [`NonlinearSystem::jacobian_solver`] names a solver.
+    fn solve_jacobian(&mut self, r: &[f64], d: &mut [f64]) -> Result<()> {
+        let _ = (r, d);
+        Err(Error::PetscUsage("this nonlinear system does not solve its Jacobians".into()))
+    }
 }
 
 /// What a nonlinear solve did.
@@ -260,7 +273,18 @@ impl<'s> NonlinearSolver<'s> {
         let mut ksp: sys::KSP = std::ptr::null_mut();
         petsc!(SNESGetKSP(snes, &mut ksp))?;
         let (ksp_opt, pc_opt) = (format!("-{}ksp_type", self.prefix), format!("-{}pc_type", self.prefix));
-        if !self.session.has_option(&ksp_opt)? && !self.session.has_option(&pc_opt)? {
+        let user_inner = self.session.has_option(&ksp_opt)? || self.session.has_option(&pc_opt)?;
+        let own_solver = if user_inner { None } else { context.system.jacobian_solver() };
+        if let Some(name) = own_solver {
+            let mut pc: sys::PC = std::ptr::null_mut();
+            petsc!(KSPGetPC(ksp, &mut pc))?;
+            petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
+            petsc!(PCSetType(pc, c"shell".as_ptr()))?;
+            petsc!(PCShellSetContext(pc, ctx))?;
+            petsc!(PCShellSetApply(pc, Some(shell_apply_callback)))?;
+            let name = cstring(&name)?;
+            petsc!(PCShellSetName(pc, name.as_ptr()))?;
+        } else if !user_inner {
             let mut pc: sys::PC = std::ptr::null_mut();
             petsc!(KSPGetPC(ksp, &mut pc))?;
             petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
@@ -298,7 +322,16 @@ impl<'s> NonlinearSolver<'s> {
         petsc!(SNESGetNumberFunctionEvals(snes, &mut fevals))?;
         let mut fnorm = 0.0;
         petsc!(SNESGetFunctionNorm(snes, &mut fnorm))?;
-        let (ksp_type, pc_type, factor_package) = ksp_names(ksp)?;
+        let (ksp_type, mut pc_type, factor_package) = ksp_names(ksp)?;
+        if pc_type == "shell" {
+            let mut pc: sys::PC = std::ptr::null_mut();
+            petsc!(KSPGetPC(ksp, &mut pc))?;
+            let mut name: *const std::ffi::c_char = std::ptr::null();
+            petsc!(PCShellGetName(pc, &mut name))?;
+            if !name.is_null() {
+                pc_type = format!("shell ({})", from_c(name));
+            }
+        }
         let mut ls_type: sys::SNESLineSearchType = std::ptr::null();
         petsc!(SNESLineSearchGetType(line_search, &mut ls_type))?;
         let mut snes_type: sys::SNESType = std::ptr::null();
@@ -540,6 +573,36 @@ unsafe extern "C" fn convergence_callback(
         unsafe { *reason = code };
         c.verdict = Some(verdict);
         Ok(())
+    })
+}
+
+unsafe extern "C" fn shell_apply_callback(pc: sys::PC, r: sys::Vec, d: sys::Vec) -> sys::PetscErrorCode {
+    let mut ctx: *mut c_void = std::ptr::null_mut();
+    // SAFETY: the shell's context is the boxed Context of `solve` (set with the shell).
+    let code = unsafe { sys::PCShellGetContext(pc, &mut ctx as *mut *mut c_void as *mut c_void) };
+    if code != 0 || ctx.is_null() {
+        return CALLBACK_FAILED;
+    }
+    guarded(ctx, |c| {
+        let owned = c.owned;
+        let mut rp: *const f64 = std::ptr::null();
+        petsc!(VecGetArrayRead(r, &mut rp))?;
+        let rhs: Vec<f64> = if owned > 0 {
+            // SAFETY: the vectors have the unknowns' layout: `owned` local entries.
+            unsafe { std::slice::from_raw_parts(rp, owned) }.to_vec()
+        } else {
+            Vec::new()
+        };
+        petsc!(VecRestoreArrayRead(r, &mut rp))?;
+        let mut out = vec![0.0; owned];
+        c.system.solve_jacobian(&rhs, &mut out)?;
+        let mut dp: *mut f64 = std::ptr::null_mut();
+        petsc!(VecGetArray(d, &mut dp))?;
+        if owned > 0 {
+            // SAFETY: as above.
+            unsafe { std::slice::from_raw_parts_mut(dp, owned) }.copy_from_slice(&out);
+        }
+        petsc!(VecRestoreArray(d, &mut dp))
     })
 }
 

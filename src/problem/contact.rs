@@ -433,33 +433,7 @@ impl ContactSetup {
         let start = std::time::Instant::now();
         let mut linear = if wants_schur {
             let factor = SchurFactor::new(session, matrix, &schur_rows)?;
-            let k = schur_rows.len();
-            let schur = DMatrix::from_row_slice(k, k, factor.schur());
-            let inverse = schur
-                .cholesky()
-                .ok_or_else(|| {
-                    Error::Unconstrained(
-                        "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
-                    )
-                })?
-                .inverse();
-            // W_ij = R_iᵀ (K⁻¹)_{node_i, node_j} R_j with R = [n t].
-            for i in 0..m {
-                for j in 0..m {
-                    let (ri, rj) = ([b.normal[i], b.tangent[i]], [b.normal[j], b.tangent[j]]);
-                    for (a, da) in ri.iter().enumerate() {
-                        for (c, dc) in rj.iter().enumerate() {
-                            let mut v = 0.0;
-                            for p in 0..2 {
-                                for q in 0..2 {
-                                    v += da[p] * inverse[(2 * i + p, 2 * j + q)] * dc[q];
-                                }
-                            }
-                            w[(2 * i + a, 2 * j + c)] = v;
-                        }
-                    }
-                }
-            }
+            w = flexibility_from_schur(&factor, b)?;
             Factorised::Schur(factor, start.elapsed().as_secs_f64())
         } else {
             Factorised::Krylov(ksp)
@@ -756,6 +730,44 @@ fn proximal_iterations_done(history: &[f64], scale: f64, all_open: bool) -> bool
     let lifted = all_open && n >= 3;
     let stalled = n > 10 && largest > 0.5 * history[n - 6];
     converged || lifted || stalled || n >= 200
+}
+
+/// The flexibility `W = B K⁻¹ Bᵀ` (`2m × 2m`, each point's rows and columns in its frame
+/// `(n, t)`) from a factor with the Schur complement `S` on the contact dofs (every contact
+/// node's two dofs, in point order): `(K⁻¹)_cc = S⁻¹`, `W_ij = R_iᵀ (S⁻¹)_{ij} R_j`,
+/// `R = [n t]`.
+pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBoundary) -> Result<DMatrix<f64>> {
+    let m = b.points();
+    let k = factor.size();
+    if k != 2 * m {
+        return Err(Error::PetscUsage(format!("Schur complement of order {k} for {m} contact points")));
+    }
+    let inverse = DMatrix::from_row_slice(k, k, factor.schur())
+        .cholesky()
+        .ok_or_else(|| {
+            Error::Unconstrained(
+                "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
+            )
+        })?
+        .inverse();
+    let mut w = DMatrix::<f64>::zeros(k, k);
+    for i in 0..m {
+        for j in 0..m {
+            let (ri, rj) = ([b.normal[i], b.tangent[i]], [b.normal[j], b.tangent[j]]);
+            for (a, da) in ri.iter().enumerate() {
+                for (c, dc) in rj.iter().enumerate() {
+                    let mut v = 0.0;
+                    for p in 0..2 {
+                        for q in 0..2 {
+                            v += da[p] * inverse[(2 * i + p, 2 * j + q)] * dc[q];
+                        }
+                    }
+                    w[(2 * i + a, 2 * j + c)] = v;
+                }
+            }
+        }
+    }
+    Ok(w)
 }
 
 /// The factorised stiffness the condensed route solves with: a MUMPS factor with the Schur

@@ -20,6 +20,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+mod block_elimination;
 mod contact;
 mod full_space;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
@@ -247,8 +248,15 @@ impl<'s> ElasticityProblem<'s> {
         let start = std::time::Instant::now();
         if let (Some(contact), Some(system)) = (&self.contact, &self.full_space_system) {
             let ranges = dof_ranges(self.mesh.num_nodes(), self.session.size());
-            let (u, outcome, mut stats) =
-                contact.solve_full_space(self.session, &self.mesh, &self.constraints, system, &ranges, &mut |_| {})?;
+            let (u, outcome, mut stats) = contact.solve_full_space(
+                self.session,
+                &self.mesh,
+                &self.material,
+                &self.constraints,
+                system,
+                &ranges,
+                &mut |_| {},
+            )?;
             stats.seconds = start.elapsed().as_secs_f64();
             self.stats = Some(stats);
             self.check_contact_equilibrium(&outcome)?;
