@@ -19,7 +19,9 @@
 //! (block Gaussian elimination, exact in exact arithmetic). `K` is factorised once (MUMPS
 //! Cholesky) with its Schur complement `S` on the contact dofs, which gives `W = R S⁻¹ Rᵀ`
 //! ([`flexibility_from_schur`](super::contact::flexibility_from_schur)); each Newton step then
-//! costs two solves with the factor and one small dense system, instead of a sparse LU of the
+//! costs one or two solves with the factor (the first, `y = K⁻¹ r_u`, is skipped when the force
+//! residual is round-off — after any full Newton step, the force rows being linear — below
+//! `10⁻¹²` of the largest load) and one small dense system, instead of a sparse LU of the
 //! whole mixed matrix. The Newton iterates are those of the LU route (same equations, same
 //! pieces); the residual is always evaluated in full space, so the round-off of the
 //! elimination (about `10⁻¹⁰` relative) only slows the last step, it does not limit the
@@ -77,6 +79,8 @@ pub(super) struct BlockElimination<'s> {
     rows: Vec<ContactRow>,
     unknowns: Vec<usize>,
     reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    /// The largest load entry: force residuals below 10⁻¹² of it are round-off.
+    load_scale: f64,
 }
 
 impl<'s> BlockElimination<'s> {
@@ -87,10 +91,12 @@ impl<'s> BlockElimination<'s> {
         stiffness: &Matrix<'s>,
         boundary: &ContactBoundary,
         per_point: usize,
+        load: &[f64],
     ) -> Result<Self> {
         let rows: Vec<usize> = boundary.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
         let factor = SchurFactor::new(session, stiffness, &rows)?;
         let w = flexibility_from_schur(&factor, boundary)?;
+        let load_scale = load.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let num_u = stiffness.global_size();
         Ok(BlockElimination {
             factor,
@@ -105,6 +111,7 @@ impl<'s> BlockElimination<'s> {
             rows: Vec::new(),
             unknowns: Vec::new(),
             reduced: None,
+            load_scale,
         })
     }
 
@@ -150,15 +157,19 @@ impl<'s> BlockElimination<'s> {
     pub fn solve(&mut self, r: &[f64], d: &mut [f64]) -> Result<()> {
         let n = self.num_u;
         let (r_u, r_c) = r.split_at(n);
-        // y = K⁻¹ r_u and its contact displacements B y.
-        self.rhs.set_owned(r_u)?;
-        self.factor.solve(&self.rhs, &mut self.solution)?;
-        let y = self.solution.owned_values()?;
+        // y = K⁻¹ r_u and its contact displacements B y. After a full Newton step the force
+        // rows hold (they are linear): r_u is round-off and y is not computed.
         let m = self.nodes.len();
         let mut by = vec![0.0; 2 * m];
-        for (i, &k) in self.nodes.iter().enumerate() {
-            by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
-            by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
+        let largest = r_u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if largest > 1e-12 * self.load_scale {
+            self.rhs.set_owned(r_u)?;
+            self.factor.solve(&self.rhs, &mut self.solution)?;
+            let y = self.solution.owned_values()?;
+            for (i, &k) in self.nodes.iter().enumerate() {
+                by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
+                by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
+            }
         }
         // Known parts of dλ (force rows, the constant part of Coulomb slip rows).
         let mut dl = vec![0.0; 2 * m];

@@ -918,7 +918,7 @@ impl ContactSetup {
             progress("  contact: factorising K with the Schur complement on the contact dofs");
             let matrix =
                 Matrix::from_csr_rows(session, comm, n, k.first_row, &k.indptr, &k.indices, &k.values, 2, true)?;
-            Some(BlockElimination::new(session, &matrix, b, per_point)?)
+            Some(BlockElimination::new(session, &matrix, b, per_point, &system.rhs)?)
         } else {
             None
         };
