@@ -7,7 +7,10 @@
 //!                            stored, zeros included), and the "ghosted" layout of x below
 //!   NonlinearSolver::solve   SNES newtonls (line search "basic": full Newton steps; any
 //!                            -<prefix>snes_linesearch_type from the options), KSP preonly + LU
-//!                            (MUMPS) unless -<prefix>ksp_type / -<prefix>pc_type are given
+//!                            (MUMPS) unless -<prefix>ksp_type / -<prefix>pc_type are given,
+//!                            or KSP preonly + a shell preconditioner that calls the system's
+//!                            own exact Jacobian solver when it has one
+//!                            (NonlinearSystem::jacobian_solver / solve_jacobian)
 //! ```
 //!
 //! ## What the callbacks see
@@ -23,7 +26,8 @@
 //! - Jacobian: the values of the owned rows in the pattern's order (`values[k]` is the entry
 //!   of pattern position `k`); the matrix is refilled from them at every evaluation (a solver
 //!   may modify its Jacobian in place, and the pattern never changes, so the LU symbolic
-//!   analysis is reused);
+//!   analysis is reused) — except when the system solves its own Jacobians (shell
+//!   preconditioner with KSP preonly: the matrix is never applied);
 //! - convergence: called after every Newton step (and once at the initial guess, iteration 0)
 //!   with the iterate and its residual; it decides (PETSc's norm tests are not used: a mixed
 //!   system's residual mixes units);
@@ -254,6 +258,7 @@ impl<'s> NonlinearSolver<'s> {
             values: vec![0.0; self.columns.len()],
             error: None,
             verdict: None,
+            own_solver: false,
         });
         let ctx = &mut *context as *mut Context as *mut c_void;
         let mut snes: sys::SNES = std::ptr::null_mut();
@@ -284,6 +289,7 @@ impl<'s> NonlinearSolver<'s> {
             petsc!(PCShellSetApply(pc, Some(shell_apply_callback)))?;
             let name = cstring(&name)?;
             petsc!(PCShellSetName(pc, name.as_ptr()))?;
+            context.own_solver = true;
         } else if !user_inner {
             let mut pc: sys::PC = std::ptr::null_mut();
             petsc!(KSPGetPC(ksp, &mut pc))?;
@@ -415,6 +421,8 @@ struct Context<'a> {
     error: Option<Error>,
     /// The last verdict of the convergence test.
     verdict: Option<Convergence>,
+    /// The system solves its own Jacobians (shell preconditioner, KSP preonly).
+    own_solver: bool,
 }
 
 impl Context<'_> {
@@ -528,6 +536,11 @@ unsafe extern "C" fn jacobian_callback(
             petsc!(MatAssemblyEnd(m, sys::MatAssemblyType::MAT_FINAL_ASSEMBLY))
         };
         let outcome = result.and_then(|r| r).and_then(|_| {
+            if c.own_solver {
+                // The shell preconditioner solves with the system's own data: the matrix is
+                // never applied (KSP preonly), so it is not refilled.
+                return Ok(());
+            }
             fill(pre, c)?;
             if jac != pre {
                 fill(jac, c)?;
