@@ -372,7 +372,9 @@ pub fn full_space_iterations_mesh_independent(s: &Session) -> Result<(), String>
         ensure(r.solver.starts_with("full-space"), || format!("{cell}: fell back: {:?}", r.notes))?;
         its.push(r.iterations);
     }
-    ensure(its.iter().all(|&n| (1..=15).contains(&n)), || {
+    // The target: at most 10 semi-smooth Newton steps at every size (3, 3, 4, 4, 5
+    // measured; 4, 5, 8, 10 from 1e3 to 1e6 dofs in `signorini bench contact`).
+    ensure(its.iter().all(|&n| (1..=10).contains(&n)) && its.windows(2).all(|w| w[1] <= w[0] + 2), || {
         format!("full-space Newton steps from coarse to fine: {its:?}")
     })
 }
