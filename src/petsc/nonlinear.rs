@@ -566,16 +566,7 @@ unsafe extern "C" fn convergence_callback(
         petsc!(SNESGetSolution(snes, &mut x))?;
         let mut f: sys::Vec = std::ptr::null_mut();
         petsc!(SNESGetFunction(snes, &mut f, std::ptr::null_mut(), std::ptr::null_mut()))?;
-        let owned = c.owned;
-        let mut ptr: *const f64 = std::ptr::null();
-        petsc!(VecGetArrayRead(f, &mut ptr))?;
-        let f_owned: Vec<f64> = if owned > 0 {
-            // SAFETY: the residual vector has `owned` local entries.
-            unsafe { std::slice::from_raw_parts(ptr, owned) }.to_vec()
-        } else {
-            Vec::new()
-        };
-        petsc!(VecRestoreArrayRead(f, &mut ptr))?;
+        let f_owned = read_owned(f, c.owned)?;
         let verdict = c.with_ghosted(x, |c, xl| c.system.converged(iteration.max(0) as usize, xl, &f_owned))??;
         let code = match &verdict {
             Convergence::Iterating => sys::SNESConvergedReason::SNES_CONVERGED_ITERATING,
@@ -589,6 +580,20 @@ unsafe extern "C" fn convergence_callback(
     })
 }
 
+/// The `owned` local entries of a vector with the unknowns' layout, copied.
+fn read_owned(v: sys::Vec, owned: usize) -> Result<Vec<f64>> {
+    let mut ptr: *const f64 = std::ptr::null();
+    petsc!(VecGetArrayRead(v, &mut ptr))?;
+    let out = if owned > 0 {
+        // SAFETY: the vector has `owned` local entries until restored.
+        unsafe { std::slice::from_raw_parts(ptr, owned) }.to_vec()
+    } else {
+        Vec::new()
+    };
+    petsc!(VecRestoreArrayRead(v, &mut ptr))?;
+    Ok(out)
+}
+
 unsafe extern "C" fn shell_apply_callback(pc: sys::PC, r: sys::Vec, d: sys::Vec) -> sys::PetscErrorCode {
     let mut ctx: *mut c_void = std::ptr::null_mut();
     // SAFETY: the shell's context is the boxed Context of `solve` (set with the shell).
@@ -598,15 +603,7 @@ unsafe extern "C" fn shell_apply_callback(pc: sys::PC, r: sys::Vec, d: sys::Vec)
     }
     guarded(ctx, |c| {
         let owned = c.owned;
-        let mut rp: *const f64 = std::ptr::null();
-        petsc!(VecGetArrayRead(r, &mut rp))?;
-        let rhs: Vec<f64> = if owned > 0 {
-            // SAFETY: the vectors have the unknowns' layout: `owned` local entries.
-            unsafe { std::slice::from_raw_parts(rp, owned) }.to_vec()
-        } else {
-            Vec::new()
-        };
-        petsc!(VecRestoreArrayRead(r, &mut rp))?;
+        let rhs = read_owned(r, owned)?;
         let mut out = vec![0.0; owned];
         c.system.solve_jacobian(&rhs, &mut out)?;
         let mut dp: *mut f64 = std::ptr::null_mut();
@@ -627,20 +624,7 @@ unsafe extern "C" fn precheck_callback(
     ctx: *mut c_void,
 ) -> sys::PetscErrorCode {
     guarded(ctx, |c| {
-        let owned = c.owned;
-        let read = |v: sys::Vec| -> Result<Vec<f64>> {
-            let mut ptr: *const f64 = std::ptr::null();
-            petsc!(VecGetArrayRead(v, &mut ptr))?;
-            let out = if owned > 0 {
-                // SAFETY: the vectors have the unknowns' layout: `owned` local entries.
-                unsafe { std::slice::from_raw_parts(ptr, owned) }.to_vec()
-            } else {
-                Vec::new()
-            };
-            petsc!(VecRestoreArrayRead(v, &mut ptr))?;
-            Ok(out)
-        };
-        let (xs, ys) = (read(x)?, read(y)?);
+        let (xs, ys) = (read_owned(x, c.owned)?, read_owned(y, c.owned)?);
         let scale = c.system.step_length(&xs, &ys)?;
         if !(scale > 0.0 && scale <= 1.0) {
             return Err(Error::PetscUsage(format!("step scale {scale} is not in (0, 1]")));
