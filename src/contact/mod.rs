@@ -774,6 +774,21 @@ pub(crate) fn update_states(problem: &CondensedProblem, r: &[f64], u: &[f64], st
     changes
 }
 
+/// A point whose slip direction reverses between the previous Newton step's states `before`
+/// and `states` sticks for this step: it must cross the interior of the friction interval
+/// (the rule of both semi-smooth Newton methods, condensed and full-space).
+pub(crate) fn stick_reversed_slips(states: &mut [PointState], before: &[PointState]) {
+    for (now, before) in states.iter_mut().zip(before) {
+        if let (TangentialState::Slip { positive: a }, TangentialState::Slip { positive: b }) =
+            (now.tangential, before.tangential)
+        {
+            if a != b {
+                now.tangential = TangentialState::Stick;
+            }
+        }
+    }
+}
+
 pub(crate) fn count_changes(a: &[PointState], b: &[PointState]) -> usize {
     a.iter().zip(b).filter(|(x, y)| x != y).count()
 }

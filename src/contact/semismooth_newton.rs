@@ -65,8 +65,8 @@ use std::collections::{HashMap, VecDeque};
 use nalgebra::{DMatrix, DVector};
 
 use super::{
-    classify, krylov, projected_relaxation, residuals, update_states, uzawa, CondensedProblem, ContactSolver,
-    FrictionLaw, IterationRecord, PointState, Run, SolverSettings, TangentialState,
+    classify, krylov, projected_relaxation, residuals, stick_reversed_slips, update_states, uzawa, CondensedProblem,
+    ContactSolver, FrictionLaw, IterationRecord, PointState, Run, SolverSettings, TangentialState,
 };
 use crate::error::Result;
 
@@ -365,15 +365,7 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
         // A slip point whose slip direction reverses goes through stick first.
         let mut step_states = states.clone();
         if let Some(previous) = &previous_step_states {
-            for (now, before) in step_states.iter_mut().zip(previous.iter()) {
-                if let (TangentialState::Slip { positive: a }, TangentialState::Slip { positive: b }) =
-                    (now.tangential, before.tangential)
-                {
-                    if a != b {
-                        now.tangential = TangentialState::Stick;
-                    }
-                }
-            }
+            stick_reversed_slips(&mut step_states, previous);
         }
         previous_step_states = Some(step_states.clone());
         if globalize && iteration >= best_at + ITERATIONS_WITHOUT_PROGRESS {

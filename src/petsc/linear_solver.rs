@@ -76,11 +76,7 @@ impl<'s> LinearSolver<'s> {
                 petsc!(KSPSetType(self.raw, c"preonly".as_ptr()))?;
                 petsc!(PCSetType(pc, c"cholesky".as_ptr()))?;
                 petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
-                // AMF ordering: twice as fast as Debian's default (PORD; no METIS in this build).
-                let ordering = format!("-{}mat_mumps_icntl_7", self.prefix);
-                if !self.session.has_option(&ordering)? {
-                    self.session.set_option(&ordering, Some("2"))?;
-                }
+                self.session.prefer_amf_ordering(&self.prefix)?;
             }
             _ => {}
         }

@@ -264,6 +264,16 @@ impl Session {
         Ok(set == sys::PetscBool::PETSC_TRUE)
     }
 
+    /// MUMPS's AMF ordering (`-<prefix>mat_mumps_icntl_7 2`) unless the options already choose
+    /// one: about twice as fast as Debian's default PORD (its MUMPS has no METIS).
+    pub fn prefer_amf_ordering(&self, prefix: &str) -> Result<()> {
+        let ordering = format!("-{prefix}mat_mumps_icntl_7");
+        if !self.has_option(&ordering)? {
+            self.set_option(&ordering, Some("2"))?;
+        }
+        Ok(())
+    }
+
     /// The value of `-name`: `None` if absent, `Some("")` if present without a value.
     pub fn option(&self, name: &str) -> Result<Option<String>> {
         let n = cstring(name)?;

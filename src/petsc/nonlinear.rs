@@ -228,6 +228,13 @@ impl<'s> NonlinearSolver<'s> {
         &self.ghosts
     }
 
+    /// Do the options choose the inner linear solver (`-<prefix>ksp_type` or `-<prefix>pc_type`)?
+    /// Then it solves the Jacobians, whatever the system offers.
+    pub fn inner_solver_from_options(&self) -> Result<bool> {
+        Ok(self.session.has_option(&format!("-{}ksp_type", self.prefix))?
+            || self.session.has_option(&format!("-{}pc_type", self.prefix))?)
+    }
+
     /// Solve `F(x) = 0` from the initial guess `x` (this rank's owned entries), which receives
     /// the solution. At most `max_iterations` Newton steps.
     pub fn solve(
@@ -277,8 +284,7 @@ impl<'s> NonlinearSolver<'s> {
         petsc!(SNESLineSearchSetType(line_search, c"basic".as_ptr()))?;
         let mut ksp: sys::KSP = std::ptr::null_mut();
         petsc!(SNESGetKSP(snes, &mut ksp))?;
-        let (ksp_opt, pc_opt) = (format!("-{}ksp_type", self.prefix), format!("-{}pc_type", self.prefix));
-        let user_inner = self.session.has_option(&ksp_opt)? || self.session.has_option(&pc_opt)?;
+        let user_inner = self.inner_solver_from_options()?;
         let own_solver = if user_inner { None } else { context.system.jacobian_solver() };
         if let Some(name) = own_solver {
             let mut pc: sys::PC = std::ptr::null_mut();
@@ -296,11 +302,7 @@ impl<'s> NonlinearSolver<'s> {
             petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
             petsc!(PCSetType(pc, c"lu".as_ptr()))?;
             petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
-            // AMF ordering, as for the linear solves (Debian's MUMPS has no METIS).
-            let ordering = format!("-{}mat_mumps_icntl_7", self.prefix);
-            if !self.session.has_option(&ordering)? {
-                self.session.set_option(&ordering, Some("2"))?;
-            }
+            self.session.prefer_amf_ordering(&self.prefix)?;
         } else {
             // Iterative inner solves: tight by default, so that Newton keeps its speed.
             petsc!(KSPSetTolerances(ksp, 1e-12, 1e-50, 1e8, 10_000))?;

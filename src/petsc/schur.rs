@@ -38,11 +38,7 @@ impl<'s> SchurFactor<'s> {
         if rows.is_empty() || rows.iter().any(|&r| r >= n) {
             return Err(Error::PetscUsage(format!("Schur rows must be non-empty and below the matrix order {n}")));
         }
-        // AMF ordering, as for the linear solves (Debian's MUMPS has no METIS; PORD, its
-        // default, is slower).
-        if !session.has_option("-mat_mumps_icntl_7")? {
-            session.set_option("-mat_mumps_icntl_7", Some("2"))?;
-        }
+        session.prefer_amf_ordering("")?;
         let mut f: sys::Mat = std::ptr::null_mut();
         petsc!(MatGetFactor(matrix.raw, c"mumps".as_ptr(), sys::MatFactorType::MAT_FACTOR_CHOLESKY, &mut f))?;
         let mut this = SchurFactor { factor: f, size: rows.len(), schur: Vec::new(), _session: PhantomData };

@@ -183,9 +183,10 @@ impl<'s> BlockElimination<'s> {
         }
         if let Some(lu) = &self.reduced {
             let mut rhs = DVector::<f64>::zeros(self.unknowns.len());
+            let known_columns: Vec<usize> = (0..2 * m).filter(|&j| dl[j] != 0.0).collect();
             for (p, &wi) in self.unknowns.iter().enumerate() {
                 let row = self.per_point * (wi / 2) + wi % 2;
-                let known: f64 = (0..2 * m).filter(|&j| dl[j] != 0.0).map(|j| self.w[(wi, j)] * dl[j]).sum();
+                let known: f64 = known_columns.iter().map(|&j| self.w[(wi, j)] * dl[j]).sum();
                 rhs[p] = r_c[row] - by[wi] - known;
             }
             let x = lu.solve(&rhs).ok_or_else(|| Error::SolverDiverged {

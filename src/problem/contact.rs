@@ -750,14 +750,7 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
             )
         })?
         .inverse();
-    Ok(flexibility_from_inverse_block(&inverse, b))
-}
-
-/// `W_ij = R_iᵀ (K⁻¹)_{node_i, node_j} R_j`, `R = [n t]`, from the block of `K⁻¹` on the
-/// contact nodes' dofs (two per point, in point order).
-pub(super) fn flexibility_from_inverse_block(inverse: &DMatrix<f64>, b: &ContactBoundary) -> DMatrix<f64> {
-    let m = b.points();
-    let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
+    let mut w = DMatrix::<f64>::zeros(k, k);
     for i in 0..m {
         for j in 0..m {
             let (ri, rj) = ([b.normal[i], b.tangent[i]], [b.normal[j], b.tangent[j]]);
@@ -774,7 +767,7 @@ pub(super) fn flexibility_from_inverse_block(inverse: &DMatrix<f64>, b: &Contact
             }
         }
     }
-    w
+    Ok(w)
 }
 
 /// The factorised stiffness the condensed route solves with: a MUMPS factor with the Schur

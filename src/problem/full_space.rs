@@ -9,9 +9,9 @@
 //! The iterate is the whole `(u, λ)` and the residual is evaluated in full space. Each Newton
 //! step's linear system is solved, on one process with a body held by its Dirichlet conditions,
 //! by block elimination with one MUMPS factorisation of `K` (Schur complement on the contact
-//! dofs) kept for the whole iteration (`block_elimination.rs`): a step costs two solves with
-//! that factor and a small dense system, and the whole contact solve costs about one linear
-//! elastic solve. Otherwise (MPI, bodies held by the contact, or `-contact_ksp_type`,
+//! dofs) kept for the whole iteration (`block_elimination.rs`): a step costs one or two solves
+//! with that factor and a small dense system (1.6–2.2× one linear elastic solve in all on the
+//! square block, 1e3 to 1e6 dofs). Otherwise (MPI, bodies held by the contact, or `-contact_ksp_type`,
 //! `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian (MUMPS LU
 //! by default): one sparse LU per step.
 //!
@@ -47,7 +47,7 @@
 //! 39–62; S. Hüeber, G. Stadler, B. Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572–596). A
 //! nodal stiffness (`ρ ≈ K_kk`, of the order of `E'` on every mesh) is `L/h` times larger and
 //! made the slip front creep by one or two nodes per step: 7, 10, 12, 14 steps on the square
-//! block from 10³ to 10⁶ dofs, against 4–5, 5, 7, 9 now. The factor 2 was the best of
+//! block from 10³ to 10⁶ dofs, against 4, 5, 8, 10 now. The factor 2 was the best of
 //! 1/4 … 4 on that benchmark (the others took 2 to 6 more steps at 10⁴–10⁶ dofs; none failed).
 //! `ρN` and `ρT` are kept equal: with `ρT ≪ ρN` a point coming back from open was taken as
 //! sticking, and single points then flipped open/stick for dozens of steps.
@@ -155,7 +155,7 @@ use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
 
 /// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
 pub const OPTIONS_PREFIX: &str = "contact_";
-/// `c` in the tangential augmentation `ρT_i = c E' w_i / L` (see the module documentation).
+/// `c` in the augmentation `ρN_i = ρT_i = c E' w_i / L` (see the module documentation).
 const AUGMENTATION: f64 = 2.0;
 /// The inner solver's name in the reports when the Jacobians are solved by block elimination.
 const ELIMINATION_NAME: &str = "block elimination, MUMPS Cholesky of K with Schur complement on the contact dofs";
@@ -502,15 +502,7 @@ impl NonlinearSystem for MixedSystem<'_> {
         let mut states = self.states(x);
         // A slip point whose slip direction reverses sticks for this step.
         if let Some(before) = &self.step_states {
-            for (now, before) in states.iter_mut().zip(before) {
-                if let (TangentialState::Slip { positive: a }, TangentialState::Slip { positive: b }) =
-                    (now.tangential, before.tangential)
-                {
-                    if a != b {
-                        now.tangential = TangentialState::Stick;
-                    }
-                }
-            }
+            contact::stick_reversed_slips(&mut states, before);
         }
         let held = self.held(&states)?;
         self.regularized = !held;
@@ -808,9 +800,9 @@ impl ContactSetup {
             extent = 1.0;
         }
         let augmentation = AUGMENTATION * material.plane_modulus() / extent;
-        // Augmentation 2 E' w_i / L (module documentation), shared with every rank for the
-        // final classification; the diagonal blocks of K at the contact nodes must be positive.
-        let mut rho_all = vec![0.0; 2 * m];
+        // Augmentation 2 E' w_i / L (module documentation): every rank knows every weight. The
+        // diagonal blocks of K at the owned contact nodes must be positive definite.
+        let rho = |i: usize| [augmentation * b.weight[i]; 2];
         for i in my_points.clone() {
             let node = b.nodes[i];
             let kb = [
@@ -819,20 +811,13 @@ impl ContactSetup {
             ];
             let quad =
                 |v: [f64; 2]| v[0] * (kb[0][0] * v[0] + kb[0][1] * v[1]) + v[1] * (kb[1][0] * v[0] + kb[1][1] * v[1]);
-            rho_all[2 * i] = augmentation * b.weight[i];
-            rho_all[2 * i + 1] = augmentation * b.weight[i];
-            if !(quad(b.normal[i]) > 0.0
-                && rho_all[2 * i] > 0.0
-                && quad(b.tangent[i]) > 0.0
-                && rho_all[2 * i + 1] > 0.0)
-            {
+            if !(quad(b.normal[i]) > 0.0 && quad(b.tangent[i]) > 0.0 && rho(i)[0] > 0.0) {
                 return Err(Error::mesh(
                     format!("node {node} of contact part '{}'", self.spec.part),
                     "its stiffness diagonal block is not positive definite: the node belongs to no element",
                 ));
             }
         }
-        let rho_all = comm.sum(&rho_all)?;
 
         // The pattern of the owned rows: force rows (K, −Bᵀ), then the contact rows.
         let mut indptr = vec![0usize];
@@ -885,7 +870,7 @@ impl ContactSetup {
                 tangent: b.tangent[i],
                 scaled: scaled(mesh.nodes[node]),
                 gap: b.gap[i],
-                rho: [rho_all[2 * i], rho_all[2 * i + 1]],
+                rho: rho(i),
                 ux: layout.u(2 * node) - block.start,
                 lambda: layout.lambda(i, 0) - block.start,
                 row: layout.lambda(i, 0) - block.start,
@@ -911,9 +896,7 @@ impl ContactSetup {
         let gap_scale = b.gap.iter().fold(0.0f64, |a, g| a.max(g.abs()));
         // Exact Jacobian solves by block elimination with one factor of K, when they apply
         // (block_elimination.rs); otherwise SNES's KSP solves the mixed Jacobian.
-        let user_inner = session.has_option(&format!("-{OPTIONS_PREFIX}ksp_type"))?
-            || session.has_option(&format!("-{OPTIONS_PREFIX}pc_type"))?
-            || session.has_option(FULL_SPACE_LU_OPTION)?;
+        let user_inner = solver.inner_solver_from_options()? || session.has_option(FULL_SPACE_LU_OPTION)?;
         let elimination = if session.size() == 1 && self.free_motions.is_none() && !user_inner && m > 0 {
             progress("  contact: factorising K with the Schur complement on the contact dofs");
             let matrix =
@@ -1034,14 +1017,8 @@ impl ContactSetup {
         }
         let status: Vec<PointStatus> = (0..m)
             .map(|i| {
-                let e = evaluate(
-                    &law,
-                    i,
-                    [rho_all[2 * i], rho_all[2 * i + 1]],
-                    b.gap[i],
-                    [uc[2 * i], uc[2 * i + 1]],
-                    [force[2 * i], force[2 * i + 1]],
-                );
+                let e =
+                    evaluate(&law, i, rho(i), b.gap[i], [uc[2 * i], uc[2 * i + 1]], [force[2 * i], force[2 * i + 1]]);
                 status_of(&law, &e)
             })
             .collect();
@@ -1071,7 +1048,7 @@ impl ContactSetup {
         };
         let report = self.report(mesh, &force, &status, &u, &residuals, run.iterations, &solution);
         let mut stats = stats_of(&run, equilibrium, start.elapsed().as_secs_f64());
-        if mixed.elimination.is_some() && run.pc_type.starts_with("shell") {
+        if mixed.elimination.is_some() {
             stats.factor_package = Some("mumps (Cholesky of K, Schur complement on the contact dofs)".into());
         }
         Ok((u, ContactOutcome { force, status, report }, stats))
