@@ -294,7 +294,9 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
     let scene = crate::scene::Scene::from_str(&text, Path::new("bench-contact.toml"))?;
     let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
     problem.assemble()?;
-    let linear_seconds = problem.linear_solve_seconds()?;
+    // The better of two linear solves: one solve of the same matrix varies by up to 2x between
+    // runs on a shared machine, and the smaller reference gives the larger (conservative) ratio.
+    let linear_seconds = problem.linear_solve_seconds()?.min(problem.linear_solve_seconds()?);
     let t = Instant::now();
     problem.solve()?;
     let contact_seconds = t.elapsed().as_secs_f64();

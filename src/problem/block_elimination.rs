@@ -1,7 +1,8 @@
 //! Exact solves of the full-space Newton's mixed Jacobian by block elimination, with one
-//! factorisation of the stiffness for the whole Newton iteration.
+//! factorisation of the stiffness for the whole Newton iteration and no solve with it in the
+//! steps after the first.
 //!
-//! The Jacobian of the full-space semi-smooth Newton (`full_space.rs`) is
+//! The Jacobian of the full-space semi-smooth Newton (`full_space.rs`) in the unknowns `(u, λ)` is
 //!
 //! ```text
 //!   J = [ K     −Bᵀ ]      K: the constrained stiffness (constant)
@@ -9,27 +10,33 @@
 //! ```
 //!
 //! with `B u = (n_i·u_k, t_i·u_k)_i` the contact displacements in the points' frames. Only
-//! `P` and `Q` change from one Newton step to the next. With `y = K⁻¹ r_u` and the flexibility
-//! `W = B K⁻¹ Bᵀ`, `J (du, dλ) = (r_u, r_λ)` is
+//! `P` and `Q` change from one Newton step to the next.
+//!
+//! ## The unknowns `(v, λ)`
+//!
+//! When this elimination applies, the SNES iterates on `(v, λ)` with `u = v + K⁻¹ Bᵀ λ` (a
+//! fixed linear change of the unknowns, so the Newton iterates are those of `(u, λ)`): the force
+//! rows `K u − Bᵀ λ − f` become `K v − f`, the contact displacements `B u = B v + W λ` with the
+//! flexibility `W = B K⁻¹ Bᵀ`, and the Jacobian becomes block triangular,
 //!
 //! ```text
-//!   (P W + Q) dλ = r_λ − P B y,        du = K⁻¹ (r_u + Bᵀ dλ)
+//!   J' = [ K     0      ]      dv = K⁻¹ r_v,
+//!        [ P B   P W + Q ]     (P W + Q) dλ = r_λ − P B dv.
 //! ```
 //!
-//! (block Gaussian elimination, exact in exact arithmetic). `K` is factorised once (MUMPS
-//! Cholesky) with its Schur complement `S` on the contact dofs, which gives `W = R S⁻¹ Rᵀ`
-//! ([`flexibility_from_schur`](super::contact::flexibility_from_schur)); each Newton step then
-//! costs one or two solves with the factor (the first, `y = K⁻¹ r_u`, is skipped when the force
-//! residual is round-off — after any full Newton step, the force rows being linear — below
-//! `10⁻¹²` of the largest load) and one small dense system, instead of a sparse LU of the
-//! whole mixed matrix. The Newton iterates are those of the LU route (same equations, same
-//! pieces); the residual is always evaluated in full space, so the round-off of the
-//! elimination (about `10⁻¹⁰` relative) only slows the last step, it does not limit the
-//! accuracy of the answer.
+//! The force rows are linear, so after the first step `r_v` is round-off and `dv` is not
+//! computed (skipped below `10⁻¹³` of the force rows' scale, the size of `K`'s row terms): every
+//! later step costs one small dense system and no solve with the factor, and `u` is recovered
+//! once at the end ([`BlockElimination::displacement`], one solve). `K` is factorised once
+//! (MUMPS Cholesky) with its Schur complement `S` on the contact dofs, which gives
+//! `W = R S⁻¹ Rᵀ` ([`flexibility_from_schur`](super::contact::flexibility_from_schur)). The
+//! residual and the convergence test stay those of the full-space equations, and the answer is
+//! checked afterwards in `(u, λ)` like every other solver's.
 //!
 //! ## The small system
 //!
-//! Per point the rows are of three kinds (`full_space.rs`, "Generalized Jacobian"):
+//! Per point the rows are of three kinds (`full_space.rs`, "Generalized Jacobian"), with
+//! `B du = B dv + W dλ` the change of the contact displacements:
 //!
 //! ```text
 //!   displacement row   (B du)_r = r_λ,r               closed normal row, sticking tangential row
@@ -39,14 +46,14 @@
 //!
 //! Force rows give `dλ_r = ρ_r r_λ,r` at once; a Coulomb slip row, with `(B du)_N = r_λ,N`
 //! from its closed normal row, gives `dλT = (r_λ,T − a r_λ,N − b dλN) / c`. What remains is one
-//! equation `(W dλ)_r = r_λ,r − (B y)_r` per displacement row, in the unknowns `dλ_r` of the
+//! equation `(W dλ)_r = r_λ,r − (B dv)_r` per displacement row, in the unknowns `dλ_r` of the
 //! displacement rows (the same reduced system as the condensed semi-smooth Newton's,
 //! `contact/semismooth_newton.rs`): LU, factorised once per Newton step.
 //!
 //! Used when it applies: one process (PETSc 3.18 computes MUMPS Schur complements
 //! sequentially), a body held by its Dirichlet conditions (`K` nonsingular), and no
 //! `-contact_ksp_type`/`-contact_pc_type` (those select the inner solver of the whole mixed
-//! system). `-contact_full_space_lu` turns it off (MUMPS LU of the mixed Jacobian).
+//! system). `-contact_full_space_lu` turns it off (MUMPS LU of the mixed Jacobian in `(u, λ)`).
 use nalgebra::{DMatrix, DVector};
 
 use super::contact::flexibility_from_schur;
@@ -79,8 +86,6 @@ pub(super) struct BlockElimination<'s> {
     rows: Vec<ContactRow>,
     unknowns: Vec<usize>,
     reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
-    /// The largest load entry: force residuals below 10⁻¹² of it are round-off.
-    load_scale: f64,
 }
 
 impl<'s> BlockElimination<'s> {
@@ -91,12 +96,10 @@ impl<'s> BlockElimination<'s> {
         stiffness: &Matrix<'s>,
         boundary: &ContactBoundary,
         per_point: usize,
-        load: &[f64],
     ) -> Result<Self> {
         let rows: Vec<usize> = boundary.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
         let factor = SchurFactor::new(session, stiffness, &rows)?;
         let w = flexibility_from_schur(&factor, boundary)?;
-        let load_scale = load.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let num_u = stiffness.global_size();
         Ok(BlockElimination {
             factor,
@@ -111,7 +114,6 @@ impl<'s> BlockElimination<'s> {
             rows: Vec::new(),
             unknowns: Vec::new(),
             reduced: None,
-            load_scale,
         })
     }
 
@@ -152,24 +154,26 @@ impl<'s> BlockElimination<'s> {
         Ok(())
     }
 
-    /// `(du, dλ) = J⁻¹ (r_u, r_λ)` with the pieces of the last [`BlockElimination::set_rows`];
-    /// `r` and `d` hold the displacement entries then the contact entries.
-    pub fn solve(&mut self, r: &[f64], d: &mut [f64]) -> Result<()> {
+    /// `(dv, dλ) = J'⁻¹ (r_v, r_λ)` with the pieces of the last [`BlockElimination::set_rows`];
+    /// `r` and `d` hold the force entries then the contact entries. Force residuals no larger
+    /// than `negligible` are round-off: `dv = 0` without a solve.
+    pub fn solve(&mut self, r: &[f64], d: &mut [f64], negligible: f64) -> Result<()> {
         let n = self.num_u;
-        let (r_u, r_c) = r.split_at(n);
-        // y = K⁻¹ r_u and its contact displacements B y. After a full Newton step the force
-        // rows hold (they are linear): r_u is round-off and y is not computed.
+        let (r_v, r_c) = r.split_at(n);
         let m = self.nodes.len();
         let mut by = vec![0.0; 2 * m];
-        let largest = r_u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if largest > 1e-12 * self.load_scale {
-            self.rhs.set_owned(r_u)?;
+        let largest = r_v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if largest > negligible {
+            self.rhs.set_owned(r_v)?;
             self.factor.solve(&self.rhs, &mut self.solution)?;
             let y = self.solution.owned_values()?;
             for (i, &k) in self.nodes.iter().enumerate() {
                 by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
                 by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
             }
+            d[..n].copy_from_slice(&y);
+        } else {
+            d[..n].fill(0.0);
         }
         // Known parts of dλ (force rows, the constant part of Coulomb slip rows).
         let mut dl = vec![0.0; 2 * m];
@@ -208,19 +212,28 @@ impl<'s> BlockElimination<'s> {
                 }
             }
         }
-        // du = K⁻¹ (r_u + Bᵀ dλ).
-        let mut load = r_u.to_vec();
-        for (i, &k) in self.nodes.iter().enumerate() {
-            for c in 0..2 {
-                load[2 * k + c] += self.normal[i][c] * dl[2 * i] + self.tangent[i][c] * dl[2 * i + 1];
-            }
-        }
-        self.rhs.set_owned(&load)?;
-        self.factor.solve(&self.rhs, &mut self.solution)?;
-        d[..n].copy_from_slice(&self.solution.owned_values()?);
         for (row, out) in d[n..].iter_mut().enumerate() {
             *out = dl[self.w_index(row)];
         }
         Ok(())
+    }
+
+    /// `W λ`, both in the points' frames (`2i`: normal, `2i + 1`: tangential).
+    pub fn flexibility_times(&self, lambda: &[f64]) -> Vec<f64> {
+        (&self.w * DVector::from_column_slice(lambda)).as_slice().to_vec()
+    }
+
+    /// The displacement `u = v + K⁻¹ Bᵀ λ` (`λ` in the points' frames): one solve.
+    pub fn displacement(&mut self, v: &[f64], lambda: &[f64]) -> Result<Vec<f64>> {
+        let mut load = vec![0.0; self.num_u];
+        for (i, &k) in self.nodes.iter().enumerate() {
+            for c in 0..2 {
+                load[2 * k + c] = self.normal[i][c] * lambda[2 * i] + self.tangent[i][c] * lambda[2 * i + 1];
+            }
+        }
+        self.rhs.set_owned(&load)?;
+        self.factor.solve(&self.rhs, &mut self.solution)?;
+        let response = self.solution.owned_values()?;
+        Ok(v.iter().zip(&response).map(|(a, b)| a + b).collect())
     }
 }

@@ -9,11 +9,12 @@
 //! The iterate is the whole `(u, λ)` and the residual is evaluated in full space. Each Newton
 //! step's linear system is solved, on one process with a body held by its Dirichlet conditions,
 //! by block elimination with one MUMPS factorisation of `K` (Schur complement on the contact
-//! dofs) kept for the whole iteration (`block_elimination.rs`): a step costs one or two solves
-//! with that factor and a small dense system (1.6–2.2× one linear elastic solve in all on the
-//! square block, 1e3 to 1e6 dofs). Otherwise (MPI, bodies held by the contact, or `-contact_ksp_type`,
-//! `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian (MUMPS LU
-//! by default): one sparse LU per step.
+//! dofs) kept for the whole iteration (`block_elimination.rs`). The SNES then iterates on
+//! `(v, λ)` with `u = v + K⁻¹ Bᵀ λ` — the same Newton iterates, but after the first step a
+//! step costs a small dense system and no solve with the factor; `u` is recovered by one solve
+//! at the end. Otherwise (MPI, bodies held by the contact, or `-contact_ksp_type`,
+//! `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian in
+//! `(u, λ)` (MUMPS LU by default): one sparse LU per step.
 //!
 //! ## Unknowns and equations
 //!
@@ -157,6 +158,9 @@ use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
 pub const OPTIONS_PREFIX: &str = "contact_";
 /// `c` in the augmentation `ρN_i = ρT_i = c E' w_i / L` (see the module documentation).
 const AUGMENTATION: f64 = 2.0;
+/// Force residuals below this fraction of the force rows' scale are round-off: the block
+/// elimination then takes `dv = 0` without a solve.
+const ROUND_OFF: f64 = 1e-13;
 /// The inner solver's name in the reports when the Jacobians are solved by block elimination.
 const ELIMINATION_NAME: &str = "block elimination, MUMPS Cholesky of K with Schur complement on the contact dofs";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
@@ -421,6 +425,8 @@ struct MixedSystem<'s> {
     floating: Option<Floating>,
     equilibrium: f64,
     contact_residual: f64,
+    /// The force rows' scale `max_r (Σ_c |K_rc x_c| + |f_r|)` at the current iterate.
+    force_terms: f64,
     /// Scale of the force rows in the merit (the largest diagonal entry of K).
     force_scale: f64,
     /// `½ ‖F_u / k_ref‖²` and the whole merit at the current iterate.
@@ -434,23 +440,64 @@ struct MixedSystem<'s> {
 }
 
 impl MixedSystem<'_> {
-    fn eval(&self, p: &OwnedPoint, x: &[f64]) -> PointEval {
-        self.eval_with(p, |k| x[k])
+    /// The contact displacements `B u` of the owned points in their frames: read from `u` in
+    /// the unknowns `(u, λ)`, or `B v + W λ` in the block elimination's `(v, λ)`
+    /// (`block_elimination.rs`). Linear in `x`.
+    fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
+        let frame = |p: &OwnedPoint| {
+            let (ux, uy) = (x[p.ux], x[p.ux + 1]);
+            [p.normal[0] * ux + p.normal[1] * uy, p.tangent[0] * ux + p.tangent[1] * uy]
+        };
+        match &self.elimination {
+            None => self.points.iter().map(frame).collect(),
+            Some(elimination) => {
+                // One process: every point is owned, in boundary order.
+                let response = elimination.flexibility_times(&self.multipliers(x));
+                self.points
+                    .iter()
+                    .map(|p| {
+                        let bv = frame(p);
+                        [bv[0] + response[2 * p.index], bv[1] + response[2 * p.index + 1]]
+                    })
+                    .collect()
+            }
+        }
     }
 
-    /// Evaluate a point with its unknowns read through `x` (positions in the owned block).
-    fn eval_with(&self, p: &OwnedPoint, x: impl Fn(usize) -> f64) -> PointEval {
-        let (ux, uy) = (x(p.ux), x(p.ux + 1));
-        let u = [p.normal[0] * ux + p.normal[1] * uy, p.tangent[0] * ux + p.tangent[1] * uy];
-        let lambda = [x(p.lambda), if self.per_point == 2 { x(p.lambda + 1) } else { 0.0 }];
+    /// The multipliers of the owned points in `W`'s numbering (`2i`: normal, `2i + 1`: tangential).
+    fn multipliers(&self, x: &[f64]) -> Vec<f64> {
+        let mut lambda = vec![0.0; 2 * self.points.len()];
+        for p in &self.points {
+            lambda[2 * p.index] = x[p.lambda];
+            if self.per_point == 2 {
+                lambda[2 * p.index + 1] = x[p.lambda + 1];
+            }
+        }
+        lambda
+    }
+
+    /// Evaluate the points at `x`.
+    fn evaluations(&self, x: &[f64]) -> Vec<PointEval> {
+        self.contact_displacements(x).into_iter().zip(&self.points).map(|(u, p)| self.eval_at(p, u, x)).collect()
+    }
+
+    /// Evaluate a point from its contact displacements (frame) and its multipliers in `x`.
+    fn eval_at(&self, p: &OwnedPoint, u: [f64; 2], x: &[f64]) -> PointEval {
+        let lambda = [x[p.lambda], if self.per_point == 2 { x[p.lambda + 1] } else { 0.0 }];
         evaluate(&self.law, p.index, p.rho, p.gap, u, lambda)
+    }
+
+    /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
+    /// rows are `K v − f`: their `−Bᵀ` entries drop out.
+    fn in_force_rows(&self, c: usize) -> bool {
+        self.elimination.is_none() || c < self.num_u
     }
 
     /// The merit `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` at `x − t d` (every rank; see `step_length`).
     fn merit_at(&self, x: &[f64], d: &[f64], t: f64) -> Result<f64> {
+        let trial: Vec<f64> = x.iter().zip(d).map(|(a, b)| a - t * b).collect();
         let mut sum = 0.0;
-        for p in &self.points {
-            let e = self.eval_with(p, |k| x[k] - t * d[k]);
+        for e in self.evaluations(&trial) {
             sum += e.c_n * e.c_n + e.c_t * e.c_t;
         }
         let contact = self.comm.sum(&[sum])?[0];
@@ -458,7 +505,7 @@ impl MixedSystem<'_> {
     }
 
     fn states(&self, x: &[f64]) -> Vec<PointState> {
-        self.points.iter().map(|p| classify(&self.law, &self.eval(p, x), self.rigid.is_some())).collect()
+        self.evaluations(x).iter().map(|e| classify(&self.law, e, self.rigid.is_some())).collect()
     }
 
     /// Do the Dirichlet rows and the closed/sticking rows of `states` block every rigid motion?
@@ -484,11 +531,15 @@ impl NonlinearSystem for MixedSystem<'_> {
     fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()> {
         for (r, fr) in f.iter_mut().enumerate().take(self.num_u) {
             let span = self.indptr[r]..self.indptr[r + 1];
-            *fr = self.base[span.clone()].iter().zip(&self.local_columns[span]).map(|(v, &c)| v * x[c]).sum::<f64>()
+            *fr = self.base[span.clone()]
+                .iter()
+                .zip(&self.local_columns[span])
+                .filter(|(_, &c)| self.in_force_rows(c))
+                .map(|(v, &c)| v * x[c])
+                .sum::<f64>()
                 - self.rhs[r];
         }
-        for p in &self.points {
-            let e = self.eval(p, x);
+        for (p, e) in self.points.iter().zip(self.evaluations(x)) {
             f[p.row] = e.c_n;
             if self.per_point == 2 {
                 f[p.row + 1] = e.c_t;
@@ -567,13 +618,23 @@ impl NonlinearSystem for MixedSystem<'_> {
         let mut imbalance = [0.0f64; 2];
         for r in 0..self.num_u {
             let span = self.indptr[r]..self.indptr[r + 1];
-            let terms: f64 =
-                self.base[span.clone()].iter().zip(&self.local_columns[span]).map(|(v, &c)| (v * x[c]).abs()).sum();
+            let terms: f64 = self.base[span.clone()]
+                .iter()
+                .zip(&self.local_columns[span])
+                .filter(|(_, &c)| self.in_force_rows(c))
+                .map(|(v, &c)| (v * x[c]).abs())
+                .sum();
             eq_num = eq_num.max(f[r].abs());
             eq_den = eq_den.max(terms + self.rhs[r].abs());
             umax = umax.max(x[r].abs());
             if !self.fixed_row[r] {
                 imbalance[(self.first_dof + r) % 2] += f[r];
+            }
+        }
+        if self.elimination.is_some() {
+            // In (v, λ) the displacement scale also takes the contact displacements B v + W λ.
+            for u in self.contact_displacements(x) {
+                umax = umax.max(u[0].abs()).max(u[1].abs());
             }
         }
         let mut c_max = 0.0f64;
@@ -614,6 +675,7 @@ impl NonlinearSystem for MixedSystem<'_> {
         self.merit = 0.5 * (sums[5] + sums[6]);
         let equal = if local_equal.is_empty() { Vec::new() } else { self.comm.min(&local_equal)? };
         let equilibrium = if maxima[1] > 0.0 { maxima[0] / maxima[1] } else { maxima[0] };
+        self.force_terms = maxima[1];
         let u_scale = if maxima[3].max(self.gap_scale) > 0.0 { maxima[3].max(self.gap_scale) } else { 1.0 };
         let contact_residual = maxima[2] / u_scale;
         let (changes, off_piece, closed) = (sums[0] as usize, sums[1] as usize, sums[2] as usize);
@@ -706,7 +768,8 @@ impl NonlinearSystem for MixedSystem<'_> {
 
     fn solve_jacobian(&mut self, r: &[f64], d: &mut [f64]) -> Result<()> {
         match &mut self.elimination {
-            Some(elimination) => elimination.solve(r, d),
+            // Force residuals at the round-off of the force rows' terms: no solve (the rows are linear).
+            Some(elimination) => elimination.solve(r, d, ROUND_OFF * self.force_terms),
             None => Err(Error::PetscUsage("no block elimination set up".into())),
         }
     }
@@ -901,7 +964,7 @@ impl ContactSetup {
             progress("  contact: factorising K with the Schur complement on the contact dofs");
             let matrix =
                 Matrix::from_csr_rows(session, comm, n, k.first_row, &k.indptr, &k.indices, &k.values, 2, true)?;
-            Some(BlockElimination::new(session, &matrix, b, per_point, &system.rhs)?)
+            Some(BlockElimination::new(session, &matrix, b, per_point)?)
         } else {
             None
         };
@@ -938,6 +1001,7 @@ impl ContactSetup {
             floating: None,
             equilibrium: f64::NAN,
             contact_residual: f64::NAN,
+            force_terms: 0.0,
             force_scale,
             force_merit: 0.0,
             merit: 0.0,
@@ -973,7 +1037,17 @@ impl ContactSetup {
         let mut zv = Vector::new(session, comm, block.len(), global)?;
         zv.set_owned(&z)?;
         let z_all = zv.gather_all()?;
-        let u: Vec<f64> = (0..n).map(|d| z_all[layout.u(d)]).collect();
+        let mut u: Vec<f64> = (0..n).map(|d| z_all[layout.u(d)]).collect();
+        if let Some(elimination) = &mut mixed.elimination {
+            // The iteration ran in (v, λ): u = v + K⁻¹ Bᵀ λ (block_elimination.rs).
+            let mut lambda = vec![0.0; 2 * m];
+            for i in 0..m {
+                for c in 0..per_point {
+                    lambda[2 * i + c] = z_all[layout.lambda(i, c)];
+                }
+            }
+            u = elimination.displacement(&u, &lambda)?;
+        }
         let mut force = vec![0.0; 2 * m];
         for i in 0..m {
             for c in 0..per_point {
