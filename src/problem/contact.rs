@@ -742,14 +742,12 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
     if k != 2 * m {
         return Err(Error::PetscUsage(format!("Schur complement of order {k} for {m} contact points")));
     }
-    let inverse = DMatrix::from_row_slice(k, k, factor.schur())
-        .cholesky()
-        .ok_or_else(|| {
-            Error::Unconstrained(
-                "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
-            )
-        })?
-        .inverse();
+    let inverse = DMatrix::from_row_slice(k, k, factor.inverse_block());
+    if (0..k).any(|i| !(inverse[(i, i)] > 0.0 && inverse[(i, i)].is_finite())) {
+        return Err(Error::Unconstrained(
+            "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
+        ));
+    }
     let mut w = DMatrix::<f64>::zeros(k, k);
     for i in 0..m {
         for j in 0..m {

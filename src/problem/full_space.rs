@@ -549,7 +549,11 @@ impl NonlinearSystem for MixedSystem<'_> {
     }
 
     fn jacobian(&mut self, x: &[f64], values: &mut [f64]) -> Result<()> {
-        values.copy_from_slice(&self.base);
+        // With the block elimination the assembled Jacobian is never used (its solves take the
+        // pieces below): no copy of K's values, which would cost more than the step itself.
+        if self.elimination.is_none() {
+            values.copy_from_slice(&self.base);
+        }
         let mut states = self.states(x);
         // A slip point whose slip direction reverses sticks for this step.
         if let Some(before) = &self.step_states {
@@ -557,7 +561,7 @@ impl NonlinearSystem for MixedSystem<'_> {
         }
         let held = self.held(&states)?;
         self.regularized = !held;
-        if !held {
+        if !held && self.elimination.is_none() {
             if let Some((k, positions)) = &self.spring {
                 for &pos in positions {
                     values[pos] += k;
