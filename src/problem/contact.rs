@@ -743,7 +743,7 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
         return Err(Error::PetscUsage(format!("Schur complement of order {k} for {m} contact points")));
     }
     let inverse = DMatrix::from_row_slice(k, k, factor.inverse_block());
-    if (0..k).any(|i| !(inverse[(i, i)] > 0.0 && inverse[(i, i)].is_finite())) {
+    if (0..k).map(|i| inverse[(i, i)]).any(|d| d.is_nan() || d <= 0.0 || d.is_infinite()) {
         return Err(Error::Unconstrained(
             "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
         ));
