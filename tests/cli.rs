@@ -233,11 +233,20 @@ fn schur_condensation_needs_the_default_linear_solver() {
         1,
     );
     assert!(msg.contains("-contact_condense_schur needs"), "{msg}");
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "newton", "-contact_condense_schur", "maybe"]), 1);
+    assert!(msg.contains("-contact_condense_schur takes true or false"), "{msg}");
+    // The default on one process: W from the Schur complement; `false` turns it off.
     let dir = scratch("schur-ok");
-    run_ok(
-        bin().args(["run", "--quiet", "--contact-solver", "newton", "--out"]).arg(&dir).arg("-contact_condense_schur"),
-    );
+    run_ok(bin().args(["run", "--quiet", "--contact-solver", "newton", "--out"]).arg(&dir));
     assert!(report(&dir)["solver"]["factor_package"].as_str().unwrap().contains("Schur"));
+    let dir = scratch("schur-off");
+    run_ok(
+        bin()
+            .args(["run", "--quiet", "--contact-solver", "newton", "--out"])
+            .arg(&dir)
+            .args(["-contact_condense_schur", "false"]),
+    );
+    assert!(!report(&dir)["solver"]["factor_package"].as_str().unwrap().contains("Schur"));
 }
 
 #[test]

@@ -8,9 +8,12 @@
 //!           consistent weights); nodes with a Dirichlet component are left out
 //! assemble  K (+ a stabilisation spring at the contact nodes only when Dirichlet conditions
 //!           leave a rigid motion free, see below), f
-//! condense  u_free = B K⁻¹ f;  W = B K⁻¹ Bᵀ by one solve per contact unknown with the
-//!           factorised K (MUMPS by default: one factorisation, 2m triangular solves; m solves
-//!           without friction: the tangential block is not computed)
+//! condense  u_free = B K⁻¹ f;  W = B K⁻¹ Bᵀ — on one process with the default linear
+//!           solver from one MUMPS factorisation with the Schur complement S on the contact
+//!           dofs, (K⁻¹)_cc = S⁻¹ (`petsc::schur`); otherwise (MPI, any -ksp_type/-pc_type, or
+//!           `-contact_condense_schur false`) by one solve per contact unknown with the
+//!           configured KSP (2m solves; m without friction: the tangential block is not
+//!           computed)
 //! solve     the condensed problem with the scene's solver
 //! recover   u = K⁻¹ (f + Bᵀ r) by one more solve
 //! verify    residuals of (r, B u) — u from the field solve, not from W — and equilibrium
@@ -417,19 +420,29 @@ impl ContactSetup {
         let mut e = matrix.create_vector()?;
         let mut unit = vec![0.0; 2 * m];
         let mut load = vec![0.0; n];
-        // W = B K⁻¹ Bᵀ: one solve per contact unknown with the factorised K (the default: the
-        // patch tests stay exact to 1e-11), or, with `-contact_condense_schur` (serial, default
-        // linear solver), from one MUMPS factorisation with the Schur complement on the contact
-        // dofs — much cheaper for many contact points, about 1e-10 relative accuracy.
+        // W = B K⁻¹ Bᵀ: on one process with the default linear solver, from one MUMPS
+        // factorisation with the Schur complement on the contact dofs (S⁻¹ = (K⁻¹)_cc); else, or
+        // with `-contact_condense_schur false`, one solve per contact unknown with the
+        // configured KSP (any options, any number of ranks).
         let schur_rows: Vec<usize> = b.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
-        let wants_schur = session.has_option("-contact_condense_schur")?;
         let default_solver = !session.has_option("-ksp_type")? && !session.has_option("-pc_type")?;
-        if wants_schur && !(session.size() == 1 && default_solver) {
-            return Err(Error::Usage(
-                "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
-                    .into(),
-            ));
-        }
+        let applicable = session.size() == 1 && default_solver;
+        let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
+            None => applicable,
+            Some("" | "1" | "true" | "yes") if applicable => true,
+            Some("" | "1" | "true" | "yes") => {
+                return Err(Error::Usage(
+                    "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
+                        .into(),
+                ))
+            }
+            Some("0" | "false" | "no") => false,
+            Some(other) => {
+                return Err(Error::Usage(format!(
+                    "-contact_condense_schur takes true or false (got \"{other}\")"
+                )))
+            }
+        };
         let start = std::time::Instant::now();
         let mut linear = if wants_schur {
             let factor = SchurFactor::new(session, matrix, &schur_rows)?;
