@@ -233,7 +233,8 @@ fn schur_condensation_needs_the_default_linear_solver() {
         1,
     );
     assert!(msg.contains("-contact_condense_schur needs"), "{msg}");
-    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "newton", "-contact_condense_schur", "maybe"]), 1);
+    let msg =
+        run_err(bin().args(["run", "--quiet", "--contact-solver", "newton", "-contact_condense_schur", "maybe"]), 1);
     assert!(msg.contains("-contact_condense_schur takes true or false"), "{msg}");
     // The default on one process: W from the Schur complement; `false` turns it off.
     let dir = scratch("schur-ok");
