@@ -72,16 +72,7 @@ impl<'s> SchurFactor<'s> {
         if read.is_ok() {
             // SAFETY: a sequential dense m × m matrix, column-major with leading dimension m.
             let col_major = unsafe { std::slice::from_raw_parts(ptr, m * m) };
-            // Symmetric (PETSc fills both triangles after potri): read the lower one, mirror it.
-            let mut inverse = vec![0.0; m * m];
-            for j in 0..m {
-                for i in j..m {
-                    let v = col_major[j * m + i];
-                    inverse[i * m + j] = v;
-                    inverse[j * m + i] = v;
-                }
-            }
-            this.inverse = inverse;
+            this.inverse = (0..m * m).map(|k| col_major[(k % m) * m + k / m]).collect();
             let _ = unsafe { sys::MatDenseRestoreArrayRead(s, &mut ptr) };
         }
         let restore = petsc!(MatFactorRestoreSchurComplement(f, &mut s, status));

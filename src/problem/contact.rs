@@ -429,18 +429,18 @@ impl ContactSetup {
         let applicable = session.size() == 1 && default_solver;
         let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
             None => applicable,
-            Some("" | "1" | "true" | "yes") if applicable => true,
-            Some("" | "1" | "true" | "yes") => {
-                return Err(Error::Usage(
-                    "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
-                        .into(),
-                ))
-            }
             Some("0" | "false" | "no") => false,
+            Some("" | "1" | "true" | "yes") => {
+                if !applicable {
+                    return Err(Error::Usage(
+                        "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
+                            .into(),
+                    ));
+                }
+                true
+            }
             Some(other) => {
-                return Err(Error::Usage(format!(
-                    "-contact_condense_schur takes true or false (got \"{other}\")"
-                )))
+                return Err(Error::Usage(format!("-contact_condense_schur takes true or false (got \"{other}\")")))
             }
         };
         let start = std::time::Instant::now();
