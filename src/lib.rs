@@ -17,6 +17,7 @@
 pub mod bench;
 pub mod contact;
 pub mod error;
+pub mod estimate;
 pub mod fem;
 pub mod mesh;
 pub mod output;
