@@ -14,6 +14,7 @@
 //! The library never prints or exits; the `signorini` binary does.
 #![deny(unsafe_code)]
 
+pub mod adapt;
 pub mod bench;
 pub mod contact;
 pub mod error;
