@@ -222,8 +222,13 @@ fn contact_solver_from_the_command_line() {
     assert!(d < 1e-6, "relaxation differs from Newton by {d:e}");
     let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 1);
     assert!(msg.contains("frictionless"), "{msg}");
-    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 1);
-    assert!(msg.contains("unknown solver"), "{msg}");
+    // An unknown name is a usage error that lists the names.
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 2);
+    assert!(msg.contains("magic") && msg.contains("newton_full") && msg.contains("tao"), "{msg}");
+    // The default solver can be named too.
+    let dir = scratch("cs-full");
+    run_ok(bin().args(["run", "--quiet", "--contact-solver", "newton_full", "--out"]).arg(&dir));
+    assert!(report(&dir)["contact"]["solver"].as_str().unwrap().contains("full-space"));
 }
 
 #[test]
@@ -416,9 +421,52 @@ fn usage_errors_exit_2() {
     let msg = run_err(bin().args(["frobnicate"]), 2);
     assert!(msg.contains("frobnicate"), "{msg}");
     let msg = run_err(bin().args(["run", "--out"]), 2);
-    assert!(msg.contains("--out needs a value"), "{msg}");
-    let msg = run_err(bin().args(["run", "-ksp_monitor", "scene.toml"]), 2);
-    assert!(msg.contains("scene file comes first"), "{msg}");
+    assert!(msg.contains("--out") && msg.contains("value"), "{msg}");
+    let msg = run_err(bin().args(["run", "a.toml", "b.toml"]), 2);
+    assert!(msg.contains("b.toml"), "{msg}");
+    let msg = run_err(bin().args(["bench", "contact", "--max-dofs", "lots"]), 2);
+    assert!(msg.contains("lots") && msg.contains("--max-dofs"), "{msg}");
+    let msg = run_err(bin().args(["bench"]), 2);
+    assert!(msg.contains("elasticity") && msg.contains("contact"), "{msg}");
+}
+
+#[test]
+fn help_on_every_subcommand() {
+    for args in [
+        &["--help"][..],
+        &["-h"],
+        &["run", "--help"],
+        &["run", "-h"],
+        &["bench", "--help"],
+        &["bench", "contact", "-h"],
+    ] {
+        let out = bin().args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {:?}", out.status);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("Usage: signorini"), "{args:?}: {text}");
+    }
+    // -h never runs anything: no output directory appears.
+    let dir = scratch("help-no-run");
+    let out = bin().current_dir(&dir).args(["run", "-h"]).output().unwrap();
+    assert!(out.status.success() && !dir.join("out").exists());
+    let out = bin().arg("--version").output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("signorini "));
+}
+
+#[test]
+fn own_flags_and_petsc_options_in_any_order() {
+    // --out after PETSc options, the scene after them, a value-less PETSc option just before
+    // our flag: all the same run.
+    let dir = scratch("any-order");
+    run_ok(
+        bin()
+            .args(["run", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_converged_reason", "--quiet", "--out"])
+            .arg(&dir)
+            .arg(block()),
+    );
+    let r = report(&dir);
+    assert_eq!(r["solver"]["ksp_type"], "cg", "{}", r["solver"]);
+    assert_eq!(r["solver"]["pc_type"], "icc");
 }
 
 #[test]
