@@ -617,7 +617,8 @@ fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
             &poisson_v.span(),
             format!("`poisson` must be below 0.5, found {}", src.written(poisson_v)),
             "0.5 is an incompressible material, which a displacement formulation cannot represent: use a \
-             value < 0.5 (nearly incompressible, e.g. 0.4999, only with order = 2: P1 triangles lock)",
+             value < 0.5 (nearly incompressible, e.g. 0.4999: use order = 2 with element = \"p2p0\", since P1 \
+             and P2 displacements lock)",
         ));
     }
     if poisson <= -1.0 {
