@@ -161,6 +161,7 @@ impl MixedKernel {
     }
 
     /// `K_E = ∫ Bᵀ C_dev B + (κ/|E|) b bᵀ` of the P2 cell with node coordinates `x`.
+    #[allow(clippy::needless_range_loop)] // local node indices address several arrays
     pub(super) fn p2(&self, x: &[[f64; 2]; 6]) -> [[Block; 6]; 6] {
         let table = if lagrange::is_affine(x) { &self.straight } else { &self.curved };
         let c = &self.split.dev;
@@ -197,13 +198,11 @@ impl MixedKernel {
                 }
             }
         }
+        // Lower blocks from the upper ones: K_ba = K_abᵀ.
         for a in 0..6 {
             for bb in 0..a {
-                for r in 0..2 {
-                    for q in 0..2 {
-                        k[a][bb][r][q] = k[bb][a][q][r];
-                    }
-                }
+                let upper = k[bb][a];
+                k[a][bb] = [[upper[0][0], upper[1][0]], [upper[0][1], upper[1][1]]];
             }
         }
         k
