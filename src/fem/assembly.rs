@@ -32,6 +32,10 @@
 //!
 //! On curved P2 edges `n ds = (y', −x') dt` is polynomial, so pressure loads integrate exactly.
 //!
+//! [`assemble_with`] and [`residual_forces_with`] take the element: the Lagrange element above,
+//! or the locking-free P2–P0 element of [`super::mixed_pressure`] (same dofs and sparsity, its
+//! own element matrices).
+//!
 //! # Dirichlet conditions: symmetric elimination
 //!
 //! For a fixed dof `j` with value `g_j`: its row and column are zeroed except for a diagonal
