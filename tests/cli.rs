@@ -517,3 +517,47 @@ fn example_assembly_timing_runs_small() {
     let out = Command::new(example_binary("assembly_timing")).arg("60").output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
+    // The patch test at ν = 0.4999 with the locking-free P2–P0 element: report.json names the
+    // element, solution.vtu holds the exact uniform stress (σzz = −ν/(1−ν) p from the cell
+    // pressures), and two MPI ranks give the serial answer.
+    let (nu, p) = (0.4999_f64, 1e6_f64);
+    let side = nu / (1.0 - nu) * p;
+    let dir = scratch("p2p0");
+    let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
+        .unwrap()
+        .replace("order = 1", "order = 2\nelement = \"p2p0\"")
+        .replace("poisson = 0.2", &format!("poisson = {nu}"))
+        .replace("pressure = 2.5e5", &format!("pressure = {side:e}"));
+    let path = dir.join("patch.toml");
+    std::fs::write(&path, text).unwrap();
+    let serial = dir.join("serial");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+    assert_eq!(report(&serial)["element"], "P2-P0");
+    let out = python(&format!(
+        "s = meshio.read(r'{}').point_data['stress']\nprint(max(np.abs(s[:, 0] + {side:e}).max(), np.abs(s[:, 1] + {p:e}).max(), np.abs(s[:, 2] + {side:e}).max(), np.abs(s[:, 3]).max()) / {p:e})",
+        serial.join("solution.vtu").display()
+    ));
+    let err: f64 = out.trim().parse().unwrap();
+    assert!(err < 1e-6, "P2-P0 patch stress error {err:e} (relative to p)");
+    let parallel = dir.join("parallel");
+    let out = Command::new("mpirun")
+        .args(["-n", "2", "--oversubscribe"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(&path)
+        .args(["--quiet", "--out"])
+        .arg(&parallel)
+        .output()
+        .expect("mpirun (openmpi-bin, installed by ./setup.sh)");
+    assert!(out.status.success(), "mpirun failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(report(&parallel)["element"], "P2-P0");
+    let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+    assert!(d < 1e-8, "P2-P0: MPI answer differs from serial by {d:e}");
+}
