@@ -2,35 +2,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod cli;
+
+use clap::Parser as _;
+use cli::{Bench, Cli, Command};
 use signorini::petsc::Session;
 use signorini::problem::{ElasticityProblem, Report};
 use signorini::scene::Scene;
 use signorini::{bench, Error};
-
-const USAGE: &str = "\
-signorini — 2D frictional contact in linear elasticity, on PETSc
-
-usage:
-  signorini run [SCENE] [--out DIR] [--quiet] [--contact-solver NAME] [PETSc options...]
-      Solve the scene (a TOML file; without one, the embedded default scene) and write
-      DIR/solution.vtu and DIR/report.json (DIR: --out, else the scene's [output] dir, else ./out).
-      --contact-solver overrides the scene's [contact] solver: newton_full (default), newton, relaxation, dpana, uzawa,
-      tresca_fixed_point, snes_vi (frictionless), tao (Tresca).
-      SCENE must come before the PETSc options. Examples:
-        signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
-        mpirun -n 2 signorini run examples/scenes/cantilever.toml
-  signorini bench elasticity [--max-dofs N] [--out DIR] [PETSc options...]
-      Assembly and solve times, peak memory and overhead ratios from 1e4 up to N dofs
-      (default 1e6); writes DIR/bench_elasticity.md and DIR/bench_elasticity.svg (DIR default ./bench).
-  signorini bench contact [--max-dofs N] [--out DIR] [PETSc options...]
-      The square block (Coulomb) from 1e3 dofs up to N (default 1e5) for each contact solver:
-      iterations, time, memory, and the ratio to one linear solve of the same mesh; writes
-      DIR/bench_contact.md and DIR/bench_contact.svg.
-  signorini --help | --version
-
-PETSc options: any option PETSc knows (-ksp_type, -pc_type, -pc_factor_levels, -ksp_monitor,
--ksp_view, -log_view, ...) applies to the main linear solver; scene [solver] petsc_options are
-defaults that the command line overrides.";
 
 struct RunArgs {
     scene: Option<PathBuf>,
@@ -44,142 +23,45 @@ struct RunArgs {
     petsc: Vec<String>,
 }
 
-fn parse(args: &[String], allow_scene: bool) -> Result<RunArgs, Error> {
-    let mut r = RunArgs {
-        scene: None,
-        out: None,
-        quiet: false,
-        max_dofs: 1_000_000,
-        case: None,
-        contact_solver: None,
-        petsc: Vec::new(),
-    };
-    let mut i = 0;
-    while i < args.len() {
-        let a = &args[i];
-        match a.as_str() {
-            "--contact-solver" => {
-                let v = args.get(i + 1).filter(|v| !v.starts_with('-')).ok_or_else(|| {
-                    Error::Usage("--contact-solver needs a solver name (see signorini --help)".into())
-                })?;
-                r.contact_solver = Some(v.clone());
-                i += 2;
-            }
-            "--out" | "--max-dofs" => {
-                let v = args
-                    .get(i + 1)
-                    .filter(|v| !v.starts_with('-'))
-                    .ok_or_else(|| Error::Usage(format!("{a} needs a value (see signorini --help)")))?;
-                if a == "--out" {
-                    r.out = Some(PathBuf::from(v));
-                } else {
-                    r.max_dofs = v
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|x| *x >= 1.0 && x.is_finite())
-                        .ok_or_else(|| Error::Usage(format!("--max-dofs expects a positive number, got {v:?}")))?
-                        as usize;
-                }
-                i += 2;
-            }
-            "--case" => {
-                let parse_case = |v: &str| -> Option<(usize, usize)> {
-                    let (d, k) = v.split_once(',')?;
-                    Some((d.parse().ok()?, k.parse().ok()?))
-                };
-                r.case = Some(
-                    args.get(i + 1)
-                        .and_then(|v| parse_case(v))
-                        .ok_or_else(|| Error::Usage("--case needs DOFS,SOLVER_INDEX".into()))?,
-                );
-                i += 2;
-            }
-            "--quiet" => {
-                r.quiet = true;
-                i += 1;
-            }
-            s if s.starts_with("--") => {
-                return Err(Error::Usage(format!(
-                    "unknown flag {s} (PETSc options take one dash; see signorini --help)"
-                )))
-            }
-            s if s.starts_with('-') => {
-                r.petsc.push(s.to_string());
-                i += 1;
-                // The option's value, if any, follows: anything that is not another option name.
-                if let Some(v) = args.get(i) {
-                    let is_name =
-                        v.starts_with('-') && v[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_');
-                    if !is_name && v.ends_with(".toml") {
-                        return Err(Error::Usage(format!(
-                            "{v:?} follows the PETSc option {a}: the scene file comes first, before PETSc options"
-                        )));
-                    }
-                    if !is_name {
-                        r.petsc.push(v.clone());
-                        i += 1;
-                    }
-                }
-            }
-            s => {
-                if allow_scene && r.scene.is_none() && r.petsc.is_empty() {
-                    r.scene = Some(PathBuf::from(s));
-                    i += 1;
-                } else {
-                    return Err(Error::Usage(format!(
-                        "unexpected argument {s:?}: the scene file comes first, before PETSc options (see signorini --help)"
-                    )));
-                }
-            }
-        }
-    }
-    Ok(r)
-}
-
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();
     let program = args.first().cloned().unwrap_or_else(|| "signorini".into());
-    match args.get(1).map(String::as_str) {
-        None | Some("--help") | Some("-h") | Some("help") => {
-            println!("{USAGE}");
-            ExitCode::SUCCESS
+    let (ours, petsc) = cli::split_petsc_options(args.get(1..).unwrap_or(&[]));
+    let parsed = match Cli::try_parse_from(std::iter::once(program.clone()).chain(ours)) {
+        Ok(c) => c,
+        Err(e) => {
+            // Help and version go to stdout with exit 0; mistakes to stderr with exit 2.
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
-        Some("--version") | Some("-V") => {
-            println!("signorini {}", env!("CARGO_PKG_VERSION"));
-            ExitCode::SUCCESS
-        }
-        Some("run") => with_session(&program, &args[2..], true, run),
-        Some("bench") => match args.get(2).map(String::as_str) {
-            Some("elasticity") => bench_elasticity(&args[3..]),
-            Some("elasticity-case") => with_session(&program, &args[3..], false, bench_elasticity_case),
-            Some("contact") => bench_contact(&args[3..]),
-            Some("contact-case") => with_session(&program, &args[3..], false, bench_contact_case),
-            other => usage_error(&format!(
-                "bench needs a benchmark name: `signorini bench elasticity` or `signorini bench contact` (got {})",
-                other.map(|o| format!("{o:?}")).unwrap_or_else(|| "nothing".into())
-            )),
+    };
+    let args = |scene, out, quiet, contact_solver, max_dofs, case| RunArgs {
+        scene,
+        out,
+        quiet,
+        max_dofs,
+        case,
+        contact_solver,
+        petsc: petsc.clone(),
+    };
+    match parsed.command {
+        Command::Run(r) => with_session(&program, args(r.scene, r.out, r.quiet, r.contact_solver, 0, None), run),
+        Command::Bench { which } => match which {
+            Bench::Elasticity(o) => {
+                bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
+            }
+            Bench::Contact(o) => bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::ElasticityCase(c) => {
+                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_elasticity_case)
+            }
+            Bench::ContactCase(c) => {
+                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_contact_case)
+            }
         },
-        Some(other) => {
-            usage_error(&format!("unknown command {other:?}: use `signorini run` or `signorini bench` (see --help)"))
-        }
     }
 }
 
-fn usage_error(message: &str) -> ExitCode {
-    eprintln!("error: {message}");
-    ExitCode::from(2)
-}
-
-fn with_session(
-    program: &str,
-    args: &[String],
-    allow_scene: bool,
-    job: fn(&Session, RunArgs) -> Result<(), Error>,
-) -> ExitCode {
-    let parsed = match parse(args, allow_scene) {
-        Ok(p) => p,
-        Err(e) => return usage_error(&e.to_string()),
-    };
+fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Result<(), Error>) -> ExitCode {
     let mut petsc_argv = vec![program.to_string()];
     petsc_argv.extend(parsed.petsc.iter().cloned());
     let session = match Session::init(&petsc_argv) {
@@ -252,8 +134,16 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
     let contact = scene.contact.as_mut().ok_or_else(|| {
         Error::Usage(format!("--contact-solver {name}: the scene {} has no [contact] section", scene.source.display()))
     })?;
-    let candidates =
-        [S::Newton, S::Relaxation { omega: 1.0 }, S::DPana, S::Uzawa, S::TrescaFixedPoint, S::SnesVi, S::Tao];
+    let candidates = [
+        S::FullSpaceNewton,
+        S::Newton,
+        S::Relaxation { omega: 1.0 },
+        S::DPana,
+        S::Uzawa,
+        S::TrescaFixedPoint,
+        S::SnesVi,
+        S::Tao,
+    ];
     let solver = candidates.into_iter().find(|c| c.scene_name() == name).ok_or_else(|| {
         Error::Usage(format!(
             "--contact-solver {name}: unknown solver; choose one of newton_full, newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
@@ -348,11 +238,7 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
 
 /// `bench elasticity`: runs every (size, solver) case in a child process of its own (so that
 /// each reports its own memory) and collects their rows.
-fn bench_elasticity(args: &[String]) -> ExitCode {
-    let parsed = match parse(args, false) {
-        Ok(p) => p,
-        Err(e) => return usage_error(&e.to_string()),
-    };
+fn bench_elasticity(parsed: RunArgs) -> ExitCode {
     let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
     let scratch = std::env::temp_dir().join(format!("signorini-bench-{}", std::process::id()));
     let exe = match std::env::current_exe() {
@@ -440,14 +326,7 @@ fn run_case<T: serde::de::DeserializeOwned>(
 }
 
 /// `bench contact`: each (size, solver) case in a child process.
-fn bench_contact(args: &[String]) -> ExitCode {
-    let mut parsed = match parse(args, false) {
-        Ok(p) => p,
-        Err(e) => return usage_error(&e.to_string()),
-    };
-    if !args.iter().any(|a| a == "--max-dofs") {
-        parsed.max_dofs = 100_000;
-    }
+fn bench_contact(parsed: RunArgs) -> ExitCode {
     let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
     let exe = match std::env::current_exe() {
         Ok(e) => e,

@@ -222,8 +222,13 @@ fn contact_solver_from_the_command_line() {
     assert!(d < 1e-6, "relaxation differs from Newton by {d:e}");
     let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 1);
     assert!(msg.contains("frictionless"), "{msg}");
-    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 1);
-    assert!(msg.contains("unknown solver"), "{msg}");
+    // An unknown name is a usage error that lists the names.
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 2);
+    assert!(msg.contains("magic") && msg.contains("newton_full") && msg.contains("tao"), "{msg}");
+    // The default solver can be named too.
+    let dir = scratch("cs-full");
+    run_ok(bin().args(["run", "--quiet", "--contact-solver", "newton_full", "--out"]).arg(&dir));
+    assert!(report(&dir)["contact"]["solver"].as_str().unwrap().contains("full-space"));
 }
 
 #[test]
@@ -416,9 +421,52 @@ fn usage_errors_exit_2() {
     let msg = run_err(bin().args(["frobnicate"]), 2);
     assert!(msg.contains("frobnicate"), "{msg}");
     let msg = run_err(bin().args(["run", "--out"]), 2);
-    assert!(msg.contains("--out needs a value"), "{msg}");
-    let msg = run_err(bin().args(["run", "-ksp_monitor", "scene.toml"]), 2);
-    assert!(msg.contains("scene file comes first"), "{msg}");
+    assert!(msg.contains("--out") && msg.contains("value"), "{msg}");
+    let msg = run_err(bin().args(["run", "a.toml", "b.toml"]), 2);
+    assert!(msg.contains("b.toml"), "{msg}");
+    let msg = run_err(bin().args(["bench", "contact", "--max-dofs", "lots"]), 2);
+    assert!(msg.contains("lots") && msg.contains("--max-dofs"), "{msg}");
+    let msg = run_err(bin().args(["bench"]), 2);
+    assert!(msg.contains("elasticity") && msg.contains("contact"), "{msg}");
+}
+
+#[test]
+fn help_on_every_subcommand() {
+    for args in [
+        &["--help"][..],
+        &["-h"],
+        &["run", "--help"],
+        &["run", "-h"],
+        &["bench", "--help"],
+        &["bench", "contact", "-h"],
+    ] {
+        let out = bin().args(args).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {:?}", out.status);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("Usage: signorini"), "{args:?}: {text}");
+    }
+    // -h never runs anything: no output directory appears.
+    let dir = scratch("help-no-run");
+    let out = bin().current_dir(&dir).args(["run", "-h"]).output().unwrap();
+    assert!(out.status.success() && !dir.join("out").exists());
+    let out = bin().arg("--version").output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("signorini "));
+}
+
+#[test]
+fn own_flags_and_petsc_options_in_any_order() {
+    // --out after PETSc options, the scene after them, a value-less PETSc option just before
+    // our flag: all the same run.
+    let dir = scratch("any-order");
+    run_ok(
+        bin()
+            .args(["run", "-ksp_type", "cg", "-pc_type", "icc", "-ksp_converged_reason", "--quiet", "--out"])
+            .arg(&dir)
+            .arg(block()),
+    );
+    let r = report(&dir);
+    assert_eq!(r["solver"]["ksp_type"], "cg", "{}", r["solver"]);
+    assert_eq!(r["solver"]["pc_type"], "icc");
 }
 
 #[test]
@@ -468,4 +516,48 @@ fn example_hertz_contact_runs_small() {
 fn example_assembly_timing_runs_small() {
     let out = Command::new(example_binary("assembly_timing")).arg("60").output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
+    // The patch test at ν = 0.4999 with the locking-free P2–P0 element: report.json names the
+    // element, solution.vtu holds the exact uniform stress (σzz = −ν/(1−ν) p from the cell
+    // pressures), and two MPI ranks give the serial answer.
+    let (nu, p) = (0.4999_f64, 1e6_f64);
+    let side = nu / (1.0 - nu) * p;
+    let dir = scratch("p2p0");
+    let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
+        .unwrap()
+        .replace("order = 1", "order = 2\nelement = \"p2p0\"")
+        .replace("poisson = 0.2", &format!("poisson = {nu}"))
+        .replace("pressure = 2.5e5", &format!("pressure = {side:e}"));
+    let path = dir.join("patch.toml");
+    std::fs::write(&path, text).unwrap();
+    let serial = dir.join("serial");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+    assert_eq!(report(&serial)["element"], "P2-P0");
+    let out = python(&format!(
+        "s = meshio.read(r'{}').point_data['stress']\nprint(max(np.abs(s[:, 0] + {side:e}).max(), np.abs(s[:, 1] + {p:e}).max(), np.abs(s[:, 2] + {side:e}).max(), np.abs(s[:, 3]).max()) / {p:e})",
+        serial.join("solution.vtu").display()
+    ));
+    let err: f64 = out.trim().parse().unwrap();
+    assert!(err < 1e-6, "P2-P0 patch stress error {err:e} (relative to p)");
+    let parallel = dir.join("parallel");
+    let out = Command::new("mpirun")
+        .args(["-n", "2", "--oversubscribe"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(&path)
+        .args(["--quiet", "--out"])
+        .arg(&parallel)
+        .output()
+        .expect("mpirun (openmpi-bin, installed by ./setup.sh)");
+    assert!(out.status.success(), "mpirun failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(report(&parallel)["element"], "P2-P0");
+    let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+    assert!(d < 1e-8, "P2-P0: MPI answer differs from serial by {d:e}");
 }

@@ -1644,3 +1644,33 @@ fn documentation_examples_parse() {
     }
     assert!(blocks.len() >= 5 && contacts >= 3, "{} blocks, {contacts} with [contact]", blocks.len());
 }
+
+#[test]
+fn element_p2p0_needs_order_2_and_plane_strain() {
+    use signorini::fem::Element;
+    // Default and explicit Lagrange.
+    assert_eq!(parse(BASE).unwrap().element, Element::Lagrange);
+    let text = base_with("order = 1", "order = 1\nelement = \"lagrange\"");
+    assert_eq!(parse(&text).unwrap().element, Element::Lagrange);
+    let text = base_with("order = 1", "order = 2\nelement = \"p2p0\"");
+    assert_eq!(parse(&text).unwrap().element, Element::P2P0);
+    // Unknown name: the choices are listed.
+    let text = base_with("order = 1", "order = 2\nelement = \"p2p1\"");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "element"), "element = ".len() + 1));
+    assert!(e.message.contains("p2p1") && e.hint.contains("\"p2p0\""), "{} / {}", e.message, e.hint);
+    // P1 cells: the element would be P1 itself.
+    let text = base_with("order = 1", "order = 1\nelement = \"p2p0\"");
+    let e = scene_error(&text);
+    assert_eq!((e.line, e.column), (line_of(&text, "element"), "element = ".len() + 1));
+    assert!(e.message.contains("order = 1") && e.hint.contains("order = 2"), "{} / {}", e.message, e.hint);
+    // Without `order` the default is P1: same error.
+    let text = base_with("order = 1", "element = \"p2p0\"");
+    assert!(scene_error(&text).hint.contains("order = 2"));
+    // Plane stress does not lock.
+    let text = base_with("order = 1", "order = 2\nelement = \"p2p0\"");
+    let text = text.replacen("poisson = 0.3", "poisson = 0.3\nplane = \"stress\"", 1);
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "element"));
+    assert!(e.message.contains("plane strain") && e.hint.contains("does not lock"), "{} / {}", e.message, e.hint);
+}

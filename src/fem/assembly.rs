@@ -32,6 +32,10 @@
 //!
 //! On curved P2 edges `n ds = (y', −x') dt` is polynomial, so pressure loads integrate exactly.
 //!
+//! [`assemble_with`] and [`residual_forces_with`] take the element: the Lagrange element above,
+//! or the locking-free P2–P0 element of [`super::mixed_pressure`] (same dofs and sparsity, its
+//! own element matrices).
+//!
 //! # Dirichlet conditions: symmetric elimination
 //!
 //! For a fixed dof `j` with value `g_j`: its row and column are zeroed except for a diagonal
@@ -59,6 +63,7 @@ use std::ops::Range;
 
 use super::lagrange::{self, MAX_CELL_NODES};
 use super::material::Material;
+use super::mixed_pressure::{Element, MixedKernel};
 use super::quadrature;
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Order};
@@ -486,11 +491,20 @@ pub fn load_vector(mesh: &Mesh, loads: &Loads) -> Vec<f64> {
 ///
 /// `u` must hold `2 * mesh.num_nodes()` values.
 pub fn residual_forces(mesh: &Mesh, material: &Material, u: &[f64]) -> Vec<f64> {
+    residual_forces_with(mesh, material, Element::Lagrange, u)
+}
+
+/// [`residual_forces`] with the stiffness of `element` (e.g. the condensed P2–P0 element).
+pub fn residual_forces_with(mesh: &Mesh, material: &Material, element: Element, u: &[f64]) -> Vec<f64> {
     let kernel = StiffnessKernel::new(material);
     let mut y = vec![0.0; 2 * mesh.num_nodes()];
-    match mesh.order {
-        Order::P1 => apply_cells::<3>(mesh, u, &mut y, |x| kernel.p1(x)),
-        Order::P2 => apply_cells::<6>(mesh, u, &mut y, |x| kernel.p2(x)),
+    match (mesh.order, element) {
+        (Order::P1, _) => apply_cells::<3>(mesh, u, &mut y, |x| kernel.p1(x)),
+        (Order::P2, Element::Lagrange) => apply_cells::<6>(mesh, u, &mut y, |x| kernel.p2(x)),
+        (Order::P2, Element::P2P0) => {
+            let mixed = MixedKernel::new(material);
+            apply_cells::<6>(mesh, u, &mut y, |x| mixed.p2(x))
+        }
     }
     y
 }
@@ -601,6 +615,19 @@ pub fn assemble(
     loads: &Loads,
     rows: Range<usize>,
 ) -> LinearSystem {
+    assemble_with(mesh, material, Element::Lagrange, constraints, loads, rows)
+}
+
+/// [`assemble`] with the element matrices of `element` (e.g. the condensed P2–P0 element of
+/// [`super::mixed_pressure`]; same dofs and sparsity).
+pub fn assemble_with(
+    mesh: &Mesh,
+    material: &Material,
+    element: Element,
+    constraints: &Constraints,
+    loads: &Loads,
+    rows: Range<usize>,
+) -> LinearSystem {
     let num_dofs = 2 * mesh.num_nodes();
     let end = rows.end.min(num_dofs);
     let start = rows.start.min(end);
@@ -654,9 +681,13 @@ pub fn assemble(
     let kernel = StiffnessKernel::new(material);
     let mut scatter =
         Scatter { pattern: &pattern, fixed, start, end, indptr: &indptr, values: &mut values, rhs: &mut rhs };
-    match mesh.order {
-        Order::P1 => scatter.cells::<3>(mesh, |x| kernel.p1(x)),
-        Order::P2 => scatter.cells::<6>(mesh, |x| kernel.p2(x)),
+    match (mesh.order, element) {
+        (Order::P1, _) => scatter.cells::<3>(mesh, |x| kernel.p1(x)),
+        (Order::P2, Element::Lagrange) => scatter.cells::<6>(mesh, |x| kernel.p2(x)),
+        (Order::P2, Element::P2P0) => {
+            let mixed = MixedKernel::new(material);
+            scatter.cells::<6>(mesh, |x| mixed.p2(x))
+        }
     }
 
     // Loads on the owned free rows.

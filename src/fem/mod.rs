@@ -7,12 +7,15 @@
 //! - [`assembly`]: Dirichlet constraints and the rigid-motion check, loads, the global CSR
 //!   system assembled row block by row block (one block per MPI rank).
 //! - [`postprocess`]: cell and nodal stresses, energy and L2 error norms.
+//! - [`mixed_pressure`]: the locking-free P2–P0 element (pressure condensed cell by cell) for
+//!   nearly incompressible materials, and the stresses of its solutions.
 //!
 //! Degrees of freedom are interleaved: `dof = 2 * node + component` (0 = x, 1 = y), with the
 //! node numbering of [`crate::mesh::Mesh`].
 pub mod assembly;
 pub mod lagrange;
 pub mod material;
+pub mod mixed_pressure;
 pub mod postprocess;
 pub mod quadrature;
 
@@ -21,4 +24,5 @@ pub use assembly::{
     Traction,
 };
 pub use material::{Material, PlaneModel};
+pub use mixed_pressure::Element;
 pub use postprocess::{cell_stress, energy_error, energy_norm, l2_error, nodal_stress};

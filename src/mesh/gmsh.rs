@@ -87,15 +87,39 @@ pub fn generate(request: &MeshRequest) -> Result<Mesh> {
     generate_from_geo(&geo, request.order)
 }
 
+/// Mesh a shape with Gmsh, the element sizes given by a background mesh instead of
+/// `request.cell_size`: `background_pos` is a Gmsh post-processing view in the list-based
+/// `.pos` format (`View "sizes" { ST(x1,y1,0,x2,y2,0,x3,y3,0){h1,h2,h3}; ... };`), used with
+/// `-bgm`, and sizes from points, curvature and boundary extension are switched off, so the
+/// view alone decides: the new mesh both refines and coarsens (Gmsh reference manual,
+/// "Specifying mesh element sizes"). Boundary nodes are placed on the true curves (circle
+/// arcs stay circles).
+pub fn generate_with_background(request: &MeshRequest, background_pos: &str) -> Result<Mesh> {
+    let mut geo = geo_script(request)?;
+    geo.push_str(
+        "Mesh.MeshSizeExtendFromBoundary = 0;\nMesh.MeshSizeFromPoints = 0;\nMesh.MeshSizeFromCurvature = 0;\n",
+    );
+    run_gmsh(&geo, request.order, Some(background_pos))
+}
+
 /// Mesh a `.geo` script (built-in kernel syntax) with Gmsh: 2D mesh, MSH 4.1, `order`. The
 /// script must define the physical groups it wants to keep.
 pub fn generate_from_geo(geo: &str, order: Order) -> Result<Mesh> {
+    run_gmsh(geo, order, None)
+}
+
+fn run_gmsh(geo: &str, order: Order, background_pos: Option<&str>) -> Result<Mesh> {
     let dir = TempDir::new()?;
     let geo_path = dir.path.join("in.geo");
     let msh_path = dir.path.join("out.msh");
     std::fs::write(&geo_path, geo).map_err(|e| Error::io(&geo_path, "writing the Gmsh script", e))?;
     let mut command = Command::new("gmsh");
     command.arg(&geo_path).args(["-2", "-format", "msh41", "-bin", "-v", "1", "-o"]).arg(&msh_path);
+    if let Some(pos) = background_pos {
+        let pos_path = dir.path.join("sizes.pos");
+        std::fs::write(&pos_path, pos).map_err(|e| Error::io(&pos_path, "writing the Gmsh size map", e))?;
+        command.arg("-bgm").arg(&pos_path);
+    }
     if order == Order::P2 {
         command.args(["-order", "2"]);
     }

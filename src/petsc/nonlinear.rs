@@ -368,6 +368,7 @@ impl<'s> NonlinearSolver<'s> {
             },
         };
         if reason.0 < 0 {
+            let petsc_reason_name = petsc_reason.clone();
             let why = match verdict {
                 Some(Convergence::Diverged(why)) => why,
                 _ => petsc_reason,
@@ -378,15 +379,36 @@ impl<'s> NonlinearSolver<'s> {
                 iterations: solve.iterations,
                 residual: fnorm,
                 tried: format!(
-                    "{method}, up to {max_iterations} Newton steps; watch it with -{p}snes_monitor \
-                     -{p}snes_converged_reason, try -{p}snes_linesearch_type bt, or another inner solver \
-                     (-{p}ksp_type, -{p}pc_type)",
+                    "{method}, up to {max_iterations} Newton steps; {}; watch it with -{p}snes_monitor \
+                     -{p}snes_converged_reason",
+                    advice(&petsc_reason_name, &self.prefix),
                     p = self.prefix
                 ),
             });
         }
         x.copy_from_slice(&xv.owned_values()?);
         Ok(solve)
+    }
+}
+
+/// What to try after SNES stopped for `reason` (PETSc's reason name), options under `prefix`.
+/// Each suggestion is one that changes the outcome of that failure (the contact tests force
+/// these failures and follow the advice).
+fn advice(reason: &str, prefix: &str) -> String {
+    let p = prefix;
+    match reason {
+        "DIVERGED_MAX_IT" => format!("allow more steps (-{p}snes_max_it, or max_iterations in the scene)"),
+        "DIVERGED_LINEAR_SOLVE" => format!(
+            "the inner linear solver failed: leave -{p}ksp_type and -{p}pc_type at their default (a direct \
+             factorisation; the system is indefinite)"
+        ),
+        "DIVERGED_FNORM_NAN" => "the residual is not finite: check the loads, the material and the geometry \
+             for values whose products overflow"
+            .to_string(),
+        "DIVERGED_LINE_SEARCH" | "DIVERGED_LOCAL_MIN" => format!(
+            "the line search stalled: leave -{p}snes_linesearch_type at its default (basic: the full Newton step)"
+        ),
+        _ => format!("try the default inner solver (no -{p}ksp_type/-{p}pc_type) and more steps (-{p}snes_max_it)"),
     }
 }
 

@@ -1180,7 +1180,7 @@ impl ContactSetup {
         rhs.set_owned(&system.rhs)?;
         let mut ksp = LinearSolver::new(session, session.world(), "")?;
         ksp.set_operator(&matrix)?;
-        let (u, mut outcome, _) =
+        let (u, mut outcome, condensed_stats) =
             self.solve(session, mesh, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
                 Error::SolverDiverged { solver, reason, iterations, residual, tried } => Error::SolverDiverged {
                     solver: format!("{solver} (fallback from the full-space semi-smooth Newton)"),
@@ -1196,7 +1196,11 @@ impl ContactSetup {
         all.append(&mut outcome.report.notes);
         outcome.report.notes = all;
         outcome.report.solver = format!("condensed {} (fallback from the full-space Newton)", outcome.report.solver);
-        let mut stats = ksp.last_stats().ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?;
+        // The condensed solve reports its own linear solves (the Schur factorisation on one
+        // process); the KSP's are the per-column route's.
+        let mut stats = condensed_stats
+            .or_else(|| ksp.last_stats())
+            .ok_or_else(|| Error::PetscUsage("the condensed fallback recorded no linear solve".into()))?;
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
     }

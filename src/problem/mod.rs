@@ -29,7 +29,7 @@ pub use full_space::{dof_ranges, MixedLayout};
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{Material, PlaneModel};
-use crate::fem::postprocess;
+use crate::fem::mixed_pressure;
 use crate::mesh::{self, Mesh, Order};
 use crate::output::{self, vtu};
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
@@ -118,6 +118,8 @@ pub struct ElasticityProblem<'s> {
 /// Post-processed fields.
 pub struct Results {
     pub nodal_stress: Vec<[f64; 3]>,
+    /// Out-of-plane stress at the nodes (plane strain; 0 in plane stress).
+    pub sigma_zz: Vec<f64>,
     pub von_mises: Vec<f64>,
     pub report: ResultsReport,
 }
@@ -217,7 +219,8 @@ impl<'s> ElasticityProblem<'s> {
     pub fn assemble(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
         let mut system = self.with_loads(|loads| {
-            assembly::assemble(&self.mesh, &self.material, &self.constraints, loads, self.rows.clone())
+            let element = self.scene.element;
+            assembly::assemble_with(&self.mesh, &self.material, element, &self.constraints, loads, self.rows.clone())
         })?;
         if let Some(contact) = self.contact.as_mut().filter(|c| c.spec.solver == ContactSolverSpec::FullSpaceNewton) {
             // The full-space route keeps K unmodified (its springs live in the Jacobian only,
@@ -374,14 +377,15 @@ impl<'s> ElasticityProblem<'s> {
             .displacement
             .as_ref()
             .ok_or_else(|| Error::PetscUsage("postprocess() called before solve()".into()))?;
-        let nodal_stress = postprocess::nodal_stress(&self.mesh, &self.material, u);
-        let von_mises: Vec<f64> = nodal_stress.iter().map(|s| self.material.von_mises(*s)).collect();
+        let (nodal_stress, sigma_zz) = mixed_pressure::nodal_stress(&self.mesh, &self.material, self.scene.element, u);
+        let von_mises: Vec<f64> =
+            nodal_stress.iter().zip(&sigma_zz).map(|(s, zz)| mixed_pressure::von_mises(*s, *zz)).collect();
         let max_displacement = u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
         let max_von_mises = von_mises.iter().cloned().fold(0.0, f64::max);
 
         // Reactions: r = K u − f on the fixed dofs, from unconstrained operators.
         let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
-        let ku = assembly::residual_forces(&self.mesh, &self.material, u);
+        let ku = assembly::residual_forces_with(&self.mesh, &self.material, self.scene.element, u);
         let applied_force = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
         let mut reactions = std::collections::BTreeMap::new();
         let mut total_reaction = [0.0f64; 2];
@@ -418,6 +422,7 @@ impl<'s> ElasticityProblem<'s> {
         let equilibrium_residual = if scale > 0.0 { imbalance / scale } else { imbalance };
         self.results = Some(Results {
             nodal_stress,
+            sigma_zz,
             von_mises,
             report: ResultsReport { max_displacement, max_von_mises, applied_force, reactions, equilibrium_residual },
         });
@@ -437,10 +442,7 @@ impl<'s> ElasticityProblem<'s> {
             scene: self.scene.source.display().to_string(),
             title: self.scene.title.clone(),
             formulation: "primal",
-            element: match self.mesh.order {
-                Order::P1 => "P1",
-                Order::P2 => "P2",
-            },
+            element: self.scene.element.report_name(self.mesh.order),
             plane: match self.material.plane {
                 PlaneModel::Strain => "strain",
                 PlaneModel::Stress => "stress",
@@ -474,12 +476,12 @@ impl<'s> ElasticityProblem<'s> {
             let results =
                 self.results.as_ref().ok_or_else(|| Error::PetscUsage("write_output() before postprocess()".into()))?;
             let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
-            let sigma_zz: Vec<f64> = results.nodal_stress.iter().map(|s| self.material.sigma_zz(*s)).collect();
+            let sigma_zz = &results.sigma_zz;
             // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
             let stress6: Vec<f64> = results
                 .nodal_stress
                 .iter()
-                .zip(&sigma_zz)
+                .zip(sigma_zz)
                 .flat_map(|(s, zz)| [s[0], s[1], *zz, s[2], 0.0, 0.0])
                 .collect();
             let path = dir.join("solution.vtu");

@@ -54,6 +54,7 @@ mod raw;
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
 use crate::error::{Error, Location, Result};
+use crate::fem::Element;
 use crate::mesh::{Mesh, Order};
 use diagnostic::{closest, describe, Source};
 use raw::{first_span, Leaf, RawDirichlet, RawMesh, RawRefine, RawScene, RawTraction};
@@ -82,6 +83,8 @@ pub struct Scene {
     pub mesh: MeshSpec,
     /// Order of the triangles and of the Lagrange finite-element space.
     pub order: Order,
+    /// `[discretization] element`: Lagrange (default) or the locking-free P2–P0 element.
+    pub element: Element,
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
     pub body_force: [f64; 2],
@@ -324,6 +327,7 @@ impl Scene {
             ));
         };
         let material = material_spec(&src, raw_material)?;
+        let element = element(&src, raw.discretization.as_ref().and_then(|d| d.element.as_ref()), order, &material)?;
         let body_force = match raw.loads.as_ref().and_then(|l| l.body_force.as_ref()) {
             Some(v) => src.vector(v, "body_force")?,
             None => [0.0; 2],
@@ -346,6 +350,7 @@ impl Scene {
             title,
             mesh,
             order,
+            element,
             material,
             body_force,
             tractions,
@@ -567,6 +572,32 @@ fn order(src: &Source, v: Option<&Spanned<Value>>) -> Result<Order> {
     }
 }
 
+/// `[discretization] element`: "lagrange" (default) or "p2p0", the latter only with `order = 2`
+/// in plane strain (P1 cells have a constant divergence already, and plane stress does not lock).
+fn element(src: &Source, v: Option<&Spanned<Value>>, order: Order, material: &MaterialSpec) -> Result<Element> {
+    let Some(v) = v else {
+        return Ok(Element::Lagrange);
+    };
+    if src.choice(v, "element", &["lagrange", "p2p0"])? == "lagrange" {
+        return Ok(Element::Lagrange);
+    }
+    if order != Order::P2 {
+        return Err(src.error(
+            &v.span(),
+            "element = \"p2p0\" needs quadratic triangles, but the scene uses order = 1",
+            "add order = 2 to [discretization] (P2 displacements with a cell-wise constant pressure)",
+        ));
+    }
+    if material.plane == PlaneSpec::Stress {
+        return Err(src.error(
+            &v.span(),
+            "element = \"p2p0\" is for plane strain, but [material] plane = \"stress\"",
+            "remove `element` (plane stress does not lock: its in-plane Lamé constant stays below E), or use plane = \"strain\"",
+        ));
+    }
+    Ok(Element::P2P0)
+}
+
 fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
     let first = first_span(&[&m.young, &m.poisson, &m.plane]);
     let table = Table::locate(src, "[material]", ("material", false, 0), first, 0..0);
@@ -586,7 +617,8 @@ fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
             &poisson_v.span(),
             format!("`poisson` must be below 0.5, found {}", src.written(poisson_v)),
             "0.5 is an incompressible material, which a displacement formulation cannot represent: use a \
-             value < 0.5 (nearly incompressible, e.g. 0.4999, only with order = 2: P1 triangles lock)",
+             value < 0.5 (nearly incompressible, e.g. 0.4999: use order = 2 with element = \"p2p0\", since P1 \
+             and P2 displacements lock)",
         ));
     }
     if poisson <= -1.0 {

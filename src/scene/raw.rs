@@ -59,6 +59,7 @@ pub(super) struct RawRefine {
 #[serde(deny_unknown_fields, expecting = "the [discretization] table")]
 pub(super) struct RawDiscretization {
     pub order: Leaf,
+    pub element: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -145,7 +146,7 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     ),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
-    ("[discretization]", &["order"]),
+    ("[discretization]", &["order", "element"]),
     ("[material]", &["young", "poisson", "plane"]),
     ("[loads]", &["body_force"]),
     ("[[traction]]", &["part", "traction", "pressure"]),

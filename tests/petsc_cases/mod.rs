@@ -12,6 +12,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod contact;
+mod locking;
 
 type Case = fn(&Session) -> Result<(), String>;
 
@@ -54,6 +55,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("full_space_is_the_default_and_reports", contact::full_space_is_the_default_and_reports),
     ("full_space_failure_falls_back_and_says_so", contact::full_space_failure_falls_back_and_says_so),
     ("nonlinear_solver_newton_and_callback_errors", nonlinear_solver_newton_and_callback_errors),
+    ("hertz_near_incompressible_p2p0_is_locking_free", locking::hertz_near_incompressible_p2p0_is_locking_free),
+    ("contact_patch_near_incompressible_p2p0_exact", locking::contact_patch_near_incompressible_p2p0_exact),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {

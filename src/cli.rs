@@ -1,0 +1,187 @@
+//! The command line: the program's own flags through clap, PETSc's options passed through.
+//!
+//! PETSc options are single-dash words (`-ksp_type cg`, `-ksp_monitor`), which clap cannot
+//! tell from short flags, so the arguments are split first ([`split_petsc_options`]): every
+//! `-word` (a dash then a letter or `_`) and the value that follows it, if any, go to PETSc
+//! untouched; everything else — subcommands, the scene, `--flags` with their values, `-h` —
+//! goes to clap. The program's flags may therefore stand anywhere, before or after PETSc
+//! options (`signorini run -ksp_monitor --out dir scene.toml` works).
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Solver names `--contact-solver` accepts (the scene's `[contact] solver` names).
+pub const CONTACT_SOLVERS: [&str; 8] =
+    ["newton_full", "newton", "relaxation", "dpana", "uzawa", "tresca_fixed_point", "snes_vi", "tao"];
+
+const PETSC_HELP: &str = "\
+PETSc options: any option PETSc knows (-ksp_type, -pc_type, -pc_factor_levels, -ksp_monitor,
+-ksp_view, -log_view, ...), anywhere on the line, applies to the main linear solver; the
+contact solver's SNES/KSP take the prefix contact_ (-contact_snes_monitor). Scene [solver]
+petsc_options are defaults that the command line overrides. Examples:
+  signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
+  mpirun -n 2 signorini run examples/scenes/cantilever.toml";
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "signorini",
+    version,
+    about = "2D frictional contact in linear elasticity with certified error control, on PETSc",
+    after_help = PETSC_HELP
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a scene and write DIR/solution.vtu and DIR/report.json.
+    #[command(after_help = PETSC_HELP)]
+    Run(RunOptions),
+    /// Benchmarks: tables (markdown) and plots (SVG) of times, iterations and memory.
+    #[command(arg_required_else_help = false, subcommand_required = true)]
+    Bench {
+        #[command(subcommand)]
+        which: Bench,
+    },
+}
+
+#[derive(Debug, Args)]
+pub struct RunOptions {
+    /// The scene (a TOML file); without one, the embedded default scene (the square block of
+    /// Raous–Chabrand–Lebon with Coulomb friction).
+    pub scene: Option<PathBuf>,
+    /// Output directory (default: the scene's [output] dir, else ./out).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Override the scene's [contact] solver.
+    #[arg(long, value_name = "NAME", value_parser = CONTACT_SOLVERS)]
+    pub contact_solver: Option<String>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Bench {
+    /// Plane elasticity: assembly and solve times, peak memory and overhead ratios per linear
+    /// solver, from 1e4 dofs up to --max-dofs (default 1e6).
+    Elasticity(BenchOptions),
+    /// The square block (Coulomb) for each contact solver: iterations, time, memory and the
+    /// ratio to one linear solve of the same mesh, from 1e3 dofs up to --max-dofs (default 1e5).
+    Contact(BenchOptions),
+    /// One elasticity case (used by `bench elasticity`, one process per case).
+    #[command(hide = true)]
+    ElasticityCase(CaseOptions),
+    /// One contact case (used by `bench contact`).
+    #[command(hide = true)]
+    ContactCase(CaseOptions),
+}
+
+#[derive(Debug, Args)]
+pub struct BenchOptions {
+    /// Largest problem size, in degrees of freedom.
+    #[arg(long, value_name = "N", value_parser = parse_dofs)]
+    pub max_dofs: Option<usize>,
+    /// Where the table and the plot go (default ./bench).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct CaseOptions {
+    /// DOFS,SOLVER_INDEX
+    #[arg(long, value_parser = parse_case)]
+    pub case: (usize, usize),
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+fn parse_dofs(v: &str) -> Result<usize, String> {
+    v.parse::<f64>()
+        .ok()
+        .filter(|x| *x >= 1.0 && x.is_finite())
+        .map(|x| x as usize)
+        .ok_or_else(|| format!("expects a positive number of dofs such as 1e5, got {v:?}"))
+}
+
+fn parse_case(v: &str) -> Result<(usize, usize), String> {
+    let (d, k) = v.split_once(',').ok_or("expects DOFS,SOLVER_INDEX")?;
+    Ok((d.parse().map_err(|_| "bad DOFS")?, k.parse().map_err(|_| "bad SOLVER_INDEX")?))
+}
+
+/// Our flags that take a value (the next argument, unless written `--flag=value`).
+const VALUE_FLAGS: [&str; 4] = ["--out", "--max-dofs", "--case", "--contact-solver"];
+
+/// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never
+/// `-h` alone (ours) nor a negative number (a value).
+fn is_petsc_name(a: &str) -> bool {
+    a.len() > 2 && a.starts_with('-') && a[1..].starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+}
+
+/// Split the arguments (without the program name) into ours and PETSc's.
+pub fn split_petsc_options(args: &[String]) -> (Vec<String>, Vec<String>) {
+    let (mut ours, mut petsc) = (Vec::new(), Vec::new());
+    let mut i = 0;
+    while i < args.len() {
+        let a = &args[i];
+        if a.starts_with("--") {
+            ours.push(a.clone());
+            if VALUE_FLAGS.contains(&a.as_str()) {
+                if let Some(v) = args.get(i + 1) {
+                    ours.push(v.clone());
+                    i += 1;
+                }
+            }
+        } else if is_petsc_name(a) {
+            petsc.push(a.clone());
+            // Its value, if any: the next argument unless it is an option or flag of its own,
+            // or a scene file.
+            if let Some(v) = args.get(i + 1) {
+                if !v.starts_with("--") && !is_petsc_name(v) && !v.ends_with(".toml") && v != "-h" {
+                    petsc.push(v.clone());
+                    i += 1;
+                }
+            }
+        } else {
+            ours.push(a.clone());
+        }
+        i += 1;
+    }
+    (ours, petsc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn split(line: &str) -> (Vec<String>, Vec<String>) {
+        let args: Vec<String> = line.split_whitespace().map(String::from).collect();
+        split_petsc_options(&args)
+    }
+
+    #[test]
+    fn petsc_options_and_our_flags_mix_in_any_order() {
+        let (ours, petsc) = split("run -ksp_monitor --out dir s.toml -ksp_type cg -pc_factor_levels 2 -q");
+        assert_eq!(ours, ["run", "--out", "dir", "s.toml", "-q"]);
+        assert_eq!(petsc, ["-ksp_monitor", "-ksp_type", "cg", "-pc_factor_levels", "2"]);
+        let (ours, petsc) = split("run -mat_mumps_icntl_14 -1 --out=d -h");
+        assert_eq!(ours, ["run", "--out=d", "-h"]);
+        assert_eq!(petsc, ["-mat_mumps_icntl_14", "-1"]);
+    }
+
+    #[test]
+    fn clap_reads_our_part() {
+        let (ours, _) = split("run s.toml --contact-solver newton_full --out d");
+        let cli = Cli::try_parse_from(std::iter::once("signorini".to_string()).chain(ours)).unwrap();
+        match cli.command {
+            Command::Run(r) => {
+                assert_eq!(r.scene.unwrap().to_str(), Some("s.toml"));
+                assert_eq!(r.contact_solver.as_deref(), Some("newton_full"));
+                assert_eq!(r.out.unwrap().to_str(), Some("d"));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
