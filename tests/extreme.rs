@@ -634,6 +634,16 @@ fn line_search_the_messages_recommend() {
 }
 
 #[test]
+fn advice_after_an_iteration_limit_works() {
+    // Both the full-space Newton and its condensed fallback stop at 2 steps; the error's advice
+    // (more steps) must produce the answer on the same scene.
+    let scene = SQUARE_BLOCK.replace("solver = \"newton_full\"", "solver = \"newton_full\"\nmax_iterations = 2");
+    let msg = error("advice", &scene, &[], &["did not converge", "-contact_snes_max_it"]);
+    assert!(!msg.contains("linesearch_type bt"), "{msg}");
+    answer("advice_followed", &scene, &["-contact_snes_max_it", "50"]);
+}
+
+#[test]
 fn mpi_two_ranks_square_block() {
     let dir = scratch("mpi");
     let file = dir.join("scene.toml");
