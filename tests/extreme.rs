@@ -620,7 +620,7 @@ mu = 0.3
 fn fallback_after_snes_iteration_limit() {
     let (_, r) = answer("fallback_max_it", SQUARE_BLOCK, &["-contact_snes_max_it", "1"]);
     let notes = r["contact"]["notes"].to_string().to_lowercase();
-    assert!(notes.contains("fall"), "the fallback must be in the notes: {notes}");
+    assert!(notes.contains("fell back") && notes.contains("diverged_max_it"), "the failure and the fallback must be in the notes: {notes}");
 }
 
 #[test]
