@@ -29,4 +29,4 @@ pub mod system;
 
 pub use checks::{check, DualCheck};
 pub use dofs::HctDofs;
-pub use system::{particular_stress, DualData, DualField, DualSystem};
+pub use system::{particular_stress, BodyLoad, DualData, DualField, DualSystem};

@@ -14,6 +14,7 @@
 //! solved by PETSc's KSP with the options database (MUMPS Cholesky by default), on one or
 //! several MPI ranks (contiguous row blocks; every rank assembles its own rows).
 use std::ops::Range;
+use std::sync::Arc;
 
 use nalgebra::SMatrix;
 
@@ -28,10 +29,36 @@ use crate::fem::quadrature;
 use crate::mesh::Mesh;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats};
 
+/// A body force and its particular stress field `σp` (`div σp + F = 0`).
+#[derive(Clone)]
+pub enum BodyLoad {
+    /// A constant force F (N/m³), with `σp = diag(−Fx x, −Fy y)`.
+    Constant([f64; 2]),
+    /// `x -> (F(x), σp(x))` for a variable force, σp given by the caller.
+    Field(Arc<dyn Fn([f64; 2]) -> ([f64; 2], [f64; 3]) + Send + Sync>),
+}
+
+impl BodyLoad {
+    pub fn force(&self, x: [f64; 2]) -> [f64; 2] {
+        match self {
+            BodyLoad::Constant(f) => *f,
+            BodyLoad::Field(g) => g(x).0,
+        }
+    }
+    pub fn particular(&self, x: [f64; 2]) -> [f64; 3] {
+        match self {
+            BodyLoad::Constant(f) => particular_stress(*f, x),
+            BodyLoad::Field(g) => g(x).1,
+        }
+    }
+    fn is_zero(&self) -> bool {
+        matches!(self, BodyLoad::Constant([0.0, 0.0]))
+    }
+}
+
 /// The data of a dual problem besides the mesh and the material.
 pub struct DualData<'a> {
-    /// A constant body force (N/m³).
-    pub body_force: [f64; 2],
+    pub body_force: BodyLoad,
     /// Tractions on boundary groups (several on one group add up).
     pub edge_loads: &'a [EdgeLoad<'a>],
     /// Prescribed displacement components `(group, [ux, uy])` on boundary groups.
@@ -53,7 +80,7 @@ pub struct DualSystem {
     pub edges: Vec<BoundaryEdge>,
     pub affine: AffineDofs,
     pub material: Material,
-    pub body_force: [f64; 2],
+    pub body_force: BodyLoad,
 }
 
 /// The reduced rows `rows` of the system, CSR with global column indices.
@@ -71,7 +98,6 @@ impl DualSystem {
         let dofs = HctDofs::new(mesh);
         let elements = (0..mesh.num_cells()).map(|c| dofs.element(mesh, c)).collect::<Result<Vec<_>>>()?;
         let order = boundary::boundary_loop(mesh)?;
-        let f = data.body_force;
         let mut edges = Vec::with_capacity(order.len());
         for &e in &order {
             let ed = mesh.edge(e);
@@ -80,20 +106,28 @@ impl DualSystem {
             let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
             let n = [(pb[1] - pa[1]) / len, -(pb[0] - pa[0]) / len];
             let group = mesh.edge_group[e];
-            let points = [pa, [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])], pb];
-            // The traction left for σ(φ): the loads minus the particular field's σp n.
-            let mut t = [[0.0; 3]; 2];
-            for (i, &x) in points.iter().enumerate() {
+            // The traction left for σ(φ) (the loads minus the particular field's σp n), projected
+            // in L2 onto linear functions along the edge: exact for linear tractions, and it keeps
+            // the edge's force and moment, so equilibrium is kept (HCT tractions are linear on an
+            // edge). Values at the start, the midpoint and the end.
+            let rule = quadrature::gauss_legendre(5);
+            let (mut mean, mut slope) = ([0.0; 2], [0.0; 2]);
+            for (&s, &w) in rule.points.iter().zip(&rule.weights) {
+                let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
                 let mut v = [0.0; 2];
                 for load in data.edge_loads.iter().filter(|l| l.group == group) {
                     let ti = load.traction.at(x, n);
                     v[0] += ti[0];
                     v[1] += ti[1];
                 }
-                let sp = particular_stress(f, x);
-                t[0][i] = v[0] - (sp[0] * n[0] + sp[2] * n[1]);
-                t[1][i] = v[1] - (sp[2] * n[0] + sp[1] * n[1]);
+                let sp = data.body_force.particular(x);
+                let left = [v[0] - (sp[0] * n[0] + sp[2] * n[1]), v[1] - (sp[2] * n[0] + sp[1] * n[1])];
+                for k in 0..2 {
+                    mean[k] += w * left[k];
+                    slope[k] += 12.0 * w * (s - 0.5) * left[k];
+                }
             }
+            let t = [0, 1].map(|k| [mean[k] - 0.5 * slope[k], mean[k], mean[k] + 0.5 * slope[k]]);
             let mut components = [TractionComponent::Known(t[0]), TractionComponent::Known(t[1])];
             if data.free_groups.contains(&group) {
                 components = [TractionComponent::Free, TractionComponent::Free];
@@ -119,7 +153,7 @@ impl DualSystem {
             edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components });
         }
         let affine = boundary::eliminate(mesh, &dofs, &edges)?;
-        Ok(DualSystem { dofs, elements, edges, affine, material: *material, body_force: f })
+        Ok(DualSystem { dofs, elements, edges, affine, material: *material, body_force: data.body_force.clone() })
     }
 
     pub fn num_unknowns(&self) -> usize {
@@ -147,17 +181,18 @@ impl DualSystem {
     /// `b_p[i] = ∫_E σp : C⁻¹ σ(ψ_i)` of each element.
     fn particular_cross_term(&self, element: &HctElement) -> [f64; HCT_DOFS] {
         let mut out = [0.0; HCT_DOFS];
-        if self.body_force == [0.0, 0.0] {
+        if self.body_force.is_zero() {
             return out;
         }
         let compliance = self.material.compliance();
-        let rule = quadrature::triangle(2);
+        // Degree 2 is exact for a constant force (σp linear); a variable one gets a finer rule.
+        let rule = quadrature::triangle(if matches!(self.body_force, BodyLoad::Constant(_)) { 2 } else { 8 });
         for (piece, [a, b, c]) in element.pieces().into_iter().enumerate() {
             let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
             let jac = e1[0] * e2[1] - e1[1] * e2[0];
             for (xi, w) in rule.points.iter().zip(&rule.weights) {
                 let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
-                let sp = particular_stress(self.body_force, x);
+                let sp = self.body_force.particular(x);
                 let ep: Vec<f64> = (0..3).map(|r| (0..3).map(|q| compliance[r][q] * sp[q]).sum()).collect();
                 for (o, s) in out.iter_mut().zip(element.stresses(piece, x)) {
                     *o += w * jac * (s[0] * ep[0] + s[1] * ep[1] + s[2] * ep[2]);
@@ -346,7 +381,7 @@ impl StressField for DualField<'_> {
     }
     fn stress(&self, cell: usize, piece: usize, x: [f64; 2]) -> [f64; 3] {
         let local = self.local(cell);
-        let mut s = particular_stress(self.system.body_force, x);
+        let mut s = self.system.body_force.particular(x);
         for (b, v) in self.system.elements[cell].stresses(piece, x).iter().zip(&local) {
             for k in 0..3 {
                 s[k] += b[k] * v;
