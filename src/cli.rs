@@ -61,6 +61,14 @@ pub struct RunOptions {
     /// Override the scene's [contact] solver.
     #[arg(long, value_name = "NAME", value_parser = CONTACT_SOLVERS)]
     pub contact_solver: Option<String>,
+    /// Solve for displacements (primal, the default) or for stresses (dual: the Airy stress
+    /// function on HCT elements); overrides [discretization] formulation.
+    #[arg(long, value_name = "NAME", value_parser = ["primal", "dual"])]
+    pub formulation: Option<String>,
+    /// Solve both formulations on the same mesh and report the error in the constitutive
+    /// relation, per element and in total (as [estimate] in a scene).
+    #[arg(long)]
+    pub estimate: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -112,7 +120,7 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 4] = ["--out", "--max-dofs", "--case", "--contact-solver"];
+const VALUE_FLAGS: [&str; 5] = ["--out", "--max-dofs", "--case", "--contact-solver", "--formulation"];
 
 /// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never
 /// `-h` alone (ours) nor a negative number (a value).

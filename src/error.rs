@@ -79,6 +79,11 @@ pub enum Error {
     /// Bad command-line usage.
     #[error("{0}")]
     Usage(String),
+
+    /// A scene the chosen formulation cannot represent (e.g. the dual formulation on a domain
+    /// with holes): what and why, and what to do.
+    #[error("{message}\n  hint: {hint}")]
+    Formulation { message: String, hint: String },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -17,6 +17,7 @@
 pub mod adapt;
 pub mod bench;
 pub mod contact;
+pub mod dual;
 pub mod error;
 pub mod estimate;
 pub mod fem;

@@ -20,6 +20,9 @@ struct RunArgs {
     case: Option<(usize, usize)>,
     /// run: override of the scene's [contact] solver.
     contact_solver: Option<String>,
+    /// run: `--formulation`, `--estimate`.
+    formulation: Option<String>,
+    estimate: bool,
     petsc: Vec<String>,
 }
 
@@ -42,10 +45,17 @@ fn main() -> ExitCode {
         max_dofs,
         case,
         contact_solver,
+        formulation: None,
+        estimate: false,
         petsc: petsc.clone(),
     };
     match parsed.command {
-        Command::Run(r) => with_session(&program, args(r.scene, r.out, r.quiet, r.contact_solver, 0, None), run),
+        Command::Run(r) => {
+            let mut a = args(r.scene, r.out, r.quiet, r.contact_solver, 0, None);
+            a.formulation = r.formulation;
+            a.estimate = r.estimate;
+            with_session(&program, a, run)
+        }
         Command::Bench { which } => match which {
             Bench::Elasticity(o) => {
                 bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
@@ -116,10 +126,24 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         session.size(),
         problem.timings.get("mesh").unwrap_or(0.0)
     ));
-    problem.assemble()?;
-    say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
-    problem.solve()?;
-    problem.postprocess()?;
+    let dual = match args.formulation.as_deref() {
+        Some("dual") => true,
+        Some(_) => false,
+        None => problem.scene.formulation == signorini::scene::Formulation::Dual,
+    };
+    let estimate = args.estimate || problem.scene.estimate;
+    if !dual || estimate {
+        problem.assemble()?;
+        say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
+        problem.solve()?;
+        problem.postprocess()?;
+    }
+    if dual || estimate {
+        problem.solve_dual()?;
+    }
+    if estimate {
+        problem.estimate()?;
+    }
     let (report, written) = problem.write_output(&out)?;
     if session.rank() == 0 && !args.quiet {
         print_summary(&report, &written);
@@ -170,19 +194,45 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
         "  solve     {} + {}{pkg}: {} iteration(s), {}, true residual {:.1e} [{:.2} s]",
         s.ksp_type, s.pc_type, s.iterations, s.converged_reason, s.relative_residual, s.seconds
     );
-    eprintln!(
-        "  result    max |u| = {:.4e}, max von Mises = {:.4e}",
-        r.results.max_displacement, r.results.max_von_mises
-    );
-    let reactions: Vec<String> =
-        r.results.reactions.iter().map(|(k, v)| format!("{k} ({:.4e}, {:.4e})", v[0], v[1])).collect();
-    eprintln!(
-        "  check     applied force ({:.4e}, {:.4e}), reactions {}, equilibrium residual {:.1e}",
-        r.results.applied_force[0],
-        r.results.applied_force[1],
-        reactions.join(", "),
-        r.results.equilibrium_residual
-    );
+    if let Some(res) = &r.results {
+        eprintln!("  result    max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises);
+        let reactions: Vec<String> =
+            res.reactions.iter().map(|(k, v)| format!("{k} ({:.4e}, {:.4e})", v[0], v[1])).collect();
+        eprintln!(
+            "  check     applied force ({:.4e}, {:.4e}), reactions {}, equilibrium residual {:.1e}",
+            res.applied_force[0],
+            res.applied_force[1],
+            reactions.join(", "),
+            res.equilibrium_residual
+        );
+    }
+    if let Some(d) = &r.dual {
+        eprintln!(
+            "  dual      HCT, {} unknowns: max von Mises = {:.4e}, complementary energy {:.6e} [{:.2} s]",
+            d.unknowns, d.max_von_mises, d.check.complementary_energy, d.solver.seconds
+        );
+        eprintln!(
+            "            independent check: traction {:.1e}, equilibrium {:.1e}, stress jumps {:.1e}",
+            d.check.traction_residual, d.check.interior_equilibrium, d.check.stress_jump
+        );
+        for note in &d.notes {
+            eprintln!("            note: {note}");
+        }
+    }
+    if let Some(e) = &r.estimate {
+        eprintln!(
+            "  estimate  error {:.4e} = {:.3} % of the energy norm ({}), in {:.2} s of {:.2} s run time",
+            e.estimate.error,
+            e.estimate.relative_percent,
+            if e.estimate.kind == signorini::estimate::EstimateKind::GuaranteedBound {
+                "a guaranteed bound"
+            } else {
+                "an estimator"
+            },
+            e.estimate_seconds,
+            r.timings.total()
+        );
+    }
     if let Some(c) = &r.contact {
         let worst = [
             c.residuals.max_penetration,

@@ -561,3 +561,79 @@ fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
     let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
     assert!(d < 1e-8, "P2-P0: MPI answer differs from serial by {d:e}");
 }
+
+#[test]
+fn dual_formulation_run_writes_stresses_and_its_check() {
+    let dir = scratch("dual");
+    run_ok(
+        bin()
+            .arg("run")
+            .arg(scene("examples/scenes/patch_test.toml"))
+            .args(["--quiet", "--formulation", "dual", "--out"])
+            .arg(&dir),
+    );
+    let r = report(&dir);
+    assert_eq!(r["formulation"], "dual");
+    assert_eq!(r["element"], "HCT");
+    assert!(r.get("results").is_none(), "a dual-only run has no displacement results: {r}");
+    let d = &r["dual"];
+    for key in ["traction_residual", "interior_equilibrium", "stress_jump"] {
+        assert!(d["check"][key].as_f64().unwrap() < 1e-10, "{key}: {d}");
+    }
+    // The patch test's exact stresses, read back by meshio.
+    let out = python(&format!(
+        "m = meshio.read(r'{}')\ns = m.point_data['stress']\nprint(np.abs(s[:, 0] + 2.5e5).max() / 1e6, np.abs(s[:, 1] + 1e6).max() / 1e6, np.abs(s[:, 3]).max() / 1e6)",
+        dir.join("solution.vtu").display()
+    ));
+    for v in out.split_whitespace() {
+        assert!(v.parse::<f64>().unwrap() < 1e-11, "stress error {out}");
+    }
+}
+
+#[test]
+fn estimate_reports_the_error_per_cell_and_in_total() {
+    let dir = scratch("estimate");
+    run_ok(
+        bin()
+            .arg("run")
+            .arg(scene("examples/scenes/cantilever.toml"))
+            .args(["--quiet", "--estimate", "--out"])
+            .arg(&dir),
+    );
+    let r = report(&dir);
+    let e = &r["estimate"];
+    let (error, relative) = (e["error"].as_f64().unwrap(), e["relative_percent"].as_f64().unwrap());
+    assert!(error > 0.0 && relative > 1.0 && relative < 50.0, "{e}");
+    assert_eq!(e["kind"], "guaranteed_bound");
+    assert!(e["estimate_seconds"].as_f64().unwrap() >= 0.0);
+    // The cell data `error` squares up to the total.
+    let out = python(&format!(
+        "m = meshio.read(r'{}')\ne = np.concatenate([np.asarray(c, dtype=float) for c in m.cell_data['error']])\nprint(np.sqrt((e ** 2).sum()))",
+        dir.join("solution.vtu").display()
+    ));
+    let total: f64 = out.trim().parse().unwrap();
+    assert!((total - error).abs() <= 1e-9 * error, "{total} vs {error}");
+    // Without --estimate no dual solve runs.
+    let dir = scratch("no-estimate");
+    run_ok(bin().arg("run").arg(scene("examples/scenes/cantilever.toml")).args(["--quiet", "--out"]).arg(&dir));
+    let r = report(&dir);
+    assert!(r.get("estimate").is_none() && r.get("dual").is_none() && r["timings"].get("dual").is_none(), "{r}");
+}
+
+#[test]
+fn dual_refuses_contact_scenes_and_point_supports_that_carry_force() {
+    let msg = run_err(bin().args(["run", "--quiet", "--formulation", "dual"]), 1);
+    assert!(msg.contains("contact") && msg.contains("primal"), "{msg}");
+    // A point support that carries a force: the estimate refuses to compare different problems.
+    let dir = scratch("point-force");
+    let path = dir.join("s.toml");
+    std::fs::write(
+        &path,
+        "[mesh]\nshape = \"rectangle\"\nsize = [2.0, 1.0]\ncell_size = 0.25\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+         [[traction]]\npart = \"top\"\ntraction = [0.0, -1e5]\n\n[[dirichlet]]\npart = \"left\"\nux = 0.0\n\n\
+         [[dirichlet]]\npoint = [0.0, 0.0]\nuy = 0.0\n",
+    )
+    .unwrap();
+    let msg = run_err(bin().arg("run").arg(&path).args(["--quiet", "--estimate", "--out"]).arg(dir.join("out")), 1);
+    assert!(msg.contains("point support") && msg.contains("hint"), "{msg}");
+}

@@ -1674,3 +1674,23 @@ fn element_p2p0_needs_order_2_and_plane_strain() {
     assert_eq!(e.line, line_of(&text, "element"));
     assert!(e.message.contains("plane strain") && e.hint.contains("does not lock"), "{} / {}", e.message, e.hint);
 }
+
+#[test]
+fn formulation_and_estimate_keys() {
+    use signorini::scene::Formulation;
+    let s = parse(&base_with("order = 1", "order = 1\nformulation = \"dual\"")).unwrap();
+    assert_eq!(s.formulation, Formulation::Dual);
+    assert!(!s.estimate);
+    let s = parse(&format!("{BASE}\n[estimate]\n")).unwrap();
+    assert!(s.estimate && s.formulation == Formulation::Primal);
+    let s = parse(&format!("{BASE}\n[estimate]\nenabled = false\n")).unwrap();
+    assert!(!s.estimate);
+    let text = base_with("order = 1", "order = 1\nformulation = \"dula\"");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "dula"));
+    assert!(e.message.contains("formulation") && e.hint.contains("dual"), "{} / {}", e.message, e.hint);
+    let text = format!("{BASE}\n[estimate]\nenabled = \"yes\"\n");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "enabled"));
+    assert!(e.message.contains("true or false"), "{}", e.message);
+}

@@ -213,7 +213,8 @@ pub enum Traction<'a> {
 }
 
 impl Traction<'_> {
-    fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
+    /// The traction vector at `x` on an edge of unit outward normal `n`.
+    pub fn at(&self, x: [f64; 2], n: [f64; 2]) -> [f64; 2] {
         match self {
             Traction::Constant(t) => *t,
             Traction::Pressure(p) => [-p * n[0], -p * n[1]],

@@ -112,6 +112,8 @@ fn run_gmsh(geo: &str, order: Order, background_pos: Option<&str>) -> Result<Mes
     let dir = TempDir::new()?;
     let geo_path = dir.path.join("in.geo");
     let msh_path = dir.path.join("out.msh");
+    // Gmsh ignores a last statement that no newline ends: end the script with one.
+    let geo = if geo.ends_with('\n') { geo.to_string() } else { format!("{geo}\n") };
     std::fs::write(&geo_path, geo).map_err(|e| Error::io(&geo_path, "writing the Gmsh script", e))?;
     let mut command = Command::new("gmsh");
     command.arg(&geo_path).args(["-2", "-format", "msh41", "-bin", "-v", "1", "-o"]).arg(&msh_path);

@@ -22,8 +22,10 @@ use std::path::{Path, PathBuf};
 
 mod block_elimination;
 mod contact;
+mod dual;
 mod full_space;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
 
 use crate::error::{Error, Result};
@@ -54,12 +56,20 @@ pub struct Report {
     pub timings: Timings,
     pub solver: SolverReport,
     pub memory: MemoryReport,
-    pub results: ResultsReport,
+    /// The primal solution's results (absent for a dual-only run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub results: Option<ResultsReport>,
     /// Physical group name -> tag (the `part_id` cell data of solution.vtu).
     pub parts: std::collections::BTreeMap<String, i32>,
     /// Contact: solver, iterations, statuses, resultants, the independent residuals.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<ContactReport>,
+    /// The dual (stress) solution: size, check, complementary energy.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dual: Option<DualReport>,
+    /// The error in the constitutive relation (with `--estimate`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub estimate: Option<EstimateReport>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -113,6 +123,10 @@ pub struct ElasticityProblem<'s> {
     pub results: Option<Results>,
     pub contact: Option<ContactSetup>,
     pub contact_outcome: Option<ContactOutcome>,
+    /// The dual solution, when solved ([`ElasticityProblem::solve_dual`]).
+    pub dual: Option<DualOutcome>,
+    /// The error estimate, when computed ([`ElasticityProblem::estimate`]).
+    pub estimate: Option<EstimateReport>,
 }
 
 /// Post-processed fields.
@@ -182,6 +196,8 @@ impl<'s> ElasticityProblem<'s> {
             results: None,
             contact,
             contact_outcome: None,
+            dual: None,
+            estimate: None,
         })
     }
 
@@ -432,8 +448,17 @@ impl<'s> ElasticityProblem<'s> {
 
     /// Build the report (collective: every rank must call it).
     pub fn report(&self) -> Result<Report> {
-        let stats = self.stats.clone().ok_or_else(|| Error::PetscUsage("report() before solve()".into()))?;
-        let results = self.results.as_ref().ok_or_else(|| Error::PetscUsage("report() before postprocess()".into()))?;
+        let dual_only = self.displacement.is_none() && self.dual.is_some();
+        let stats = match (&self.stats, &self.dual) {
+            (Some(s), _) => s.clone(),
+            (None, Some(d)) => d.report.solver.clone(),
+            (None, None) => return Err(Error::PetscUsage("report() before solve()".into())),
+        };
+        let results = match &self.results {
+            Some(r) => Some(r.report.clone()),
+            None if dual_only => None,
+            None => return Err(Error::PetscUsage("report() before postprocess()".into())),
+        };
         let peak = resources::peak_memory_bytes();
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
         let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
@@ -441,8 +466,8 @@ impl<'s> ElasticityProblem<'s> {
             program: format!("signorini {} ({})", env!("CARGO_PKG_VERSION"), env!("SIGNORINI_COMMIT")),
             scene: self.scene.source.display().to_string(),
             title: self.scene.title.clone(),
-            formulation: "primal",
-            element: self.scene.element.report_name(self.mesh.order),
+            formulation: if dual_only { "dual" } else { "primal" },
+            element: if dual_only { "HCT" } else { self.scene.element.report_name(self.mesh.order) },
             plane: match self.material.plane {
                 PlaneModel::Strain => "strain",
                 PlaneModel::Stress => "stress",
@@ -450,7 +475,7 @@ impl<'s> ElasticityProblem<'s> {
             nodes: self.mesh.num_nodes(),
             elements: self.mesh.num_cells(),
             boundary_edges: self.mesh.num_edges(),
-            dofs: self.num_dofs(),
+            dofs: if dual_only { self.dual.as_ref().map_or(0, |d| d.report.unknowns) } else { self.num_dofs() },
             fixed_dofs: self.constraints.num_fixed(),
             mpi_ranks: self.session.size(),
             timings: self.timings.clone(),
@@ -460,39 +485,31 @@ impl<'s> ElasticityProblem<'s> {
                 unused_options: self.session.unused_options()?,
             },
             memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
-            results: results.report.clone(),
+            results,
             parts,
             contact: self.contact_outcome.as_ref().map(|o| o.report.clone()),
+            dual: self.dual.as_ref().map(|d| d.report.clone()),
+            estimate: self.estimate.clone(),
         })
     }
 
-    /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
-    /// Returns the report and the paths written.
-    pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
-        let start = std::time::Instant::now();
-        let mut written = Vec::new();
-        if self.session.rank() == 0 {
-            let u = self.displacement.as_ref().expect("checked by report()");
-            let results =
-                self.results.as_ref().ok_or_else(|| Error::PetscUsage("write_output() before postprocess()".into()))?;
-            let disp3: Vec<f64> = u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect();
-            let sigma_zz = &results.sigma_zz;
+    /// `solution.vtu`: the primal fields (displacement, stress, von Mises, contact), the dual
+    /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
+    /// the estimate per cell (`error`), whichever were computed.
+    fn write_vtu(&self, path: &Path) -> Result<()> {
+        let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
+        let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
+        let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
+        if let (Some(u), Some(results)) = (&self.displacement, &self.results) {
+            point.push(("displacement".into(), 3, u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect()));
             // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
-            let stress6: Vec<f64> = results
-                .nodal_stress
-                .iter()
-                .zip(sigma_zz)
-                .flat_map(|(s, zz)| [s[0], s[1], *zz, s[2], 0.0, 0.0])
-                .collect();
-            let path = dir.join("solution.vtu");
-            let mut fields = vec![
-                vtu::Field { name: "displacement", components: 3, values: &disp3 },
-                vtu::Field { name: "stress", components: 6, values: &stress6 },
-                vtu::Field { name: "von_mises", components: 1, values: &results.von_mises },
-            ];
+            let stress6 =
+                results.nodal_stress.iter().zip(&results.sigma_zz).flat_map(|(s, zz)| tensor(s, *zz)).collect();
+            point.push(("stress".into(), 6, stress6));
+            point.push(("von_mises".into(), 1, results.von_mises.clone()));
             let n = self.mesh.num_nodes();
-            let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
             if let (Some(c), Some(o)) = (&self.contact, &self.contact_outcome) {
+                let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
                 let (p, t) = c.boundary.tractions(&o.force);
                 for (i, &node) in c.boundary.nodes.iter().enumerate() {
                     pressure[node] = p[i];
@@ -503,11 +520,53 @@ impl<'s> ElasticityProblem<'s> {
                         crate::contact::PointStatus::Slip => 2.0,
                     };
                 }
-                fields.push(vtu::Field { name: "contact_pressure", components: 1, values: &pressure });
-                fields.push(vtu::Field { name: "friction_traction", components: 1, values: &friction });
-                fields.push(vtu::Field { name: "contact_status", components: 1, values: &status });
+                point.push(("contact_pressure".into(), 1, pressure));
+                point.push(("friction_traction".into(), 1, friction));
+                point.push(("contact_status".into(), 1, status));
             }
-            vtu::write_vtu(&path, &self.mesh, &fields, &[], true)?;
+        }
+        let mut with_edges = true;
+        if let Some(d) = &self.dual {
+            let prefix = if self.displacement.is_some() { "dual_" } else { "" };
+            let stress6 =
+                d.nodal_stress.iter().flat_map(|s| tensor(s, self.material.sigma_zz(*s))).collect::<Vec<f64>>();
+            point.push((format!("{prefix}stress"), 6, stress6));
+            point.push((format!("{prefix}von_mises"), 1, d.von_mises.clone()));
+            point.push(("airy_stress".into(), 1, d.airy.clone()));
+            // Per cell: the stress at the centroid (the field is linear on each third of a cell).
+            let field = d.system.field(&self.mesh, &d.phi);
+            let mut cell_stress = Vec::with_capacity(6 * self.mesh.num_cells());
+            let mut cell_vm = Vec::with_capacity(self.mesh.num_cells());
+            for c in 0..self.mesh.num_cells() {
+                let v = self.mesh.cell(c);
+                let x: Vec<[f64; 2]> = v[..3].iter().map(|&k| self.mesh.nodes[k]).collect();
+                let g = [(x[0][0] + x[1][0] + x[2][0]) / 3.0, (x[0][1] + x[1][1] + x[2][1]) / 3.0];
+                let s = field.stress_at(c, g);
+                cell_stress.extend(tensor(&s, self.material.sigma_zz(s)));
+                cell_vm.push(self.material.von_mises(s));
+            }
+            cell.push((format!("{prefix}cell_stress"), 6, cell_stress));
+            cell.push((format!("{prefix}cell_von_mises"), 1, cell_vm));
+            with_edges = false;
+        }
+        if let Some(e) = &self.estimate {
+            cell.push(("error".into(), 1, e.estimate.element_error()));
+        }
+        let points: Vec<vtu::Field> =
+            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        let cells: Vec<vtu::Field> =
+            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
+    }
+
+    /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
+    /// Returns the report and the paths written.
+    pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
+        let start = std::time::Instant::now();
+        let mut written = Vec::new();
+        if self.session.rank() == 0 {
+            let path = dir.join("solution.vtu");
+            self.write_vtu(&path)?;
             written.push(path);
         }
         self.timings.add("output", start.elapsed().as_secs_f64());

@@ -85,6 +85,11 @@ pub struct Scene {
     pub order: Order,
     /// `[discretization] element`: Lagrange (default) or the locking-free P2–P0 element.
     pub element: Element,
+    /// `[discretization] formulation`: displacements (primal, the default) or stresses (dual).
+    pub formulation: Formulation,
+    /// `[estimate]`: also solve the other formulation and estimate the error (see
+    /// [`crate::estimate`]).
+    pub estimate: bool,
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
     pub body_force: [f64; 2],
@@ -99,6 +104,25 @@ pub struct Scene {
     pub petsc_options: Vec<String>,
     /// `[output] dir` as written (relative to the current directory, not to the scene).
     pub output_dir: Option<PathBuf>,
+}
+
+/// Which field the scene is solved for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Formulation {
+    /// Displacements (Lagrange elements): the default.
+    #[default]
+    Primal,
+    /// Stresses: the Airy stress function on HCT elements ([`crate::dual`]).
+    Dual,
+}
+
+impl Formulation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Formulation::Primal => "primal",
+            Formulation::Dual => "dual",
+        }
+    }
 }
 
 /// The geometry and how to mesh it.
@@ -328,6 +352,29 @@ impl Scene {
         };
         let material = material_spec(&src, raw_material)?;
         let element = element(&src, raw.discretization.as_ref().and_then(|d| d.element.as_ref()), order, &material)?;
+        let formulation = match raw.discretization.as_ref().and_then(|d| d.formulation.as_ref()) {
+            Some(v) => match src.choice(v, "formulation", &["primal", "dual"])? {
+                "dual" => Formulation::Dual,
+                _ => Formulation::Primal,
+            },
+            None => Formulation::Primal,
+        };
+        let estimate = match &raw.estimate {
+            None => false,
+            Some(e) => match e.enabled.as_ref() {
+                None => true,
+                Some(v) => match v.get_ref() {
+                    toml::Value::Boolean(b) => *b,
+                    _ => {
+                        return Err(src.error(
+                            &v.span(),
+                            format!("`enabled` must be true or false, found {}", src.written(v)),
+                            "write enabled = true (or remove the [estimate] table)",
+                        ))
+                    }
+                },
+            },
+        };
         let body_force = match raw.loads.as_ref().and_then(|l| l.body_force.as_ref()) {
             Some(v) => src.vector(v, "body_force")?,
             None => [0.0; 2],
@@ -351,6 +398,8 @@ impl Scene {
             mesh,
             order,
             element,
+            formulation,
+            estimate,
             material,
             body_force,
             tractions,

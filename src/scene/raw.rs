@@ -31,6 +31,7 @@ pub(super) struct RawScene {
     pub contact: Option<RawContact>,
     pub solver: Option<RawSolver>,
     pub output: Option<RawOutput>,
+    pub estimate: Option<RawEstimate>,
 }
 
 #[derive(Deserialize)]
@@ -60,6 +61,13 @@ pub(super) struct RawRefine {
 pub(super) struct RawDiscretization {
     pub order: Leaf,
     pub element: Leaf,
+    pub formulation: Leaf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [estimate] table")]
+pub(super) struct RawEstimate {
+    pub enabled: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -142,11 +150,13 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "contact",
             "solver",
             "output",
+            "estimate",
         ],
     ),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
-    ("[discretization]", &["order", "element"]),
+    ("[discretization]", &["order", "element", "formulation"]),
+    ("[estimate]", &["enabled"]),
     ("[material]", &["young", "poisson", "plane"]),
     ("[loads]", &["body_force"]),
     ("[[traction]]", &["part", "traction", "pressure"]),

@@ -12,6 +12,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod contact;
+mod dual;
 mod locking;
 
 type Case = fn(&Session) -> Result<(), String>;
@@ -35,6 +36,13 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
     ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
     ("mumps_schur_complement_is_the_inverse_block", mumps_schur_complement_is_the_inverse_block),
+    ("dual_patch_test_all_tractions_exact", dual::dual_patch_test_all_tractions_exact),
+    ("dual_stick_patch_and_roller_support_exact", dual::dual_stick_patch_and_roller_support_exact),
+    ("dual_cubic_airy_and_body_force_exact", dual::dual_cubic_airy_and_body_force_exact),
+    ("dual_refuses_unbalanced_loads_and_holes", dual::dual_refuses_unbalanced_loads_and_holes),
+    ("dual_cantilever_rates", dual::dual_cantilever_rates),
+    ("dual_does_not_lock", dual::dual_does_not_lock),
+    ("dual_prager_synge_identity_manufactured", dual::dual_prager_synge_identity_manufactured),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
     ("condensation_by_schur_complement_agrees", contact::condensation_by_schur_complement_agrees),
     ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),

@@ -1,0 +1,314 @@
+//! Boundary conditions of the Airy stress function: known tractions become linear constraints
+//! on the HCT dofs of the boundary, eliminated once and for all (master–slave elimination).
+//!
+//! Along a boundary edge `a → b` (counter-clockwise, length L, tangent τ, outward normal
+//! `n = (τ_y, −τ_x)`) the traction of `σ(φ)` is the arc-length derivative of `∇φ` turned by a
+//! right angle (SCIENCE.md §3):
+//!
+//! ```text
+//!   t_x = d(φ,y)/ds,    t_y = −d(φ,x)/ds.
+//! ```
+//!
+//! With the full HCT element `φ` is cubic along the edge (Hermite: φ and φ,s at the ends) and
+//! `φ,n` quadratic (ends and midpoint), so `g = ∇φ` is quadratic along the edge, fixed by its
+//! values at `a`, at `b` and at the midpoint `m`, where
+//!
+//! ```text
+//!   g(m)·τ = 3 (φ(b) − φ(a)) / (2L) − (g(a)·τ + g(b)·τ) / 4,     g(m)·n = ± (midpoint dof).
+//! ```
+//!
+//! A traction component that is known and linear along the edge (a constant traction, a
+//! pressure, or what is left of them once the particular field of a constant body force is
+//! taken off) fixes the matching component of `g` everywhere along the edge, exactly, through
+//! two conditions at the nodes of the quadratic:
+//!
+//! ```text
+//!   g_c(b) − g_c(a) = I_c(L),    g_c(m) − g_c(a) = I_c(L/2),    I(s) = ∫_0^s (−t_y, t_x) ds'
+//! ```
+//!
+//! (the integrals of a linear function are exact with the trapezoid rule). Where a traction
+//! component is unknown (a prescribed displacement component, a contact) there is no
+//! constraint; a prescribed displacement enters the complementary energy instead,
+//! `l(σ) = ∫ u0·σn ds = u0x [φ,y]_a^b − u0y [φ,x]_a^b` for a constant `u0` on the edge.
+//!
+//! ## Elimination
+//!
+//! The constraints are processed edge by edge along the boundary loop, starting where a run of
+//! known tractions starts; each one is solved for one dof of the edge's end vertex `b` or of
+//! its midpoint (the one with the largest scaled coefficient) in terms of dofs already free,
+//! so every constrained dof becomes an affine function of the remaining (master) dofs. This
+//! is the integration of the tractions along the boundary, done by linear algebra, component
+//! by component (a symmetry plane `ux = 0` leaves the shear traction known and the normal one
+//! free). Where a run of known tractions closes on itself (a boundary loaded by tractions
+//! only) the last conditions are redundant: they are the global equilibrium of the loads
+//! (force and moment), checked instead of imposed. The affine kernel of φ (φ + α + β·x has the
+//! same stresses) is removed by fixing φ, φ,x, φ,y at one vertex whose dofs are all free.
+use std::collections::BTreeMap;
+
+use super::dofs::HctDofs;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+
+/// What is known of one traction component along a boundary edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TractionComponent {
+    /// Known, linear along the edge: its values at the start, the midpoint and the end.
+    Known([f64; 3]),
+    /// Unknown; the displacement component is prescribed (`u0`, constant on the edge).
+    Prescribed(f64),
+    /// Unknown and no displacement prescribed (a contact edge): no constraint, no load.
+    Free,
+}
+
+/// One boundary edge of the dual problem.
+#[derive(Debug, Clone)]
+pub struct BoundaryEdge {
+    /// Index of the edge in `mesh.edges`.
+    pub mesh_edge: usize,
+    /// Start and end nodes (counter-clockwise: the domain on the left).
+    pub a: usize,
+    pub b: usize,
+    /// The HCT edge index.
+    pub edge: usize,
+    /// x and y traction components.
+    pub components: [TractionComponent; 2],
+}
+
+/// How each global dof depends on the unknowns of the reduced problem.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DofRole {
+    /// Reduced unknown number k.
+    Master(usize),
+    /// An affine function of masters: `Σ c_j z_j + constant`.
+    Slave(Vec<(usize, f64)>, f64),
+    /// A fixed value.
+    Fixed(f64),
+}
+
+/// The affine map from the reduced unknowns `z` to all HCT dofs.
+#[derive(Debug, Clone)]
+pub struct AffineDofs {
+    pub role: Vec<DofRole>,
+    pub num_masters: usize,
+    /// The vertex (mesh node) whose φ and gradient were fixed to remove the affine kernel.
+    pub anchor: usize,
+}
+
+impl AffineDofs {
+    /// All dofs from the reduced unknowns.
+    pub fn expand(&self, z: &[f64]) -> Vec<f64> {
+        self.role
+            .iter()
+            .map(|r| match r {
+                DofRole::Master(k) => z[*k],
+                DofRole::Slave(terms, c) => c + terms.iter().map(|(k, a)| a * z[*k]).sum::<f64>(),
+                DofRole::Fixed(v) => *v,
+            })
+            .collect()
+    }
+}
+
+/// The boundary edges in counter-clockwise loop order, checked to form one closed loop.
+pub fn boundary_loop(mesh: &Mesh) -> Result<Vec<usize>> {
+    let mut next: BTreeMap<usize, usize> = BTreeMap::new();
+    for e in 0..mesh.num_edges() {
+        let ed = mesh.edge(e);
+        if next.insert(ed[0], e).is_some() {
+            return Err(formulation_error(
+                format!("boundary node {} starts two boundary edges", ed[0]),
+                "the boundary must be a simple closed curve",
+            ));
+        }
+    }
+    let Some((&start, &first)) = next.iter().next() else {
+        return Err(formulation_error("the mesh has no boundary edges".into(), "check the mesh"));
+    };
+    let mut order = vec![first];
+    let mut node = mesh.edge(first)[1];
+    while node != start {
+        let e = *next.get(&node).ok_or_else(|| {
+            formulation_error(format!("the boundary is open at node {node}"), "the boundary must be a closed curve")
+        })?;
+        order.push(e);
+        node = mesh.edge(e)[1];
+        if order.len() > mesh.num_edges() {
+            break;
+        }
+    }
+    if order.len() != mesh.num_edges() {
+        return Err(formulation_error(
+            format!(
+                "the boundary has more than one closed loop ({} of its {} edges are on the first): the domain has a hole \
+                 or several pieces, and the Airy stress function is then multivalued (Michell's conditions)",
+                order.len(),
+                mesh.num_edges()
+            ),
+            "use the primal formulation, or cut the domain along a line of symmetry so that it is simply connected",
+        ));
+    }
+    Ok(order)
+}
+
+pub(crate) fn formulation_error(message: String, hint: &str) -> Error {
+    Error::Formulation { message: format!("dual formulation: {message}"), hint: hint.to_string() }
+}
+
+/// A linear constraint `Σ c_d dof_d = rhs`, with the dofs it may be solved for.
+struct Row {
+    terms: Vec<(usize, f64)>,
+    rhs: f64,
+    candidates: Vec<usize>,
+}
+
+/// Eliminate the traction constraints of `edges` (in loop order) and fix the affine kernel.
+/// The redundant conditions of a closed run (global equilibrium) are checked against the size
+/// of the loads (force per unit thickness).
+pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<AffineDofs> {
+    let n = dofs.len();
+    // Slave expressions in terms of free global dofs.
+    let mut slave: Vec<Option<(Vec<(usize, f64)>, f64)>> = vec![None; n];
+    let mut referenced = vec![false; n];
+    // Start the walk where a run of known tractions starts (after an edge with an unknown
+    // component), so that the first vertex of every run stays free.
+    let fully_known = |e: &BoundaryEdge| e.components.iter().all(|c| matches!(c, TractionComponent::Known(_)));
+    let start = (0..edges.len()).find(|&i| !fully_known(&edges[(i + edges.len() - 1) % edges.len()])).unwrap_or(0);
+    let mut load_scale = 0.0f64;
+    let mut closures = Vec::new();
+    for step in 0..edges.len() {
+        let e = &edges[(start + step) % edges.len()];
+        let (pa, pb) = (mesh.nodes[e.a], mesh.nodes[e.b]);
+        let d = [pb[0] - pa[0], pb[1] - pa[1]];
+        let len = d[0].hypot(d[1]);
+        let tau = [d[0] / len, d[1] / len];
+        let normal = [tau[1], -tau[0]];
+        // The midpoint dof is ∂φ/∂n along the global normal: sign relative to the outward one.
+        let sign = if e.a < e.b { 1.0 } else { -1.0 };
+        let ga = [dofs.node_dof(e.a, 1), dofs.node_dof(e.a, 2)];
+        let gb = [dofs.node_dof(e.b, 1), dofs.node_dof(e.b, 2)];
+        let (phi_a, phi_b, mid) = (dofs.node_dof(e.a, 0), dofs.node_dof(e.b, 0), dofs.edge_dof(e.edge));
+        let candidates = vec![gb[0], gb[1], phi_b, mid];
+        let mut rows = Vec::new();
+        // A known traction component k fixes gradient component c: t_x drives φ,y (c = 1),
+        // t_y drives φ,x (c = 0) with a minus sign.
+        for (k, comp) in e.components.iter().enumerate() {
+            let TractionComponent::Known(t) = comp else { continue };
+            let (c, rate) = if k == 0 { (1, [t[0], t[1], t[2]]) } else { (0, [-t[0], -t[1], -t[2]]) };
+            let i_half = 0.25 * len * (rate[0] + rate[1]);
+            let i_full = i_half + 0.25 * len * (rate[1] + rate[2]);
+            load_scale = load_scale
+                .max(i_full.abs())
+                .max(i_half.abs())
+                .max(len * rate.iter().fold(0.0f64, |m, r| m.max(r.abs())));
+            rows.push(Row { terms: vec![(gb[c], 1.0), (ga[c], -1.0)], rhs: i_full, candidates: candidates.clone() });
+            // g_c(m) = τ_c [3(φb − φa)/(2L) − (g(a)·τ + g(b)·τ)/4] + n_c · sign · mid.
+            let mut terms = vec![(phi_b, 1.5 * tau[c] / len), (phi_a, -1.5 * tau[c] / len), (mid, normal[c] * sign)];
+            for j in 0..2 {
+                terms.push((ga[j], -0.25 * tau[c] * tau[j]));
+                terms.push((gb[j], -0.25 * tau[c] * tau[j]));
+            }
+            terms.push((ga[c], -1.0));
+            rows.push(Row { terms, rhs: i_half, candidates: candidates.clone() });
+        }
+        for row in rows {
+            // Substitute what is already eliminated.
+            let mut expanded: BTreeMap<usize, f64> = BTreeMap::new();
+            let mut constant = 0.0;
+            for &(dof, coeff) in &row.terms {
+                match &slave[dof] {
+                    Some((terms, c)) => {
+                        constant += coeff * c;
+                        for &(m, a) in terms {
+                            *expanded.entry(m).or_insert(0.0) += coeff * a;
+                        }
+                    }
+                    None => *expanded.entry(dof).or_insert(0.0) += coeff,
+                }
+            }
+            let scaled = |dof: usize, coeff: f64| {
+                if dof % 3 == 0 && dof < 3 * dofs.num_vertices() {
+                    coeff * len
+                } else {
+                    coeff
+                }
+            };
+            let largest = expanded.iter().map(|(&d, &c)| scaled(d, c).abs()).fold(0.0f64, f64::max);
+            let pivot = row
+                .candidates
+                .iter()
+                .filter(|&&d| !referenced[d] && slave[d].is_none())
+                .filter_map(|&d| expanded.get(&d).map(|&c| (d, c)))
+                .filter(|&(d, c)| scaled(d, c).abs() > 1e-8 * largest.max(1e-300))
+                .max_by(|x, y| scaled(x.0, x.1).abs().total_cmp(&scaled(y.0, y.1).abs()));
+            match pivot {
+                Some((p, cp)) => {
+                    let mut terms = Vec::with_capacity(expanded.len());
+                    for (&d, &c) in &expanded {
+                        if d != p && c != 0.0 {
+                            terms.push((d, -c / cp));
+                            referenced[d] = true;
+                        }
+                    }
+                    slave[p] = Some((terms, (row.rhs - constant) / cp));
+                }
+                None => {
+                    // A redundant condition: it must already hold (global equilibrium).
+                    if largest > 1e-8 {
+                        return Err(formulation_error(
+                            format!(
+                                "the traction conditions at boundary edge {} -> {} cannot be imposed on the HCT dofs",
+                                e.a, e.b
+                            ),
+                            "report this mesh: it should not happen",
+                        ));
+                    }
+                    closures.push((row.rhs - constant, e.a, e.b));
+                }
+            }
+        }
+    }
+    for &(residual, a, b) in &closures {
+        if residual.abs() > 1e-9 * load_scale.max(f64::MIN_POSITIVE) {
+            return Err(Error::NoEquilibrium(format!(
+                "dual formulation: the loads on the boundary (tractions and body force) are not in equilibrium: \
+                 integrating them around the boundary leaves {residual:.4e} (N per unit thickness) at edge {a} -> {b}, \
+                 against loads of {load_scale:.4e}; with tractions only on the whole boundary the resultant force and \
+                 moment must vanish — add a Dirichlet part (a support), or correct the loads"
+            )));
+        }
+    }
+    // Remove the affine kernel at a vertex whose three dofs are all free.
+    let free = |v: usize| (0..3).all(|k| slave[3 * v + k].is_none());
+    let first_start = edges.get(start).map(|e| dofs.vertex_of_node[e.a]);
+    let anchor = first_start
+        .filter(|&v| free(v))
+        .or_else(|| (0..dofs.num_vertices()).find(|&v| free(v)))
+        .ok_or_else(|| formulation_error("no vertex left to fix the affine part of φ".into(), "refine the mesh"))?;
+    let mut role = Vec::with_capacity(n);
+    let mut master_of = vec![usize::MAX; n];
+    let mut num_masters = 0;
+    for d in 0..n {
+        if d / 3 == anchor && d < 3 * dofs.num_vertices() {
+            role.push(DofRole::Fixed(0.0));
+        } else if slave[d].is_none() {
+            master_of[d] = num_masters;
+            role.push(DofRole::Master(num_masters));
+            num_masters += 1;
+        } else {
+            role.push(DofRole::Fixed(0.0)); // replaced below
+        }
+    }
+    for d in 0..n {
+        if let Some((terms, c)) = &slave[d] {
+            let constant = *c;
+            let mut reduced = Vec::with_capacity(terms.len());
+            // The anchor's dofs are fixed to zero: their terms vanish.
+            for &(m, a) in terms {
+                if master_of[m] != usize::MAX {
+                    reduced.push((master_of[m], a));
+                }
+            }
+            role[d] = DofRole::Slave(reduced, constant);
+        }
+    }
+    Ok(AffineDofs { role, num_masters, anchor: dofs.vertex_nodes[anchor] })
+}

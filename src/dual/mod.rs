@@ -1,0 +1,32 @@
+//! # The dual (stress) formulation: the Airy stress function on HCT elements
+//!
+//! In plane elasticity without body force every stress field in equilibrium derives from an
+//! Airy function φ, `σxx = φ,yy`, `σyy = φ,xx`, `σxy = −φ,xy`; with a constant body force F a
+//! particular field `σp = diag(−Fx x, −Fy y)` is added. Discretising φ with the C¹ HCT element
+//! ([`crate::fem::hct`]) gives stress fields that are in equilibrium inside every element and
+//! across every edge, and the known tractions are imposed exactly on the boundary
+//! ([`boundary`]): the fields are statically admissible, which is what the error in the
+//! constitutive relation ([`crate::estimate`]) needs. Among them, the dual solution minimises
+//! the complementary energy (SCIENCE.md §2, the talk's "Formulation en contraintes"):
+//!
+//! ```text
+//!   J*(σ) = ½ ∫Ω σ : C⁻¹ σ − ∫ΓD u0 · σ n        over statically admissible σ.
+//! ```
+//!
+//! What it needs: a simply connected domain (on a domain with holes φ is multivalued: Michell's
+//! conditions; refused with [`crate::Error::Formulation`]); supports distributed over boundary
+//! parts (a point support carries a point force, which no C¹ Airy function represents). The
+//! geometry is the straight-sided mesh of the cell vertices (a P2 mesh's curved edges are
+//! replaced by their chords).
+//!
+//! - [`dofs`]: the global HCT numbering.
+//! - [`boundary`]: traction conditions as constraints on the boundary dofs, eliminated.
+//! - [`system`]: assembly, PETSc solve, the stress field and its checks.
+pub mod boundary;
+pub mod checks;
+pub mod dofs;
+pub mod system;
+
+pub use checks::{check, DualCheck};
+pub use dofs::HctDofs;
+pub use system::{particular_stress, BodyLoad, DualData, DualField, DualSystem};

@@ -1,0 +1,392 @@
+//! The discrete dual problem: assemble, solve with PETSc, evaluate and check the stress field.
+//!
+//! Unknowns: the reduced HCT dofs `z` (masters of [`super::boundary::eliminate`]), with all
+//! dofs `φ = T z + φ0`. The complementary energy of `σ = σ(φ) + σp` (σp the particular field of
+//! the body force) is
+//!
+//! ```text
+//!   J*(φ) = ½ b(σ(φ) + σp, σ(φ) + σp) − l(σ(φ) + σp),     b(σ, τ) = ∫ σ : C⁻¹ τ,
+//! ```
+//!
+//! so the reduced system is `Tᵀ S T z = Tᵀ (l − S φ0 − b_p)` with `S = Σ_E S_E`
+//! ([`HctElement::compliance_stiffness`]), `l` the prescribed-displacement functional and
+//! `b_p[i] = b(σp, σ(ψ_i))`. It is symmetric positive definite (the affine kernel is fixed), and
+//! solved by PETSc's KSP with the options database (MUMPS Cholesky by default), on one or
+//! several MPI ranks (contiguous row blocks; every rank assembles its own rows).
+use std::ops::Range;
+use std::sync::Arc;
+
+use nalgebra::SMatrix;
+
+use super::boundary::{self, AffineDofs, BoundaryEdge, DofRole, TractionComponent};
+use super::dofs::HctDofs;
+use crate::error::Result;
+use crate::estimate::StressField;
+use crate::fem::assembly::EdgeLoad;
+use crate::fem::hct::{HctElement, HCT_DOFS};
+use crate::fem::material::Material;
+use crate::fem::quadrature;
+use crate::mesh::Mesh;
+use crate::petsc::{LinearSolver, Matrix, Session, SolveStats};
+
+/// A body force and its particular stress field `σp` (`div σp + F = 0`).
+#[derive(Clone)]
+pub enum BodyLoad {
+    /// A constant force F (N/m³), with `σp = diag(−Fx x, −Fy y)`.
+    Constant([f64; 2]),
+    /// `x -> (F(x), σp(x))` for a variable force, σp given by the caller.
+    Field(Arc<dyn Fn([f64; 2]) -> ([f64; 2], [f64; 3]) + Send + Sync>),
+}
+
+impl BodyLoad {
+    pub fn force(&self, x: [f64; 2]) -> [f64; 2] {
+        match self {
+            BodyLoad::Constant(f) => *f,
+            BodyLoad::Field(g) => g(x).0,
+        }
+    }
+    pub fn particular(&self, x: [f64; 2]) -> [f64; 3] {
+        match self {
+            BodyLoad::Constant(f) => particular_stress(*f, x),
+            BodyLoad::Field(g) => g(x).1,
+        }
+    }
+    fn is_zero(&self) -> bool {
+        matches!(self, BodyLoad::Constant([0.0, 0.0]))
+    }
+}
+
+/// The data of a dual problem besides the mesh and the material.
+pub struct DualData<'a> {
+    pub body_force: BodyLoad,
+    /// Tractions on boundary groups (several on one group add up).
+    pub edge_loads: &'a [EdgeLoad<'a>],
+    /// Prescribed displacement components `(group, [ux, uy])` on boundary groups.
+    pub prescribed: &'a [(usize, [Option<f64>; 2])],
+    /// Groups whose tractions are unknown without a prescribed displacement (contact).
+    pub free_groups: &'a [usize],
+}
+
+/// The particular stress field of a constant body force F: `σp = diag(−Fx x, −Fy y)`,
+/// `div σp + F = 0`.
+pub fn particular_stress(f: [f64; 2], x: [f64; 2]) -> [f64; 3] {
+    [-f[0] * x[0], -f[1] * x[1], 0.0]
+}
+
+/// The assembled dual problem.
+pub struct DualSystem {
+    pub dofs: HctDofs,
+    pub elements: Vec<HctElement>,
+    pub edges: Vec<BoundaryEdge>,
+    pub affine: AffineDofs,
+    pub material: Material,
+    pub body_force: BodyLoad,
+}
+
+/// The reduced rows `rows` of the system, CSR with global column indices.
+pub struct ReducedRows {
+    pub first_row: usize,
+    pub indptr: Vec<usize>,
+    pub indices: Vec<usize>,
+    pub values: Vec<f64>,
+    pub rhs: Vec<f64>,
+}
+
+impl DualSystem {
+    /// Number the dofs, build the elements, impose the boundary data.
+    pub fn new(mesh: &Mesh, material: &Material, data: &DualData) -> Result<Self> {
+        let dofs = HctDofs::new(mesh);
+        let elements = (0..mesh.num_cells()).map(|c| dofs.element(mesh, c)).collect::<Result<Vec<_>>>()?;
+        let order = boundary::boundary_loop(mesh)?;
+        let mut edges = Vec::with_capacity(order.len());
+        for &e in &order {
+            let ed = mesh.edge(e);
+            let (a, b) = (ed[0], ed[1]);
+            let (pa, pb) = (mesh.nodes[a], mesh.nodes[b]);
+            let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+            let n = [(pb[1] - pa[1]) / len, -(pb[0] - pa[0]) / len];
+            let group = mesh.edge_group[e];
+            // The traction left for σ(φ) (the loads minus the particular field's σp n), projected
+            // in L2 onto linear functions along the edge: exact for linear tractions, and it keeps
+            // the edge's force and moment, so equilibrium is kept (HCT tractions are linear on an
+            // edge). Values at the start, the midpoint and the end.
+            let rule = quadrature::gauss_legendre(5);
+            let (mut mean, mut slope) = ([0.0; 2], [0.0; 2]);
+            for (&s, &w) in rule.points.iter().zip(&rule.weights) {
+                let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+                let mut v = [0.0; 2];
+                for load in data.edge_loads.iter().filter(|l| l.group == group) {
+                    let ti = load.traction.at(x, n);
+                    v[0] += ti[0];
+                    v[1] += ti[1];
+                }
+                let sp = data.body_force.particular(x);
+                let left = [v[0] - (sp[0] * n[0] + sp[2] * n[1]), v[1] - (sp[2] * n[0] + sp[1] * n[1])];
+                for k in 0..2 {
+                    mean[k] += w * left[k];
+                    slope[k] += 12.0 * w * (s - 0.5) * left[k];
+                }
+            }
+            let t = [0, 1].map(|k| [mean[k] - 0.5 * slope[k], mean[k], mean[k] + 0.5 * slope[k]]);
+            let mut components = [TractionComponent::Known(t[0]), TractionComponent::Known(t[1])];
+            if data.free_groups.contains(&group) {
+                components = [TractionComponent::Free, TractionComponent::Free];
+            }
+            for (g, values) in data.prescribed {
+                if *g == group {
+                    for k in 0..2 {
+                        if let Some(u0) = values[k] {
+                            if !matches!(components[k], TractionComponent::Prescribed(_)) {
+                                components[k] = TractionComponent::Prescribed(u0);
+                            }
+                        }
+                    }
+                }
+            }
+            let edge = dofs.cell_edges.iter().flatten().copied().find(|&k| dofs.edges[k] == [a.min(b), a.max(b)]);
+            let edge = edge.ok_or_else(|| {
+                boundary::formulation_error(
+                    format!("boundary edge {a} -> {b} is not an edge of any triangle"),
+                    "check the mesh",
+                )
+            })?;
+            edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components });
+        }
+        let affine = boundary::eliminate(mesh, &dofs, &edges)?;
+        Ok(DualSystem { dofs, elements, edges, affine, material: *material, body_force: data.body_force.clone() })
+    }
+
+    pub fn num_unknowns(&self) -> usize {
+        self.affine.num_masters
+    }
+
+    /// The prescribed-displacement functional `l` on all dofs (vertex gradient dofs only).
+    fn load_functional(&self) -> Vec<f64> {
+        let mut l = vec![0.0; self.dofs.len()];
+        for e in &self.edges {
+            let (gxa, gya) = (self.dofs.node_dof(e.a, 1), self.dofs.node_dof(e.a, 2));
+            let (gxb, gyb) = (self.dofs.node_dof(e.b, 1), self.dofs.node_dof(e.b, 2));
+            if let TractionComponent::Prescribed(u0x) = e.components[0] {
+                l[gyb] += u0x;
+                l[gya] -= u0x;
+            }
+            if let TractionComponent::Prescribed(u0y) = e.components[1] {
+                l[gxb] -= u0y;
+                l[gxa] += u0y;
+            }
+        }
+        l
+    }
+
+    /// `b_p[i] = ∫_E σp : C⁻¹ σ(ψ_i)` of each element.
+    fn particular_cross_term(&self, element: &HctElement) -> [f64; HCT_DOFS] {
+        let mut out = [0.0; HCT_DOFS];
+        if self.body_force.is_zero() {
+            return out;
+        }
+        let compliance = self.material.compliance();
+        // Degree 2 is exact for a constant force (σp linear); a variable one gets a finer rule.
+        let rule = quadrature::triangle(if matches!(self.body_force, BodyLoad::Constant(_)) { 2 } else { 8 });
+        for (piece, [a, b, c]) in element.pieces().into_iter().enumerate() {
+            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+            let jac = e1[0] * e2[1] - e1[1] * e2[0];
+            for (xi, w) in rule.points.iter().zip(&rule.weights) {
+                let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
+                let sp = self.body_force.particular(x);
+                let ep: Vec<f64> = (0..3).map(|r| (0..3).map(|q| compliance[r][q] * sp[q]).sum()).collect();
+                for (o, s) in out.iter_mut().zip(element.stresses(piece, x)) {
+                    *o += w * jac * (s[0] * ep[0] + s[1] * ep[1] + s[2] * ep[2]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The reduced rows `rows` (every rank assembles the whole and keeps its block).
+    pub fn assemble(&self, mesh: &Mesh, rows: Range<usize>) -> ReducedRows {
+        let l = self.load_functional();
+        let nm = self.num_unknowns();
+        let mut triplets: Vec<Vec<(usize, f64)>> = vec![Vec::new(); rows.len()];
+        let mut rhs = vec![0.0; rows.len()];
+        // The expansion of a dof: its reduced terms and its constant.
+        let expansion = |d: usize| -> (Vec<(usize, f64)>, f64) {
+            match &self.affine.role[d] {
+                DofRole::Master(k) => (vec![(*k, 1.0)], 0.0),
+                DofRole::Slave(t, c) => (t.clone(), *c),
+                DofRole::Fixed(v) => (Vec::new(), *v),
+            }
+        };
+        // The load functional on dofs outside any element is impossible: l lives on vertices.
+        for (d, &ld) in l.iter().enumerate() {
+            if ld != 0.0 {
+                let (terms, _) = expansion(d);
+                for (k, a) in terms {
+                    if rows.contains(&k) {
+                        rhs[k - rows.start] += a * ld;
+                    }
+                }
+            }
+        }
+        for (c, element) in self.elements.iter().enumerate() {
+            let cell_dofs = self.dofs.cell_dofs(mesh, c);
+            let s: SMatrix<f64, HCT_DOFS, HCT_DOFS> = element.compliance_stiffness(&self.material);
+            let bp = self.particular_cross_term(element);
+            let exp: Vec<(Vec<(usize, f64)>, f64)> = cell_dofs.iter().map(|&d| expansion(d)).collect();
+            // S φ0 restricted to the element (constants of the expansions).
+            let mut s_phi0 = [0.0; HCT_DOFS];
+            for i in 0..HCT_DOFS {
+                s_phi0[i] = (0..HCT_DOFS).map(|j| s[(i, j)] * exp[j].1).sum();
+            }
+            for i in 0..HCT_DOFS {
+                for &(ki, ai) in &exp[i].0 {
+                    if !rows.contains(&ki) {
+                        continue;
+                    }
+                    let r = ki - rows.start;
+                    rhs[r] -= ai * (s_phi0[i] + bp[i]);
+                    for j in 0..HCT_DOFS {
+                        let sij = s[(i, j)];
+                        if sij == 0.0 {
+                            continue;
+                        }
+                        for &(kj, aj) in &exp[j].0 {
+                            triplets[r].push((kj, ai * sij * aj));
+                        }
+                    }
+                }
+            }
+        }
+        let mut indptr = Vec::with_capacity(rows.len() + 1);
+        indptr.push(0);
+        let (mut indices, mut values) = (Vec::new(), Vec::new());
+        for row in triplets.iter_mut() {
+            row.sort_unstable_by_key(|t| t.0);
+            let mut last = usize::MAX;
+            for &(k, v) in row.iter() {
+                if k == last {
+                    *values.last_mut().unwrap() += v;
+                } else {
+                    indices.push(k);
+                    values.push(v);
+                    last = k;
+                }
+            }
+            indptr.push(indices.len());
+        }
+        debug_assert!(indices.iter().all(|&k| k < nm));
+        ReducedRows { first_row: rows.start, indptr, indices, values, rhs }
+    }
+
+    /// Assemble and solve with the main KSP (PETSc options without prefix); all HCT dofs, on
+    /// every rank.
+    pub fn solve(&self, session: &Session, mesh: &Mesh) -> Result<(Vec<f64>, SolveStats)> {
+        let nm = self.num_unknowns();
+        let (size, rank) = (session.size(), session.rank());
+        let rows = (rank * nm / size)..((rank + 1) * nm / size);
+        let r = self.assemble(mesh, rows);
+        let matrix = Matrix::from_csr_rows(
+            session,
+            session.world(),
+            nm,
+            r.first_row,
+            &r.indptr,
+            &r.indices,
+            &r.values,
+            1,
+            true,
+        )?;
+        let mut b = matrix.create_vector()?;
+        b.set_owned(&r.rhs)?;
+        let mut x = matrix.create_vector()?;
+        let mut ksp = LinearSolver::new(session, session.world(), "")?;
+        ksp.set_operator(&matrix)?;
+        let stats = ksp.solve(&matrix, &b, &mut x)?;
+        let z = x.gather_all()?;
+        Ok((self.affine.expand(&z), stats))
+    }
+
+    /// The stress field of the dofs `phi`.
+    pub fn field<'a>(&'a self, mesh: &'a Mesh, phi: &'a [f64]) -> DualField<'a> {
+        DualField { system: self, mesh, phi }
+    }
+}
+
+/// A solved dual stress field, cell by cell.
+pub struct DualField<'a> {
+    pub system: &'a DualSystem,
+    pub mesh: &'a Mesh,
+    pub phi: &'a [f64],
+}
+
+impl DualField<'_> {
+    fn local(&self, cell: usize) -> [f64; HCT_DOFS] {
+        self.system.dofs.cell_dofs(self.mesh, cell).map(|d| self.phi[d])
+    }
+
+    /// φ, φ,x, φ,y at `x` in cell `cell`.
+    pub fn airy(&self, cell: usize, x: [f64; 2]) -> [f64; 3] {
+        let e = &self.system.elements[cell];
+        let piece = e.locate(x);
+        let local = self.local(cell);
+        let v = e.values(piece, x);
+        let g = e.gradients(piece, x);
+        [
+            v.iter().zip(&local).map(|(a, b)| a * b).sum(),
+            g.iter().zip(&local).map(|(a, b)| a[0] * b).sum(),
+            g.iter().zip(&local).map(|(a, b)| a[1] * b).sum(),
+        ]
+    }
+
+    /// The stress at `x` of cell `cell` (the piece containing it).
+    pub fn stress_at(&self, cell: usize, x: [f64; 2]) -> [f64; 3] {
+        self.stress(cell, self.system.elements[cell].locate(x), x)
+    }
+
+    /// Stress at every mesh node: the average over the cells around it.
+    pub fn nodal_stress(&self) -> Vec<[f64; 3]> {
+        let n = self.mesh.num_nodes();
+        let (mut sum, mut count) = (vec![[0.0; 3]; n], vec![0usize; n]);
+        for c in 0..self.mesh.num_cells() {
+            for &node in self.mesh.cell(c) {
+                let s = self.stress_at(c, self.mesh.nodes[node]);
+                for k in 0..3 {
+                    sum[node][k] += s[k];
+                }
+                count[node] += 1;
+            }
+        }
+        for (s, &k) in sum.iter_mut().zip(&count) {
+            if k > 0 {
+                s.iter_mut().for_each(|v| *v /= k as f64);
+            }
+        }
+        sum
+    }
+
+    /// φ at every mesh node (mid-edge nodes evaluated in a cell around them).
+    pub fn nodal_airy(&self) -> Vec<f64> {
+        let mut out = vec![0.0; self.mesh.num_nodes()];
+        for c in 0..self.mesh.num_cells() {
+            for &node in self.mesh.cell(c) {
+                out[node] = self.airy(c, self.mesh.nodes[node])[0];
+            }
+        }
+        out
+    }
+}
+
+impl StressField for DualField<'_> {
+    fn pieces(&self, cell: usize) -> Vec<[[f64; 2]; 3]> {
+        self.system.elements[cell].pieces().to_vec()
+    }
+    fn stress(&self, cell: usize, piece: usize, x: [f64; 2]) -> [f64; 3] {
+        let local = self.local(cell);
+        let mut s = self.system.body_force.particular(x);
+        for (b, v) in self.system.elements[cell].stresses(piece, x).iter().zip(&local) {
+            for k in 0..3 {
+                s[k] += b[k] * v;
+            }
+        }
+        s
+    }
+}

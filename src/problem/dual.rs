@@ -1,0 +1,192 @@
+//! The dual formulation and the error in the constitutive relation inside the driver:
+//!
+//! ```text
+//! ElasticityProblem::solve_dual   the scene's loads and supports as dual data (tractions
+//!                                 imposed, prescribed displacements in the complementary
+//!                                 energy), HCT assembly, PETSc solve, independent check
+//!                 ::estimate      e_E per cell from the primal u_h and the dual σ_h on the
+//!                                 same mesh, the global and relative error, timed
+//! ```
+//!
+//! Point supports carry a point force, which no C¹ Airy function can: the dual drops them and
+//! says so in its notes; with an estimate, where the primal reaction at the point is known, a
+//! point reaction that is not zero (beyond round-off of the reactions) is an error, since the
+//! two formulations would then solve different problems.
+use super::ElasticityProblem;
+use crate::dual::{check, BodyLoad, DualCheck, DualData, DualSystem};
+use crate::error::{Error, Result};
+use crate::estimate::{volume_terms, Estimate, EstimateKind};
+use crate::fem::assembly::EdgeLoad;
+use crate::petsc::SolveStats;
+use crate::scene::DirichletTarget;
+
+/// What a dual solve reports (`report.json` under `dual`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DualReport {
+    /// HCT degrees of freedom (3 per vertex, 1 per edge) and the unknowns left once the
+    /// boundary conditions and the affine kernel are eliminated.
+    pub hct_dofs: usize,
+    pub unknowns: usize,
+    /// The node where φ, φ,x, φ,y were fixed to zero.
+    pub anchor_node: usize,
+    pub max_von_mises: f64,
+    /// The independent check of static admissibility, and the complementary energy.
+    pub check: DualCheck,
+    pub solver: SolveStats,
+    pub notes: Vec<String>,
+}
+
+/// The solved dual problem.
+pub struct DualOutcome {
+    pub system: DualSystem,
+    pub phi: Vec<f64>,
+    pub nodal_stress: Vec<[f64; 3]>,
+    pub von_mises: Vec<f64>,
+    pub airy: Vec<f64>,
+    pub report: DualReport,
+}
+
+/// The estimate (`report.json` under `estimate`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EstimateReport {
+    #[serde(flatten)]
+    pub estimate: Estimate,
+    /// What `relative_percent` divides by.
+    pub norm: &'static str,
+    /// What the number means.
+    pub meaning: &'static str,
+    /// Seconds: the primal solve, the dual solve, the estimate itself, and all of the run.
+    pub primal_seconds: f64,
+    pub dual_seconds: f64,
+    pub estimate_seconds: f64,
+}
+
+impl<'s> ElasticityProblem<'s> {
+    /// Solve the dual (stress) formulation on the problem's mesh.
+    pub fn solve_dual(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        if let Some(c) = &self.scene.contact {
+            return Err(Error::Formulation {
+                message: format!(
+                    "dual formulation: the scene has a [contact] section (part '{}'); contact in the dual formulation \
+                     is not available yet",
+                    c.part
+                ),
+                hint: "use the primal formulation (the default) for contact problems".into(),
+            });
+        }
+        let (body, edge) = self.loads()?;
+        let edge_loads: Vec<EdgeLoad> =
+            edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect();
+        let mut prescribed = Vec::new();
+        let mut notes = Vec::new();
+        for d in &self.scene.dirichlet {
+            match &d.target {
+                DirichletTarget::Part(part) => prescribed.push((self.mesh.require_group(part, 1)?, [d.ux, d.uy])),
+                DirichletTarget::Point(p) => notes.push(format!(
+                    "point support at ({}, {}) dropped: a point force cannot be carried by a C1 Airy function; the \
+                     answer is that of the problem without it (the same when its reaction is zero, as for a support \
+                     that only removes a rigid motion)",
+                    p[0], p[1]
+                )),
+            }
+        }
+        let data = DualData {
+            body_force: BodyLoad::Constant(body.unwrap_or([0.0, 0.0])),
+            edge_loads: &edge_loads,
+            prescribed: &prescribed,
+            free_groups: &[],
+        };
+        let points: Vec<[f64; 2]> = self
+            .scene
+            .dirichlet
+            .iter()
+            .filter_map(|d| if let DirichletTarget::Point(p) = d.target { Some(p) } else { None })
+            .collect();
+        let system = DualSystem::new(&self.mesh, &self.material, &data).map_err(|e| match e {
+            // Without its point supports the body cannot balance its loads: they carry force.
+            Error::NoEquilibrium(m) if !points.is_empty() => Error::Formulation {
+                message: format!(
+                    "{m}\n  the point support(s) at {points:?} must carry that force, and a point force cannot be \
+                     represented by a C1 Airy function"
+                ),
+                hint: "distribute the support over a boundary part (a [[dirichlet]] with part = ...), or use the \
+                       primal formulation"
+                    .into(),
+            },
+            other => other,
+        })?;
+        let (phi, stats) = system.solve(self.session, &self.mesh)?;
+        let field = system.field(&self.mesh, &phi);
+        let check = check(&field, &data);
+        if check.worst() > 1e-8 {
+            return Err(Error::SolverDiverged {
+                solver: "dual formulation (HCT)".into(),
+                reason: format!("the stress field fails its admissibility check: {check:?}"),
+                iterations: stats.iterations,
+                residual: check.worst(),
+                tried: format!("{} + {}", stats.ksp_type, stats.pc_type),
+            });
+        }
+        let nodal_stress = field.nodal_stress();
+        let von_mises: Vec<f64> = nodal_stress.iter().map(|s| self.material.von_mises(*s)).collect();
+        let airy = field.nodal_airy();
+        let report = DualReport {
+            hct_dofs: system.dofs.len(),
+            unknowns: system.num_unknowns(),
+            anchor_node: system.affine.anchor,
+            max_von_mises: von_mises.iter().cloned().fold(0.0, f64::max),
+            check,
+            solver: stats,
+            notes,
+        };
+        self.dual = Some(DualOutcome { system, phi, nodal_stress, von_mises, airy, report });
+        self.timings.add("dual", start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// The error in the constitutive relation of the primal and dual solutions (both solved).
+    pub fn estimate(&mut self) -> Result<()> {
+        let start = std::time::Instant::now();
+        let (Some(u), Some(dual)) = (&self.displacement, &self.dual) else {
+            return Err(Error::PetscUsage("estimate() needs solve() and solve_dual() first".into()));
+        };
+        // Point supports are dropped by the dual: their primal reactions must vanish.
+        if let Some(results) = &self.results {
+            let scale = results.report.applied_force[0]
+                .hypot(results.report.applied_force[1])
+                .max(results.report.reactions.values().map(|r| r[0].hypot(r[1])).fold(0.0, f64::max));
+            for d in &self.scene.dirichlet {
+                if let DirichletTarget::Point(p) = &d.target {
+                    let r = results.report.reactions.get(&d.target.to_string()).copied().unwrap_or([0.0; 2]);
+                    if r[0].hypot(r[1]) > 1e-8 * scale.max(f64::MIN_POSITIVE) {
+                        return Err(Error::Formulation {
+                            message: format!(
+                                "dual formulation: the point support at ({}, {}) carries a force ({:.4e}, {:.4e}) in the \
+                                 primal solution; a C1 Airy function cannot represent a point force, so the primal and \
+                                 dual solutions would not be of the same problem",
+                                p[0], p[1], r[0], r[1]
+                            ),
+                            hint: "distribute the support over a boundary part (a [[dirichlet]] with part = ...)".into(),
+                        });
+                    }
+                }
+            }
+        }
+        let field = dual.system.field(&self.mesh, &dual.phi);
+        let volume = volume_terms(&self.mesh, &self.material, u, &field, 4);
+        let estimate = Estimate::new(EstimateKind::GuaranteedBound, &volume, None);
+        let estimate_seconds = start.elapsed().as_secs_f64();
+        self.timings.add("estimate", estimate_seconds);
+        self.estimate = Some(EstimateReport {
+            estimate,
+            norm: "energy norm of the mean field, ‖½(σ_h + Cε(u_h))‖ in the compliance C⁻¹",
+            meaning: "a guaranteed upper bound of ‖u − u_h‖_a and of ‖σ − σ_h‖_b (Prager–Synge): \
+                      error² = ‖u − u_h‖²_a + ‖σ − σ_h‖²_b",
+            primal_seconds: self.timings.get("solve").unwrap_or(0.0),
+            dual_seconds: self.timings.get("dual").unwrap_or(0.0),
+            estimate_seconds,
+        });
+        Ok(())
+    }
+}
