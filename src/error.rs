@@ -80,8 +80,9 @@ pub enum Error {
     #[error("{0}")]
     Usage(String),
 
-    /// A scene the chosen formulation cannot represent (e.g. the dual formulation on a domain
-    /// with holes): what and why, and what to do.
+    /// A scene that cannot be solved as posed: the chosen formulation cannot represent it (the
+    /// dual formulation on a domain with holes), or its geometry contradicts it (a body that
+    /// starts inside its obstacle). What and why, and what to do.
     #[error("{message}\n  hint: {hint}")]
     Formulation { message: String, hint: String },
 }

@@ -620,7 +620,10 @@ mu = 0.3
 fn fallback_after_snes_iteration_limit() {
     let (_, r) = answer("fallback_max_it", SQUARE_BLOCK, &["-contact_snes_max_it", "1"]);
     let notes = r["contact"]["notes"].to_string().to_lowercase();
-    assert!(notes.contains("fell back") && notes.contains("diverged_max_it"), "the failure and the fallback must be in the notes: {notes}");
+    assert!(
+        notes.contains("fell back") && notes.contains("diverged_max_it"),
+        "the failure and the fallback must be in the notes: {notes}"
+    );
 }
 
 #[test]
@@ -697,7 +700,7 @@ center = [0.0, 0.0]
 radius = 0.2
 friction = "none"
 "#;
-    error("inside_circle", scene, &[], &["node", "obstacle"]);
+    error("inside_circle", scene, &[], &["node", "inside the obstacle", "arc"]);
 }
 
 #[test]
@@ -706,7 +709,7 @@ fn body_on_the_wrong_side_of_a_line() {
     // The obstacle is the half-plane y >= -0.5 (normal pointing down): the body is inside it.
     let scene =
         b.toml().replace("point = [0.0, 0.0]\nnormal = [0.0, 1.0]", "point = [0.0, -0.5]\nnormal = [0.0, -1.0]");
-    error("wrong_side", &scene, &[], &["node", "obstacle"]);
+    error("wrong_side", &scene, &[], &["node", "inside the obstacle", "bottom"]);
 }
 
 #[test]
@@ -722,7 +725,8 @@ fn sliding_square_block_without_friction_support() {
 #[test]
 fn overflowing_load() {
     let b = Block { p: 1e300, ..Default::default() };
-    error("overflow", &b.toml(), &[], &["pressure"]);
+    let msg = error("overflow", &b.toml(), &[], &["pressure", "overflow", "units"]);
+    assert!(msg.contains("scene.toml:"), "the message names the file and line: {msg}");
 }
 
 #[test]
@@ -741,4 +745,16 @@ fn poisson_at_the_incompressible_limit() {
 fn loose_contact_tolerance() {
     let b = Block { contact: "friction = \"none\"\ntolerance = 0.9".into(), ..Default::default() };
     error("tolerance", &b.toml(), &[], &["tolerance"]);
+}
+
+#[test]
+fn square_block_reactions_per_prescribed_component() {
+    // `right` prescribes ux only: its reaction has no y component; the corner point prescribes
+    // both and carries the vertical force the old attribution gave to `right`.
+    let (_, r) = answer("sb_reactions", SQUARE_BLOCK, &[]);
+    let reactions = &r["results"]["reactions"];
+    assert_eq!(reactions["right"][1].as_f64(), Some(0.0), "{reactions}");
+    let corner = &reactions["point [0.04, 0]"];
+    assert!(corner[1].as_f64().unwrap().abs() > 1e3, "the corner carries a vertical force: {reactions}");
+    assert!(r["results"]["equilibrium_residual"].as_f64().unwrap() < 1e-12);
 }

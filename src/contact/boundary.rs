@@ -7,8 +7,7 @@
 //!
 //! ## Contact points: nodal collocation at every node of `Γc`
 //!
-//! Every node of the part's edges is a contact point, P2 mid nodes included (nodes the caller
-//! excludes, e.g. those whose displacement is prescribed, are dropped). Node numbering of a
+//! Every node of the part's edges is a contact point, P2 mid nodes included. Node numbering of a
 //! contact edge (mesh order `v0, v1, [mid]`, domain on the left):
 //!
 //! ```text
@@ -42,6 +41,24 @@
 //! two dofs `2k, 2k+1` of node `k` ([`ContactBoundary::b_row`]); [`ContactBoundary::gather`] is
 //! `B u` and [`ContactBoundary::scatter_add`] is `f += Bᵀ r`. The contact unknowns `rN_i, rT_i`
 //! are **nodal forces** (force units), the Lagrange multipliers of the nodal constraints.
+//!
+//! ## Contact nodes with prescribed displacement components
+//!
+//! A node whose `ux` and `uy` are both prescribed cannot move: it is left out of the contact
+//! points, and its penetration `n·u − g0` is checked after the solve like any other
+//! ([`ContactBoundary::left_out`]). A node with ONE prescribed component `u_k = u0` (a
+//! symmetry plane, a roller, a pin on the contact part) can still move along the other axis
+//! `d = e_(1−k)`: it stays a contact point whose normal condition acts on the free component,
+//!
+//! ```text
+//!   n·u = n_k u0 + (n·d) u_d ≤ g0    ⇔    B_N = (n·d) dᵀ,   g0' = g0 − n_k u0,
+//! ```
+//!
+//! so `B_N` touches only the free dof, and its friction threshold is zero: the support, not
+//! friction, carries the tangential force there (its multiplier `rT` vanishes; `B_T` keeps the
+//! unit tangent so that every solver sees a regular problem). When the free axis is tangent to
+//! the obstacle (`|n·d| < 1e-6`, e.g. `uy` prescribed on a flat contact) the support carries the
+//! normal force too and the node is left out, with its penetration checked.
 //!
 //! ## Why this works with quadratic elements (no pressure checkerboard)
 //!
@@ -117,6 +134,20 @@ pub struct ContactBoundary {
     pub weight: Vec<f64>,
     /// The mesh boundary edges of the part, increasing.
     pub edges: Vec<usize>,
+    /// The prescribed component `(k, u0)` of each contact point, if one is (see the module
+    /// documentation: its normal acts on the free component, its friction threshold is zero).
+    pub prescribed: Vec<Option<(usize, f64)>>,
+    /// Nodes of the part that are not contact points (both components prescribed, or the free
+    /// one tangent to the obstacle), with the contact direction and gap to check them with.
+    pub left_out: Vec<LeftOutNode>,
+}
+
+/// A node of the contact part left out of the contact points, to be checked for penetration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeftOutNode {
+    pub node: usize,
+    pub normal: [f64; 2],
+    pub gap: f64,
 }
 
 /// `(shape values, quadrature weight × ds)` at the Gauss points of an edge (parameter `s ∈ [0, 1]`).
@@ -144,6 +175,24 @@ impl ContactBoundary {
         obstacle: &Obstacle,
         extra_gap: f64,
         excluded_nodes: &dyn Fn(usize) -> bool,
+    ) -> Result<Self> {
+        Self::with_prescribed(mesh, group, obstacle, extra_gap, &|k| {
+            if excluded_nodes(k) {
+                [Some(0.0), Some(0.0)]
+            } else {
+                [None, None]
+            }
+        })
+    }
+
+    /// As [`ContactBoundary::new`], with the prescribed displacement components of each node
+    /// (`prescribed(node)[k]` for component k): see the module documentation.
+    pub fn with_prescribed(
+        mesh: &Mesh,
+        group: usize,
+        obstacle: &Obstacle,
+        extra_gap: f64,
+        prescribed: &dyn Fn(usize) -> [Option<f64>; 2],
     ) -> Result<Self> {
         let Some(part) = mesh.groups.get(group) else {
             return Err(Error::Usage(format!(
@@ -177,7 +226,67 @@ impl ContactBoundary {
         let mut all_nodes: Vec<usize> = edges.iter().flat_map(|&e| mesh.edge(e).iter().copied()).collect();
         all_nodes.sort_unstable();
         all_nodes.dedup();
-        let nodes: Vec<usize> = all_nodes.iter().copied().filter(|&k| !excluded_nodes(k)).collect();
+        // Every node must start on the obstacle's side, up to a declared overlap (a negative
+        // extra gap): a body inside the obstacle is a geometry mistake, not a contact state.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &mesh.nodes {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let tolerance = 1e-9 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let allowed = extra_gap.min(0.0) - tolerance;
+        if let Some((k, d)) = all_nodes
+            .iter()
+            .map(|&k| (k, obstacle.project(mesh.nodes[k]).signed_distance))
+            .filter(|&(_, d)| d < allowed)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        {
+            let x = mesh.nodes[k];
+            return Err(Error::Formulation {
+                message: format!(
+                    "contact part '{name}': node {k} at ({:?}, {:?}) starts {:.4e} inside the obstacle (the deepest \
+                     node of the part{}): the body must start on the obstacle's side",
+                    x[0],
+                    x[1],
+                    -d,
+                    if extra_gap < 0.0 {
+                        format!(", beyond the declared overlap {:.4e}", -extra_gap)
+                    } else {
+                        String::new()
+                    }
+                ),
+                hint: "move the obstacle or the body, check the side the obstacle's normal (or the polyline's \
+                       direction) puts the body on, or declare an initial overlap with a negative `gap` in [contact]"
+                    .into(),
+            });
+        }
+        // Classify every node of the part (module documentation).
+        let mut nodes = Vec::with_capacity(all_nodes.len());
+        let mut fixed = Vec::with_capacity(all_nodes.len());
+        let mut left_out = Vec::new();
+        for &k in &all_nodes {
+            let projection = obstacle.project(mesh.nodes[k]);
+            let n = [-projection.normal[0], -projection.normal[1]];
+            let g = projection.signed_distance + extra_gap;
+            match prescribed(k) {
+                [None, None] => {
+                    nodes.push(k);
+                    fixed.push(None);
+                }
+                [Some(_), Some(_)] => left_out.push(LeftOutNode { node: k, normal: n, gap: g }),
+                [a, b] => {
+                    let (comp, u0) = if let Some(v) = a { (0, v) } else { (1, b.unwrap_or(0.0)) };
+                    if n[1 - comp].abs() < 1e-6 {
+                        left_out.push(LeftOutNode { node: k, normal: n, gap: g });
+                    } else {
+                        nodes.push(k);
+                        fixed.push(Some((comp, u0)));
+                    }
+                }
+            }
+        }
         if nodes.is_empty() {
             return Err(Error::Usage(format!(
                 "contact part '{name}': all its {} nodes are excluded (their displacement is prescribed), \
@@ -215,14 +324,39 @@ impl ContactBoundary {
         let mut normal = Vec::with_capacity(nodes.len());
         let mut tangent = Vec::with_capacity(nodes.len());
         let mut gap = Vec::with_capacity(nodes.len());
-        for &k in &nodes {
+        for (&k, f) in nodes.iter().zip(&fixed) {
             let projection = obstacle.project(mesh.nodes[k]);
             let n = [-projection.normal[0], -projection.normal[1]];
-            normal.push(n);
             tangent.push([-n[1], n[0]]);
-            gap.push(projection.signed_distance + extra_gap);
+            let g = projection.signed_distance + extra_gap;
+            match *f {
+                None => {
+                    normal.push(n);
+                    gap.push(g);
+                }
+                Some((comp, u0)) => {
+                    // B_N = (n·d) dᵀ on the free axis d, the prescribed part moved into the gap.
+                    let mut restricted = [0.0; 2];
+                    restricted[1 - comp] = n[1 - comp];
+                    normal.push(restricted);
+                    gap.push(g - n[comp] * u0);
+                }
+            }
         }
-        Ok(ContactBoundary { nodes, normal, tangent, gap, weight, edges })
+        Ok(ContactBoundary { nodes, normal, tangent, gap, weight, edges, prescribed: fixed, left_out })
+    }
+
+    /// The largest penetration `n·u − g0` of the left-out nodes (0 when none penetrates), and
+    /// the node where it is.
+    pub fn left_out_penetration(&self, u: &[f64]) -> (f64, Option<usize>) {
+        let mut worst = (0.0f64, None);
+        for l in &self.left_out {
+            let p = l.normal[0] * u[2 * l.node] + l.normal[1] * u[2 * l.node + 1] - l.gap;
+            if p > worst.0 {
+                worst = (p, Some(l.node));
+            }
+        }
+        worst
     }
 
     /// Number of contact points `m` (the condensed problem has `2m` unknowns).

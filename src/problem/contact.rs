@@ -117,12 +117,12 @@ impl ContactSetup {
     pub fn new(
         mesh: &Mesh,
         spec: &ContactSpec,
-        is_fixed_node: &dyn Fn(usize) -> bool,
+        prescribed: &dyn Fn(usize) -> [Option<f64>; 2],
         free_motions: Option<String>,
     ) -> Result<Self> {
         let group = mesh.require_group(&spec.part, 1)?;
         let obstacle = obstacle_of(&spec.obstacle)?;
-        let boundary = ContactBoundary::new(mesh, group, &obstacle, spec.gap, is_fixed_node)?;
+        let boundary = ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, prescribed)?;
         Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions })
     }
 
@@ -130,10 +130,24 @@ impl ContactSetup {
         let m = self.boundary.points();
         match self.spec.friction {
             FrictionSpec::None => FrictionLaw::None,
-            FrictionSpec::Coulomb { mu } => FrictionLaw::Coulomb { mu: vec![mu; m] },
+            // A point with a prescribed component gets no friction: its support carries the
+            // tangential force (ContactBoundary module documentation).
+            FrictionSpec::Coulomb { mu } => FrictionLaw::Coulomb {
+                mu: (0..m).map(|i| if self.boundary.prescribed[i].is_some() { 0.0 } else { mu }).collect(),
+            },
             // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
             FrictionSpec::Tresca { threshold } => {
-                FrictionLaw::Tresca { threshold: self.boundary.weight.iter().map(|w| threshold * w).collect() }
+                FrictionLaw::Tresca {
+                    threshold: (0..m)
+                        .map(|i| {
+                            if self.boundary.prescribed[i].is_some() {
+                                0.0
+                            } else {
+                                threshold * self.boundary.weight[i]
+                            }
+                        })
+                        .collect(),
+                }
             }
         }
     }
@@ -150,8 +164,11 @@ impl ContactSetup {
     fn anchored_load(&self, f: &[f64], anchor: &[f64], rows: std::ops::Range<usize>) -> Vec<f64> {
         let mut load = f.to_vec();
         if let Some(k) = self.spring {
-            for &node in &self.boundary.nodes {
+            for (&node, fixed) in self.boundary.nodes.iter().zip(&self.boundary.prescribed) {
                 for dof in [2 * node, 2 * node + 1] {
+                    if fixed.is_some_and(|(c, _)| dof == 2 * node + c) {
+                        continue;
+                    }
                     if rows.contains(&dof) {
                         load[dof - rows.start] += k * anchor[dof];
                     }
@@ -204,8 +221,12 @@ impl ContactSetup {
         indices: &[usize],
         values: &mut [f64],
     ) -> Result<()> {
-        for &node in &self.boundary.nodes {
+        for (&node, fixed) in self.boundary.nodes.iter().zip(&self.boundary.prescribed) {
             for comp in 0..2 {
+                // A prescribed dof keeps its Dirichlet row.
+                if fixed.is_some_and(|(c, _)| c == comp) {
+                    continue;
+                }
                 let row = 2 * node + comp;
                 if row < first_row || row >= first_row + indptr.len() - 1 {
                     continue;
@@ -234,6 +255,13 @@ impl ContactSetup {
         values: &mut [f64],
         rhs: &mut [f64],
     ) -> Result<()> {
+        if let Some(i) = self.boundary.prescribed.iter().position(|p| p.is_some()) {
+            return Err(Error::Usage(format!(
+                "solver \"snes_vi\": contact node {} has a prescribed displacement component, which its rotated \
+                 bounds cannot take; use solver = \"newton_full\" (the default)",
+                self.boundary.nodes[i]
+            )));
+        }
         let mut frame: Vec<Option<[[f64; 2]; 2]>> = vec![None; num_nodes];
         for (i, &node) in self.boundary.nodes.iter().enumerate() {
             let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);

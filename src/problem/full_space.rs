@@ -904,11 +904,14 @@ impl ContactSetup {
                     row.push((layout.lambda(i, 1), -b.tangent[i][c]));
                 }
                 row.sort_unstable_by_key(|e| e.0);
-                let diagonal = layout.u(dof);
-                let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
-                    Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
-                })?;
-                spring_positions.push(indices.len() + at);
+                // No spring on a prescribed dof: its Dirichlet row stays as it is.
+                if !b.prescribed[i].is_some_and(|(pc, _)| pc == c) {
+                    let diagonal = layout.u(dof);
+                    let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
+                        Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
+                    })?;
+                    spring_positions.push(indices.len() + at);
+                }
             } else {
                 row.sort_unstable_by_key(|e| e.0);
             }

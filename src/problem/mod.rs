@@ -38,6 +38,10 @@ use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::resources::{self, Timings};
 use crate::scene::{self, ContactSolverSpec, Scene};
 
+/// Relative tolerance of the independent checks made after every solve (global equilibrium,
+/// penetration of the contact part's left-out nodes).
+const EQUILIBRIUM_CHECK: f64 = 1e-6;
+
 /// Everything a run reports (serialised to `report.json`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Report {
@@ -146,6 +150,7 @@ impl<'s> ElasticityProblem<'s> {
         let mesh = timings.time("mesh", || build_mesh(&scene))?;
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
+        scene.check_magnitudes(&mesh)?;
         let material = Material {
             young: scene.material.young,
             poisson: scene.material.poisson,
@@ -169,8 +174,8 @@ impl<'s> ElasticityProblem<'s> {
         let free_motions = constraints.check_rigid_motions(&mesh).err();
         let contact = match &scene.contact {
             Some(spec) => {
-                let fixed = |node: usize| constraints.is_fixed(2 * node) || constraints.is_fixed(2 * node + 1);
-                Some(ContactSetup::new(&mesh, spec, &fixed, free_motions.map(|e| e.to_string()))?)
+                let prescribed = |node: usize| [constraints.value(2 * node), constraints.value(2 * node + 1)];
+                Some(ContactSetup::new(&mesh, spec, &prescribed, free_motions.map(|e| e.to_string()))?)
             }
             None => match free_motions {
                 Some(e) => return Err(e),
@@ -403,13 +408,19 @@ impl<'s> ElasticityProblem<'s> {
         let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
         let ku = assembly::residual_forces_with(&self.mesh, &self.material, self.scene.element, u);
         let applied_force = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
+        // Reactions per prescribed component: a condition's reaction holds only the components it
+        // prescribes (a node listed by two conditions gives each its own components; a
+        // component prescribed twice counts for the first condition that prescribes it).
         let mut reactions = std::collections::BTreeMap::new();
         let mut total_reaction = [0.0f64; 2];
+        // Σ of the magnitudes of the forces involved: the scale of the equilibrium residual.
+        let mut magnitude = applied_force[0].hypot(applied_force[1]);
         let mut counted = vec![false; f.len()];
         for d in &self.scene.dirichlet {
             let mut r = [0.0f64; 2];
+            let components = [d.ux.is_some(), d.uy.is_some()];
             for node in d.nodes(&self.mesh)? {
-                for comp in 0..2 {
+                for comp in (0..2).filter(|&c| components[c]) {
                     let dof = 2 * node + comp;
                     if self.constraints.value(dof).is_some() && !counted[dof] {
                         counted[dof] = true;
@@ -419,6 +430,7 @@ impl<'s> ElasticityProblem<'s> {
             }
             total_reaction[0] += r[0];
             total_reaction[1] += r[1];
+            magnitude += r[0].hypot(r[1]);
             reactions
                 .entry(d.target.to_string())
                 .and_modify(|s: &mut [f64; 2]| {
@@ -428,14 +440,54 @@ impl<'s> ElasticityProblem<'s> {
                 .or_insert(r);
         }
         // Independent equilibrium check: the applied loads must balance the reactions and the
-        // contact forces.
+        // contact forces, relative to the magnitudes of those forces (never to their sum, which
+        // vanishes when the answer is right).
         if let Some(outcome) = &self.contact_outcome {
             total_reaction[0] += outcome.report.resultant[0];
             total_reaction[1] += outcome.report.resultant[1];
+            magnitude += outcome.report.resultant[0].hypot(outcome.report.resultant[1]);
         }
-        let scale = applied_force[0].hypot(applied_force[1]).max(total_reaction[0].hypot(total_reaction[1]));
+        // With no load and no contact force (a body moved rigidly, a gap that stays open) every
+        // force is round-off: the stiffness times the displacement is then the force scale.
+        let magnitude = magnitude.max(self.material.plane_modulus() * max_displacement);
         let imbalance = (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1]);
-        let equilibrium_residual = if scale > 0.0 { imbalance / scale } else { imbalance };
+        let equilibrium_residual = if magnitude > 0.0 { imbalance / magnitude } else { 0.0 };
+        if equilibrium_residual > EQUILIBRIUM_CHECK {
+            return Err(Error::SolverDiverged {
+                solver: "the independent check of the answer".into(),
+                reason: format!(
+                    "global equilibrium fails: loads ({:.4e}, {:.4e}) + reactions and contact forces ({:.4e}, {:.4e}) \
+                     leave {imbalance:.3e} against forces of {magnitude:.3e}",
+                    applied_force[0], applied_force[1], total_reaction[0], total_reaction[1]
+                ),
+                iterations: self.stats.as_ref().map_or(0, |s| s.iterations),
+                residual: equilibrium_residual,
+                tried: self.stats.as_ref().map_or_else(String::new, |s| format!("{} + {}", s.ksp_type, s.pc_type)),
+            });
+        }
+        // Nodes of the contact part left out of the contact points (prescribed in both
+        // components) must not penetrate either.
+        if let (Some(c), Some(outcome)) = (&self.contact, &mut self.contact_outcome) {
+            let (penetration, node) = c.boundary.left_out_penetration(u);
+            let scale = outcome.report.residuals.displacement_scale.max(f64::MIN_POSITIVE);
+            let relative = penetration / scale;
+            outcome.report.residuals.max_penetration = outcome.report.residuals.max_penetration.max(relative);
+            if relative > EQUILIBRIUM_CHECK {
+                let node = node.unwrap_or(0);
+                return Err(Error::SolverDiverged {
+                    solver: "the independent check of the answer".into(),
+                    reason: format!(
+                        "node {node} of contact part '{}' (left out of the contact points: its displacement is \
+                         prescribed) penetrates the obstacle by {penetration:.4e} ({relative:.1e} of the \
+                         displacement scale): the prescribed displacement pushes it through the obstacle",
+                        c.spec.part
+                    ),
+                    iterations: 0,
+                    residual: relative,
+                    tried: "check the prescribed displacements of the contact part".into(),
+                });
+            }
+        }
         self.results = Some(Results {
             nodal_stress,
             sigma_zz,

@@ -49,6 +49,7 @@
 //! a table in `docs/scene-format.md`.
 mod contact;
 mod diagnostic;
+mod magnitudes;
 mod raw;
 
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
