@@ -758,3 +758,29 @@ fn square_block_reactions_per_prescribed_component() {
     assert!(corner[1].as_f64().unwrap().abs() > 1e3, "the corner carries a vertical force: {reactions}");
     assert!(r["results"]["equilibrium_residual"].as_f64().unwrap() < 1e-12);
 }
+
+#[test]
+fn disconnected_piece_held_by_nothing() {
+    // Two squares, the second touching nothing; only the first is held.
+    let dir = scratch("pieces-mesh");
+    let geo = dir.join("two.geo");
+    std::fs::write(
+        &geo,
+        "Point(1)={0,0,0,0.25};Point(2)={1,0,0,0.25};Point(3)={1,1,0,0.25};Point(4)={0,1,0,0.25};\n\
+         Point(5)={3,0,0,0.25};Point(6)={4,0,0,0.25};Point(7)={4,1,0,0.25};Point(8)={3,1,0,0.25};\n\
+         Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};\n\
+         Line(5)={5,6};Line(6)={6,7};Line(7)={7,8};Line(8)={8,5};\n\
+         Curve Loop(1)={1,2,3,4};Plane Surface(1)={1};Curve Loop(2)={5,6,7,8};Plane Surface(2)={2};\n\
+         Physical Curve(\"bottom\")={1};Physical Curve(\"top\")={3,7};Physical Curve(\"other\")={2,4,5,6,8};\n\
+         Physical Surface(\"domain\")={1,2};\n",
+    )
+    .unwrap();
+    let msh = dir.join("two.msh");
+    let status = Command::new("gmsh").arg(&geo).args(["-2", "-format", "msh41", "-v", "0", "-o"]).arg(&msh).status();
+    assert!(status.expect("gmsh (./setup.sh installs it)").success());
+    let scene = format!(
+        "[mesh]\nshape = \"file\"\nfile = \"{}\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n[[traction]]\npart = \"top\"\npressure = 1e5\n\n[[dirichlet]]\npart = \"bottom\"\nux = 0.0\nuy = 0.0\n",
+        msh.display()
+    );
+    error("pieces", &scene, &[], &["2 separate pieces", "held", "float"]);
+}

@@ -19,6 +19,7 @@
 //! - every node is used by some triangle.
 pub mod gmsh;
 pub mod msh;
+pub mod pieces;
 pub mod structured;
 mod validate;
 

@@ -171,6 +171,7 @@ impl<'s> ElasticityProblem<'s> {
                 }
             }
         }
+        check_every_piece_is_held(&mesh, &scene, &constraints)?;
         let free_motions = constraints.check_rigid_motions(&mesh).err();
         let contact = match &scene.contact {
             Some(spec) => {
@@ -630,6 +631,42 @@ impl<'s> ElasticityProblem<'s> {
         }
         Ok((report, written))
     }
+}
+
+/// Every connected piece of the mesh must be held by a Dirichlet condition or a contact part:
+/// a loose piece would float away (its displacement is undetermined).
+fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constraints) -> Result<()> {
+    let (pieces, count) = mesh::pieces::node_pieces(mesh);
+    if count < 2 {
+        return Ok(());
+    }
+    let mut held = vec![false; count];
+    for k in 0..mesh.num_nodes() {
+        if constraints.is_fixed(2 * k) || constraints.is_fixed(2 * k + 1) {
+            held[pieces[k]] = true;
+        }
+    }
+    if let Some(group) = scene.contact.as_ref().and_then(|c| mesh.group_index(&c.part, 1)) {
+        for e in mesh.edges_in_group(group) {
+            for &k in mesh.edge(e) {
+                held[pieces[k]] = true;
+            }
+        }
+    }
+    if let Some(p) = held.iter().position(|h| !h) {
+        let nodes = pieces.iter().filter(|&&q| q == p).count();
+        let first = pieces.iter().position(|&q| q == p).unwrap_or(0);
+        let x = mesh.nodes[first];
+        return Err(Error::Unconstrained(format!(
+            "the mesh has {count} separate pieces, and piece {} ({nodes} nodes, e.g. node {first} at ({:?}, {:?})) is held \
+             by nothing: no Dirichlet condition and no contact part touches it, so it would float away; hold it with a \
+             [[dirichlet]] condition or a contact part, or remove it from the mesh",
+            p + 1,
+            x[0],
+            x[1]
+        )));
+    }
+    Ok(())
 }
 
 /// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order.
