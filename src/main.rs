@@ -11,6 +11,9 @@ use signorini::problem::{ElasticityProblem, Report};
 use signorini::scene::Scene;
 use signorini::{bench, Error};
 
+/// The output directory whose previous results this run removed (said after an error).
+static REMOVED_BEFORE_RUN: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+
 struct RunArgs {
     scene: Option<PathBuf>,
     out: Option<PathBuf>,
@@ -89,6 +92,9 @@ fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Re
         Err(e) => {
             if rank == 0 {
                 eprintln!("error: {e}");
+                if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                    eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
+                }
             }
             ExitCode::FAILURE
         }
@@ -101,6 +107,17 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
             eprintln!("{s}");
         }
     };
+    // Nothing stale after a failure: the previous results go before anything is read or solved
+    // (with --out known now; else once the scene says where its results go).
+    let clear = |out: &std::path::Path| -> Result<(), Error> {
+        if session.rank() == 0 && !signorini::output::clear_previous_run(out)?.is_empty() {
+            *REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()) = Some(out.to_path_buf());
+        }
+        Ok(())
+    };
+    if let Some(out) = &args.out {
+        clear(out)?;
+    }
     let scene = match &args.scene {
         Some(path) => Scene::from_file(path)?,
         None => Scene::default_scene(),
@@ -110,6 +127,9 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         override_contact_solver(&mut scene, name)?;
     }
     let out = args.out.clone().or_else(|| scene.output_dir.clone()).unwrap_or_else(|| PathBuf::from("out"));
+    if args.out.is_none() {
+        clear(&out)?;
+    }
     say(&format!(
         "signorini {} — {} ({})",
         env!("CARGO_PKG_VERSION"),

@@ -637,3 +637,41 @@ fn dual_refuses_contact_scenes_and_point_supports_that_carry_force() {
     let msg = run_err(bin().arg("run").arg(&path).args(["--quiet", "--estimate", "--out"]).arg(dir.join("out")), 1);
     assert!(msg.contains("point support") && msg.contains("hint"), "{msg}");
 }
+
+#[test]
+fn a_failed_run_leaves_no_stale_results() {
+    let dir = scratch("stale");
+    run_ok(bin().arg("run").arg(block()).args(["--quiet", "--out"]).arg(&dir));
+    assert!(dir.join("solution.vtu").exists() && dir.join("report.json").exists());
+    // A temporary file a killed writer left behind (SIGXFSZ, SIGINT) is cleaned by the next run.
+    let leftover = dir.join(".solution.vtu.12345.0.tmp");
+    std::fs::write(&leftover, "half a file").unwrap();
+    let msg = run_err(bin().args(["run", "/nonexistent/scene.toml", "--quiet", "--out"]).arg(&dir), 1);
+    assert!(msg.contains("previous results") && msg.contains("removed"), "{msg}");
+    for f in ["solution.vtu", "report.json"] {
+        assert!(!dir.join(f).exists(), "stale {f} after a failed run");
+    }
+    assert!(!leftover.exists(), "the leftover temporary file was not cleaned");
+    // Under a file-size limit the writer is stopped: no half-written file stays behind.
+    let small = scratch("ulimit");
+    let out = Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f 20; exec {} run {} --quiet --out {}",
+            env!("CARGO_BIN_EXE_signorini"),
+            scene("examples/scenes/cantilever.toml").display(),
+            small.display()
+        ))
+        .env("PMIX_MCA_gds", "hash")
+        .output()
+        .unwrap();
+    assert!(!out.status.success(), "a 10 kB file-size limit cannot hold solution.vtu");
+    for f in ["solution.vtu", "report.json"] {
+        assert!(!small.join(f).exists(), "{f} written under the file-size limit");
+    }
+    // The next run (without the limit) cleans whatever temporary file was left.
+    run_ok(bin().arg("run").arg(scene("examples/scenes/cantilever.toml")).args(["--quiet", "--out"]).arg(&small));
+    let names: Vec<String> =
+        std::fs::read_dir(&small).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+}

@@ -100,6 +100,31 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     Ok(())
 }
 
+/// The result files of a run in its output directory.
+pub const RUN_FILES: [&str; 2] = ["solution.vtu", "report.json"];
+
+/// Remove the previous run's result files from `dir`, and the temporary files that a writer
+/// killed before its rename left there (`.solution.vtu.PID.N.tmp`, by a signal or a file-size
+/// limit), so that after a failed run nothing stale remains. Returns the paths removed.
+pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut removed = Vec::new();
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Ok(removed); // no directory yet: nothing to clear
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        let result = RUN_FILES.contains(&name.as_str());
+        let temporary = name.ends_with(".tmp") && RUN_FILES.iter().any(|f| name.starts_with(&format!(".{f}.")));
+        if result || temporary {
+            let path = entry.path();
+            fs::remove_file(&path).map_err(|e| output_error(&path, "removing the previous run's file", e))?;
+            removed.push(path);
+        }
+    }
+    removed.sort();
+    Ok(removed)
+}
+
 /// Write `value` as pretty-printed JSON (two-space indent, trailing newline), atomically.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     write_atomically(path, |w| {

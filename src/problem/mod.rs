@@ -623,13 +623,25 @@ impl<'s> ElasticityProblem<'s> {
             written.push(path);
         }
         self.timings.add("output", start.elapsed().as_secs_f64());
-        let report = self.report()?;
-        if self.session.rank() == 0 {
-            let path = dir.join("report.json");
-            output::write_json(&path, &report)?;
-            written.push(path);
+        // All or nothing: a failure after solution.vtu removes it again.
+        let finish = |written: &mut Vec<PathBuf>| -> Result<Report> {
+            let report = self.report()?;
+            if self.session.rank() == 0 {
+                let path = dir.join("report.json");
+                output::write_json(&path, &report)?;
+                written.push(path);
+            }
+            Ok(report)
+        };
+        match finish(&mut written) {
+            Ok(report) => Ok((report, written)),
+            Err(e) => {
+                for path in &written {
+                    let _ = std::fs::remove_file(path);
+                }
+                Err(e)
+            }
         }
-        Ok((report, written))
     }
 }
 
