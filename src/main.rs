@@ -299,6 +299,9 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
         r.timings.total(),
         r.memory.peak_bytes.map(|b| format!("{:.1} MB", b as f64 / 1e6)).unwrap_or_else(|| "n/a".into())
     );
+    for w in &r.warnings {
+        eprintln!("  warning   {}: {}", w.kind, w.message);
+    }
     for u in &r.solver.unused_options {
         eprintln!("  warning   PETSc option {u} was never used (a typo?)");
     }

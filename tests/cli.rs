@@ -675,3 +675,29 @@ fn a_failed_run_leaves_no_stale_results() {
         std::fs::read_dir(&small).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
     assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
 }
+
+#[test]
+fn physics_warnings_in_the_report_and_the_terminal() {
+    let dir = scratch("no-warning");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    assert_eq!(report(&dir)["warnings"], serde_json::json!([]), "the default scene warns about nothing");
+    let base = std::fs::read_to_string(scene("examples/scenes/patch_test.toml")).unwrap();
+    for (name, from, to, kind) in [
+        ("locking", "poisson = 0.2", "poisson = 0.4999", "locking"),
+        ("large", "young = 90e9", "young = 1e7", "large_displacement"),
+    ] {
+        let dir = scratch(name);
+        let path = dir.join("s.toml");
+        assert!(base.contains(from));
+        std::fs::write(&path, base.replacen(from, to, 1)).unwrap();
+        let out = run_ok(bin().arg("run").arg(&path).arg("--out").arg(dir.join("out")));
+        let kinds: Vec<String> = report(&dir.join("out"))["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w["kind"].as_str().unwrap().to_string())
+            .collect();
+        assert!(kinds.iter().any(|k| k == kind), "{name}: {kinds:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("warning   {kind}")), "{name}");
+    }
+}

@@ -24,9 +24,11 @@ mod block_elimination;
 mod contact;
 mod dual;
 mod full_space;
+mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
+pub use warnings::Warning;
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
@@ -74,6 +76,9 @@ pub struct Report {
     /// The error in the constitutive relation (with `--estimate`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub estimate: Option<EstimateReport>,
+    /// Physics warnings (see `problem::warnings`): the answer is right for the model, the
+    /// model may not be.
+    pub warnings: Vec<Warning>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -131,6 +136,8 @@ pub struct ElasticityProblem<'s> {
     pub dual: Option<DualOutcome>,
     /// The error estimate, when computed ([`ElasticityProblem::estimate`]).
     pub estimate: Option<EstimateReport>,
+    /// Physics warnings so far.
+    pub warnings: Vec<Warning>,
 }
 
 /// Post-processed fields.
@@ -147,7 +154,7 @@ impl<'s> ElasticityProblem<'s> {
     /// as defaults (the command line wins).
     pub fn setup_system(session: &'s Session, scene: Scene) -> Result<Self> {
         let mut timings = Timings::default();
-        let mesh = timings.time("mesh", || build_mesh(&scene))?;
+        let (mesh, file_order) = timings.time("mesh", || build_mesh(&scene))?;
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
@@ -183,6 +190,8 @@ impl<'s> ElasticityProblem<'s> {
                 None => None,
             },
         };
+        let initial_warnings =
+            warnings::before_solving(&mesh, scene.element, material.poisson, material.plane, file_order);
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
         let rows = dof_ranges(mesh.num_nodes(), session.size())[session.rank()].clone();
         timings.add("setup", start.elapsed().as_secs_f64());
@@ -204,6 +213,7 @@ impl<'s> ElasticityProblem<'s> {
             contact_outcome: None,
             dual: None,
             estimate: None,
+            warnings: initial_warnings,
         })
     }
 
@@ -489,6 +499,7 @@ impl<'s> ElasticityProblem<'s> {
                 });
             }
         }
+        self.warnings.extend(warnings::after_solving(&self.mesh, u));
         self.results = Some(Results {
             nodal_stress,
             sigma_zz,
@@ -543,6 +554,7 @@ impl<'s> ElasticityProblem<'s> {
             contact: self.contact_outcome.as_ref().map(|o| o.report.clone()),
             dual: self.dual.as_ref().map(|d| d.report.clone()),
             estimate: self.estimate.clone(),
+            warnings: self.warnings.clone(),
         })
     }
 
@@ -681,10 +693,11 @@ fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constrain
     Ok(())
 }
 
-/// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order.
-pub fn build_mesh(scene: &Scene) -> Result<Mesh> {
+/// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order;
+/// and the order of the file's triangles when it was read from one.
+pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>)> {
     let order = scene.order;
-    match &scene.mesh {
+    let generated = match &scene.mesh {
         scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Structured, .. } => {
             let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
             mesh::structured::rectangle(*origin, *size, nx, ny, order)
@@ -698,20 +711,25 @@ pub fn build_mesh(scene: &Scene) -> Result<Mesh> {
         scene::MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
             gmsh_mesh(mesh::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine, order)
         }
-        scene::MeshSpec::File { path } => {
-            let m = mesh::msh::read_msh(path)?;
-            match (m.order, order) {
-                (Order::P1, Order::P2) => Ok(m.to_quadratic()),
-                (Order::P2, Order::P1) => Err(Error::Mesh {
-                    source_file: Some(path.clone()),
-                    entity: "elements".into(),
-                    message: "the file has quadratic (6-node) triangles but the scene asks for order = 1: set \
-                              [discretization] order = 2, or export a linear mesh"
-                        .into(),
-                }),
-                _ => Ok(m),
-            }
-        }
+        scene::MeshSpec::File { path } => return mesh_file(path, order),
+    };
+    generated.map(|m| (m, None))
+}
+
+/// A mesh file at the scene's order, and the order of its triangles.
+fn mesh_file(path: &Path, order: Order) -> Result<(Mesh, Option<Order>)> {
+    let m = mesh::msh::read_msh(path)?;
+    let file_order = Some(m.order);
+    match (m.order, order) {
+        (Order::P1, Order::P2) => Ok((m.to_quadratic(), file_order)),
+        (Order::P2, Order::P1) => Err(Error::Mesh {
+            source_file: Some(path.to_path_buf()),
+            entity: "elements".into(),
+            message: "the file has quadratic (6-node) triangles but the scene asks for order = 1: set \
+                      [discretization] order = 2, or export a linear mesh"
+                .into(),
+        }),
+        _ => Ok((m, file_order)),
     }
 }
 
