@@ -63,8 +63,32 @@ struct Format {
 }
 
 impl<'a> MshReader<'a> {
+    /// A parse error at `line`; without a line (a section that is missing, a check over a whole
+    /// section) it points at the section it concerns, or at the end of the file, so that every
+    /// parse error carries a location.
     fn error(&self, line: Option<usize>, message: impl Into<String>) -> Error {
-        Error::MeshFile { file: self.file.to_path_buf(), line, message: message.into() }
+        let message = message.into();
+        let line = line.or_else(|| {
+            let section = if message.contains("$Elements") || message.contains("element") {
+                "$Elements"
+            } else if message.contains("$Nodes") || message.contains("node") {
+                "$Nodes"
+            } else {
+                ""
+            };
+            self.section_line(section)
+        });
+        let line = Some(line.unwrap_or_else(|| self.line_at(self.bytes.len())));
+        Error::MeshFile { file: self.file.to_path_buf(), line, message }
+    }
+
+    /// The 1-based line where section `name` (e.g. "$Nodes") starts, if it does.
+    fn section_line(&self, name: &str) -> Option<usize> {
+        if name.is_empty() {
+            return None;
+        }
+        let needle = format!("\n{name}");
+        self.bytes.windows(needle.len()).position(|w| w == needle.as_bytes()).map(|at| self.line_at(at + 1))
     }
 
     /// 1-based line of byte `offset`.

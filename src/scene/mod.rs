@@ -322,7 +322,20 @@ pub enum Load {
 impl Scene {
     /// Read and parse a scene file.
     pub fn from_file(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, "reading the scene file", e))?;
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, "reading the scene file", e))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            // Located like any other mistake: the line and column of the first bad byte.
+            let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+            let line = 1 + good.iter().filter(|&&b| b == b'\n').count();
+            let line_start = good.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+            let column = 1 + String::from_utf8_lossy(&good[line_start..]).chars().count();
+            let byte = e.as_bytes()[e.utf8_error().valid_up_to()];
+            Error::Scene {
+                location: crate::error::Location { file: path.to_path_buf(), line, column },
+                message: format!("the scene is not valid UTF-8 text (byte 0x{byte:02x})"),
+                hint: "save the scene file as UTF-8 (TOML files are UTF-8)".into(),
+            }
+        })?;
         Scene::from_str(&text, path)
     }
 
