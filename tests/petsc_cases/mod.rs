@@ -44,6 +44,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_does_not_lock", dual::dual_does_not_lock),
     ("dual_prager_synge_identity_manufactured", dual::dual_prager_synge_identity_manufactured),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
+    ("hertz_pinned_at_a_contact_node", contact::hertz_pinned_at_a_contact_node),
     ("condensation_by_schur_complement_agrees", contact::condensation_by_schur_complement_agrees),
     ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),
     ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
