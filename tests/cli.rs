@@ -701,3 +701,12 @@ fn physics_warnings_in_the_report_and_the_terminal() {
         assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("warning   {kind}")), "{name}");
     }
 }
+
+#[test]
+fn example_contact_builder_runs() {
+    let out = Command::new(example_binary("contact_builder")).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Held sideways by friction alone: the shear 2e5 × 2 is carried by the contact.
+    assert!(text.contains("contact:") && text.contains("tangential -4.0000e5"), "{text}");
+}

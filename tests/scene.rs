@@ -1694,3 +1694,51 @@ fn formulation_and_estimate_keys() {
     assert_eq!(e.line, line_of(&text, "enabled"));
     assert!(e.message.contains("true or false"), "{}", e.message);
 }
+
+#[test]
+fn scenes_built_in_rust_get_the_checks_of_a_file() {
+    use signorini::scene::{SceneBuilder, BUILT_IN_RUST};
+    // ν = 0.6 and μ = −0.5: the same messages as in a file.
+    let from_file = scene_error(&base_with("poisson = 0.3", "poisson = 0.6"));
+    let built = SceneBuilder::rectangle([0.0, 0.0], [1.0, 0.2], 0.1)
+        .material(210e9, 0.6)
+        .dirichlet("left", Some(0.0), Some(0.0))
+        .build();
+    match built {
+        Err(Error::Scene { location, message, hint }) => {
+            assert_eq!(location.file, Path::new(BUILT_IN_RUST));
+            assert!(
+                message.contains("poisson = 0.6") && message.ends_with(&from_file.message),
+                "{message} / {}",
+                from_file.message
+            );
+            assert_eq!(hint, from_file.hint);
+        }
+        other => panic!("{other:?}"),
+    }
+    let built = SceneBuilder::rectangle([0.0, 0.0], [1.0, 0.2], 0.1)
+        .material(210e9, 0.3)
+        .contact_line("bottom", [0.0, 0.0], [0.0, 1.0])
+        .coulomb(-0.5)
+        .build();
+    match built {
+        Err(Error::Scene { message, .. }) => assert!(message.contains("mu"), "{message}"),
+        other => panic!("mu = -0.5 accepted: {other:?}"),
+    }
+    // A scene changed field by field after reading is checked again (as the driver does).
+    let mut scene = parse(BASE).unwrap();
+    scene.material.poisson = 0.6;
+    assert!(matches!(scene.validated(), Err(Error::Scene { .. })));
+    // Every example scene survives the round trip through to_toml unchanged.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let scene = Scene::from_file(&path).unwrap();
+            let again = Scene::from_str(&scene.to_toml(), &path).unwrap();
+            assert_eq!(again.to_toml(), scene.to_toml(), "{}", path.display());
+            assert_eq!(again.material, scene.material);
+            assert_eq!(again.contact.as_ref().map(|c| c.friction), scene.contact.as_ref().map(|c| c.friction));
+        }
+    }
+}

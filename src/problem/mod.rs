@@ -153,6 +153,8 @@ impl<'s> ElasticityProblem<'s> {
     /// Mesh, material, constraints, partition. Scene PETSc options enter the options database
     /// as defaults (the command line wins).
     pub fn setup_system(session: &'s Session, scene: Scene) -> Result<Self> {
+        // Every scene gets the checks of a scene file, also one built in Rust.
+        let scene = scene.validated()?;
         let mut timings = Timings::default();
         let (mesh, file_order) = timings.time("mesh", || build_mesh(&scene))?;
         let mesh = consistent_across_ranks(session, mesh)?;

@@ -47,11 +47,13 @@
 //! Adding a section: a raw struct and its key list in `raw`, a field in [`Scene`], a conversion
 //! function called from [`Scene::from_str`] (in its own file if it is long, like `contact`), and
 //! a table in `docs/scene-format.md`.
+mod builder;
 mod contact;
 mod diagnostic;
 mod magnitudes;
 mod raw;
 
+pub use builder::{SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
 use crate::error::{Error, Location, Result};

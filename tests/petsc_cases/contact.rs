@@ -294,7 +294,9 @@ pub fn hertz_pinned_at_a_contact_node(s: &Session) -> Result<(), String> {
     let p = solve_text(s, &t, &path).map_err(|e| format!("pinned hertz: {e}"))?;
     let pinned = p.mesh.nodes.iter().position(|x| x[0] == 0.0 && x[1] == 0.0).ok_or("no node at the origin")?;
     let c = p.contact.as_ref().unwrap();
-    ensure(c.boundary.nodes.contains(&pinned), || format!("the pinned node {pinned} was dropped from the contact points"))?;
+    ensure(c.boundary.nodes.contains(&pinned), || {
+        format!("the pinned node {pinned} was dropped from the contact points")
+    })?;
     let (r, e, nu) = (0.1, 210e9, 0.3);
     let load = 2.25e8 * 2.0 * r;
     let estar = e / (1.0 - nu * nu);
