@@ -862,3 +862,35 @@ uy = 0.0
         (serial["dual"]["max_von_mises"].as_f64().unwrap(), parallel["dual"]["max_von_mises"].as_f64().unwrap());
     assert!((a - b).abs() <= 1e-9 * a, "max von Mises serial {a} vs 2 ranks {b}");
 }
+
+#[test]
+fn acceptance_never_exceeds_the_tolerance_asked_for() {
+    // With tolerance = 1e-7 the independent check accepts nothing worse than 1e-7 (the default
+    // margin of 100 over the solver's tolerance is capped by what the scene asked for).
+    for solver in ["relaxation", "newton", "newton_full"] {
+        let b = Block {
+            contact: format!("friction = \"coulomb\"\nmu = 0.3\nsolver = \"{solver}\"\ntolerance = 1e-7"),
+            ..Default::default()
+        };
+        let (_, r) = answer(&format!("accept_{solver}"), &b.toml(), &[]);
+        let res = &r["contact"]["residuals"];
+        for key in [
+            "max_penetration",
+            "max_wrong_sign_pressure",
+            "max_cone_violation",
+            "normal_complementarity",
+            "tangential_complementarity",
+        ] {
+            let v = res[key].as_f64().unwrap();
+            assert!(v <= 1e-7, "{solver}: {key} = {v} above the tolerance asked for");
+        }
+    }
+}
+
+#[test]
+fn mpi_fallback_after_snes_iteration_limit() {
+    let (_, r) = mpi_answer("mpi_fallback", SQUARE_BLOCK, &["-contact_snes_max_it", "1"]);
+    let notes = r["contact"]["notes"].to_string().to_lowercase();
+    assert!(notes.contains("fell back") && notes.contains("diverged_max_it"), "{notes}");
+    assert!(r["contact"]["solver"].as_str().unwrap().contains("fallback"));
+}

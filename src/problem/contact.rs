@@ -152,6 +152,13 @@ impl ContactSetup {
         }
     }
 
+    /// The threshold the independent check accepts an answer with: a margin of 100 over the
+    /// solver's stopping tolerance `tolerance` (the check measures on its own scales), but never
+    /// more than the tolerance the scene asked for.
+    pub(super) fn acceptance(&self, tolerance: f64) -> f64 {
+        (100.0 * tolerance.max(1e-10)).min(self.spec.tolerance.unwrap_or(f64::INFINITY))
+    }
+
     pub(super) fn friction_name(&self) -> String {
         match self.spec.friction {
             FrictionSpec::None => "none".into(),
@@ -394,7 +401,7 @@ impl ContactSetup {
         let tangential: f64 = b.nodes.iter().map(|&node| reaction[2 * node + 1].abs()).fold(0.0, f64::max);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);
         let tolerance = self.spec.tolerance.unwrap_or(1e-9);
-        if !residuals.is_acceptable(100.0 * tolerance.max(1e-10)) || tangential > 1e-6 * force_scale {
+        if !residuals.is_acceptable(self.acceptance(tolerance)) || tangential > 1e-6 * force_scale {
             return Err(Error::SolverDiverged {
                 solver: run.method.clone(),
                 reason: format!(
@@ -662,7 +669,7 @@ impl ContactSetup {
         let uc = b.gather(&u);
         let residuals = problem.residuals_at(&solution.force, &uc)?;
         let status = problem.status_at(&solution.force, &uc)?;
-        let accepted = 100.0 * settings.tolerance.max(1e-10);
+        let accepted = self.acceptance(settings.tolerance);
         if !residuals.is_acceptable(accepted) {
             return Err(Error::SolverDiverged {
                 solver: solution.solver.clone(),

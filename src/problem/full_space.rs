@@ -1083,7 +1083,7 @@ impl ContactSetup {
         }
         let nd = comm.max(&[num, den])?;
         let equilibrium = if nd[1] > 0.0 { nd[0] / nd[1] } else { nd[0] };
-        let accepted = 100.0 * tolerance.max(1e-10);
+        let accepted = self.acceptance(tolerance);
         if !residuals.is_acceptable(accepted) || equilibrium.is_nan() || equilibrium > accepted {
             return Err(Error::SolverDiverged {
                 solver: run.method.clone(),
