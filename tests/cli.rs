@@ -710,3 +710,18 @@ fn example_contact_builder_runs() {
     // Held sideways by friction alone: the shear 2e5 × 2 is carried by the contact.
     assert!(text.contains("contact:") && text.contains("tangential -4.0000e5"), "{text}");
 }
+
+#[test]
+fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
+    let msg = run_err(bin().arg("run").arg(block()).args(["--quiet", "-mat_mumps_icntl_23", "1"]), 1);
+    assert!(msg.contains("out of memory") && msg.contains("INFOG(1)") && msg.contains("-pc_type hypre"), "{msg}");
+    // The advice: an iterative solver instead of the factorisation.
+    let dir = scratch("oom-advice");
+    run_ok(
+        bin()
+            .arg("run")
+            .arg(block())
+            .args(["--quiet", "-mat_mumps_icntl_23", "1", "-ksp_type", "cg", "-pc_type", "hypre", "--out"])
+            .arg(&dir),
+    );
+}

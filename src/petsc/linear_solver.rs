@@ -164,14 +164,62 @@ impl<'s> LinearSolver<'s> {
             seconds,
         };
         if reason.0 < 0 {
+            // Name the cause: a failed factorisation is not a Krylov method that did not converge.
+            let mut pc: sys::PC = std::ptr::null_mut();
+            petsc!(KSPGetPC(self.raw, &mut pc))?;
+            let mut failed = sys::PCFailedReason(0);
+            petsc!(PCGetFailedReason(pc, &mut failed))?;
+            // MUMPS says why in INFOG(1) (MUMPS users' guide, "Error diagnostics").
+            let mut infog = 0 as sys::PetscInt;
+            if stats.factor_package.as_deref() == Some("mumps") {
+                let mut f: sys::Mat = std::ptr::null_mut();
+                if petsc!(PCFactorGetMatrix(pc, &mut f)).is_ok() && !f.is_null() {
+                    let _ = petsc!(MatMumpsGetInfog(f, 1, &mut infog));
+                }
+            }
+            let failed = match infog {
+                -9 | -11 | -13 | -14 | -15 | -17 | -19 | -20 => sys::PCFailedReason::PC_FACTOR_OUTMEMORY,
+                -10 => sys::PCFailedReason::PC_FACTOR_NUMERIC_ZEROPIVOT,
+                _ => failed,
+            };
+            let (cause, tried) = match failed {
+                sys::PCFailedReason::PC_FACTOR_OUTMEMORY => (
+                    if infog < 0 {
+                        format!("the factorisation ran out of memory (MUMPS INFOG(1) = {infog})")
+                    } else {
+                        "the factorisation ran out of memory".to_string()
+                    },
+                    "give MUMPS more workspace (-mat_mumps_icntl_14 100, -mat_mumps_icntl_23 <MB per process>), \
+                     use an iterative solver (-ksp_type cg -pc_type hypre) or more MPI ranks"
+                        .to_string(),
+                ),
+                sys::PCFailedReason::PC_FACTOR_STRUCT_ZEROPIVOT | sys::PCFailedReason::PC_FACTOR_NUMERIC_ZEROPIVOT => (
+                    "the factorisation met a zero pivot: the matrix is singular".to_string(),
+                    "check that the supports remove every rigid motion of every piece of the mesh".to_string(),
+                ),
+                sys::PCFailedReason::PC_FACTOR_OTHER | sys::PCFailedReason::PC_SETUP_ERROR => (
+                    "the preconditioner or factorisation failed to set up".to_string(),
+                    "run with -ksp_view and -ksp_error_if_not_converged to see PETSc's message; try the direct \
+                     default (no -ksp_type/-pc_type)"
+                        .to_string(),
+                ),
+                _ if !relative_residual.is_finite() => (
+                    format!("{}: the residual is not finite", stats.converged_reason),
+                    "check the loads, the material and the geometry for values whose products overflow".to_string(),
+                ),
+                _ => (
+                    stats.converged_reason.clone(),
+                    format!(
+                        "rtol {rtol:e}, max {maxits} iterations; try a stronger preconditioner (-pc_type hypre, -pc_type icc -pc_factor_levels 2) or the direct default (no -ksp_type/-pc_type)"
+                    ),
+                ),
+            };
             return Err(Error::SolverDiverged {
                 solver: described,
-                reason: stats.converged_reason.clone(),
+                reason: cause,
                 iterations: stats.iterations,
                 residual: relative_residual,
-                tried: format!(
-                    "rtol {rtol:e}, max {maxits} iterations; try a stronger preconditioner (-pc_type hypre, -pc_type icc -pc_factor_levels 2) or the direct default (no -ksp_type/-pc_type)"
-                ),
+                tried,
             });
         }
         let accepted = (100.0 * rtol).max(1e-6);
