@@ -79,12 +79,18 @@ pub enum Bench {
     /// The square block (Coulomb) for each contact solver: iterations, time, memory and the
     /// ratio to one linear solve of the same mesh, from 1e3 dofs up to --max-dofs (default 1e5).
     Contact(BenchOptions),
+    /// The dual formulation (Airy/HCT) per linear solver against the primal P2 solve of the same
+    /// mesh, with the estimate, from 1e4 dual dofs up to --max-dofs (default 1e5).
+    Dual(BenchOptions),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
     ElasticityCase(CaseOptions),
     /// One contact case (used by `bench contact`).
     #[command(hide = true)]
     ContactCase(CaseOptions),
+    /// One dual case (used by `bench dual`).
+    #[command(hide = true)]
+    DualCase(CaseOptions),
 }
 
 #[derive(Debug, Args)]

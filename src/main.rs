@@ -70,6 +70,10 @@ fn main() -> ExitCode {
             Bench::ContactCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_contact_case)
             }
+            Bench::Dual(o) => bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::DualCase(c) => {
+                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
+            }
         },
     }
 }
@@ -451,6 +455,62 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
     let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no contact solver {index}")))?;
     let row = bench::contact_case(session, dofs, solver)?;
+    if session.rank() == 0 {
+        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
+    }
+    Ok(())
+}
+
+/// `bench dual`: each (size, solver) case in a child process.
+fn bench_dual(parsed: RunArgs) -> ExitCode {
+    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-dual-{}", std::process::id()));
+    let cases = bench::dual::dual_cases(parsed.max_dofs);
+    let mut rows: Vec<bench::dual::DualBenchRow> = Vec::new();
+    for (k, (dofs, solver)) in cases.iter().enumerate() {
+        let index = bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0);
+        eprint!("[{}/{}] ~{dofs} dual dofs, {:<26} ", k + 1, cases.len(), solver.name);
+        match run_case::<bench::dual::DualBenchRow>(&exe, "dual", *dofs, index, &scratch, &parsed.petsc) {
+            Ok(row) => {
+                eprintln!(
+                    "setup {:.3} s, solve {:.3} s ({} its), estimate {:.3} s; primal P2 {:.3} s",
+                    row.setup_seconds, row.solve_seconds, row.iterations, row.estimate_seconds, row.primal_seconds
+                );
+                rows.push(row);
+            }
+            Err(e) => eprintln!("{e}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    if rows.is_empty() {
+        eprintln!("error: no benchmark case succeeded");
+        return ExitCode::FAILURE;
+    }
+    match bench::write_dual_outputs(&rows, &out) {
+        Ok((md, svg)) => {
+            println!("{}", bench::dual::dual_table(&rows));
+            eprintln!("wrote {}, {}", md.display(), svg.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let (dofs, index) =
+        args.case.ok_or_else(|| Error::Usage("bench dual-case needs --case DOFS,SOLVER_INDEX".into()))?;
+    let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
+    let row = bench::dual::dual_case(session, dofs, solver)?;
     if session.rank() == 0 {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }

@@ -280,6 +280,11 @@ impl DualSystem {
     /// Assemble and solve with the main KSP (PETSc options without prefix); all HCT dofs, on
     /// every rank.
     pub fn solve(&self, session: &Session, mesh: &Mesh) -> Result<(Vec<f64>, SolveStats)> {
+        self.solve_with_prefix(session, mesh, "")
+    }
+
+    /// As [`DualSystem::solve`], the KSP reading its options under `prefix`.
+    pub fn solve_with_prefix(&self, session: &Session, mesh: &Mesh, prefix: &str) -> Result<(Vec<f64>, SolveStats)> {
         let nm = self.num_unknowns();
         let (size, rank) = (session.size(), session.rank());
         let rows = (rank * nm / size)..((rank + 1) * nm / size);
@@ -298,7 +303,7 @@ impl DualSystem {
         let mut b = matrix.create_vector()?;
         b.set_owned(&r.rhs)?;
         let mut x = matrix.create_vector()?;
-        let mut ksp = LinearSolver::new(session, session.world(), "")?;
+        let mut ksp = LinearSolver::new(session, session.world(), prefix)?;
         ksp.set_operator(&matrix)?;
         let stats = ksp.solve(&matrix, &b, &mut x)?;
         let z = x.gather_all()?;

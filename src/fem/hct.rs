@@ -41,7 +41,7 @@
 //! - the 12 degrees of freedom.
 //!
 //! The 33 × 30 system has rank 30; it is solved for the 12 right-hand sides at once through
-//! the SVD (least squares, exact for a consistent system). Derivative conditions are written
+//! a QR factorisation (least squares, exact for a consistent system). Derivative conditions are written
 //! for `h ∂/∂x` so that every row is O(1) whatever the size of the triangle, and the basis
 //! functions of derivative dofs are multiplied back by `h`. The result reproduces every cubic
 //! exactly (tested to round-off on strongly distorted triangles).
@@ -185,12 +185,12 @@ impl HctElement {
         for (j, &r) in dof_row.iter().enumerate() {
             rhs[(r, j)] = 1.0;
         }
-        let svd = matrix.svd(true, true);
-        let solution = svd.solve(&rhs, 1e-10).map_err(|e| {
-            Error::mesh(
-                "HCT element",
-                format!("cannot build the basis on this triangle (SVD: {e}); it is too distorted"),
-            )
+        // Least squares through QR: the 33 × 30 system has full column rank (its 3 redundant
+        // rows are consistent), so R is invertible and x = R⁻¹ Qᵀ b solves it exactly.
+        let qr = matrix.qr();
+        let qtb = qr.q().transpose() * rhs;
+        let solution = qr.r().solve_upper_triangular(&qtb).ok_or_else(|| {
+            Error::mesh("HCT element", "cannot build the basis on this triangle (singular system); it is too distorted")
         })?;
         let mut coefficients = [[[0.0; MONOMIALS]; HCT_DOFS]; 3];
         for (piece, per_piece) in coefficients.iter_mut().enumerate() {

@@ -7,6 +7,8 @@
 //! factorisation/setup + solve time (PETSc's `KSPSolve`), iterations, and the memory the
 //! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
+pub mod dual;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -383,6 +385,30 @@ fn once_per_size(points: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
         }
     }
     out
+}
+
+/// Write `bench_dual.md` and `bench_dual.svg` (dual solve per solver and the primal P2 solve
+/// against the dual dofs) into `dir`.
+pub fn write_dual_outputs(rows: &[dual::DualBenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
+    let solvers = SOLVERS
+        .iter()
+        .map(|solver| {
+            let points = rows
+                .iter()
+                .filter(|r| r.solver == solver.name)
+                .map(|r| (r.dual_dofs as f64, r.setup_seconds + r.solve_seconds));
+            (format!("dual: {}", solver.name), points.collect())
+        })
+        .collect();
+    let primal = once_per_size(rows.iter().map(|r| (r.dual_dofs as f64, r.primal_seconds)));
+    write_table_and_plot(
+        dir,
+        "bench_dual",
+        &dual::dual_table(rows),
+        "Dual (Airy/HCT) solve against the primal P2 solve of the same mesh",
+        solvers,
+        plot::Series { label: "primal P2 (MUMPS)".into(), points: primal },
+    )
 }
 
 /// Write `<stem>.md` (the table) and `<stem>.svg` (time against dofs: one line per solver that
