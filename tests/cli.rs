@@ -725,3 +725,13 @@ fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
             .arg(&dir),
     );
 }
+
+#[test]
+fn bench_dual_writes_its_table_and_plot() {
+    let dir = scratch("bench-dual");
+    let out = bin().args(["bench", "dual", "--max-dofs", "2000", "--out"]).arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
+    assert!(table.contains("MUMPS") && table.contains("primal P2"), "{table}");
+    assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
+}
