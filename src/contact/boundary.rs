@@ -228,14 +228,7 @@ impl ContactBoundary {
         all_nodes.dedup();
         // Every node must start on the obstacle's side, up to a declared overlap (a negative
         // extra gap): a body inside the obstacle is a geometry mistake, not a contact state.
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &mesh.nodes {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-        let tolerance = 1e-9 * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let tolerance = 1e-9 * mesh.diagonal();
         let allowed = extra_gap.min(0.0) - tolerance;
         if let Some((k, d)) = all_nodes
             .iter()

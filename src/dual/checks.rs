@@ -103,15 +103,14 @@ pub fn check(field: &DualField, data: &DualData) -> DualCheck {
     let rule = quadrature::triangle(2);
     let (mut divergence, mut energy) = (0.0f64, 0.0);
     for c in 0..mesh.num_cells() {
-        for (piece, [a, b, cc]) in field.pieces(c).into_iter().enumerate() {
+        for (piece, triangle) in field.pieces(c).into_iter().enumerate() {
+            let [a, b, cc] = triangle;
             let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [cc[0] - a[0], cc[1] - a[1]]);
-            let jac = (e1[0] * e2[1] - e1[1] * e2[0]).abs();
-            for (xi, w) in rule.points.iter().zip(&rule.weights) {
-                let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
+            for (x, w) in quadrature::on_triangle(&rule, triangle) {
                 let s = field.stress(c, piece, x);
                 note(s);
                 let quad: f64 = (0..3).map(|r| (0..3).map(|q| s[r] * compliance[r][q] * s[q]).sum::<f64>()).sum();
-                energy += 0.5 * w * jac * quad;
+                energy += 0.5 * w * quad;
             }
             let centroid = [(a[0] + b[0] + cc[0]) / 3.0, (a[1] + b[1] + cc[1]) / 3.0];
             let size = e1[0].hypot(e1[1]).max(e2[0].hypot(e2[1]));

@@ -187,15 +187,12 @@ impl DualSystem {
         let compliance = self.material.compliance();
         // Degree 2 is exact for a constant force (σp linear); a variable one gets a finer rule.
         let rule = quadrature::triangle(if matches!(self.body_force, BodyLoad::Constant(_)) { 2 } else { 8 });
-        for (piece, [a, b, c]) in element.pieces().into_iter().enumerate() {
-            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-            let jac = e1[0] * e2[1] - e1[1] * e2[0];
-            for (xi, w) in rule.points.iter().zip(&rule.weights) {
-                let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
+        for (piece, triangle) in element.pieces().into_iter().enumerate() {
+            for (x, w) in quadrature::on_triangle(&rule, triangle) {
                 let sp = self.body_force.particular(x);
                 let ep: Vec<f64> = (0..3).map(|r| (0..3).map(|q| compliance[r][q] * sp[q]).sum()).collect();
                 for (o, s) in out.iter_mut().zip(element.stresses(piece, x)) {
-                    *o += w * jac * (s[0] * ep[0] + s[1] * ep[1] + s[2] * ep[2]);
+                    *o += w * (s[0] * ep[0] + s[1] * ep[1] + s[2] * ep[2]);
                 }
             }
         }

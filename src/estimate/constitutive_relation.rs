@@ -129,16 +129,12 @@ pub fn volume_terms(
     let mut element_squared = vec![0.0; mesh.num_cells()];
     let (mut mean_squared, mut primal_squared, mut dual_squared) = (0.0, 0.0, 0.0);
     for (cell, slot) in element_squared.iter_mut().enumerate() {
-        for (piece, [a, b, c]) in sigma.pieces(cell).into_iter().enumerate() {
-            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-            let jac = (e1[0] * e2[1] - e1[1] * e2[0]).abs();
-            for (xi, w) in rule.points.iter().zip(&rule.weights) {
-                let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
+        for (piece, triangle) in sigma.pieces(cell).into_iter().enumerate() {
+            for (x, wq) in quadrature::on_triangle(&rule, triangle) {
                 let s_h = sigma.stress(cell, piece, x);
                 let s_u = material.stress(strain_at_point(mesh, u, cell, x));
                 let diff = [s_h[0] - s_u[0], s_h[1] - s_u[1], s_h[2] - s_u[2]];
                 let mean = [0.5 * (s_h[0] + s_u[0]), 0.5 * (s_h[1] + s_u[1]), 0.5 * (s_h[2] + s_u[2])];
-                let wq = w * jac;
                 *slot += wq * compliance_product(&compliance, diff);
                 mean_squared += wq * compliance_product(&compliance, mean);
                 primal_squared += wq * compliance_product(&compliance, s_u);

@@ -280,11 +280,8 @@ impl HctElement {
         let compliance = material.compliance();
         let rule = quadrature::triangle(2);
         let mut s = SMatrix::<f64, HCT_DOFS, HCT_DOFS>::zeros();
-        for (piece, [a, b, c]) in self.pieces().into_iter().enumerate() {
-            let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
-            let jac = e1[0] * e2[1] - e1[1] * e2[0];
-            for (xi, w) in rule.points.iter().zip(&rule.weights) {
-                let x = [a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]];
+        for (piece, triangle) in self.pieces().into_iter().enumerate() {
+            for (x, w) in quadrature::on_triangle(&rule, triangle) {
                 let sig = self.stresses(piece, x);
                 let mut strain = [[0.0; 3]; HCT_DOFS];
                 for (e, s) in strain.iter_mut().zip(&sig) {
@@ -294,7 +291,7 @@ impl HctElement {
                 }
                 for i in 0..HCT_DOFS {
                     for j in 0..HCT_DOFS {
-                        s[(i, j)] += w * jac * (0..3).map(|r| sig[i][r] * strain[j][r]).sum::<f64>();
+                        s[(i, j)] += w * (0..3).map(|r| sig[i][r] * strain[j][r]).sum::<f64>();
                     }
                 }
             }

@@ -131,6 +131,18 @@ pub fn triangle(degree: usize) -> TriangleRule {
     rule
 }
 
+/// The points of `rule` mapped onto the straight triangle `t` (affinely,
+/// `x = t0 + ξ (t1 − t0) + η (t2 − t0)`) with their weights times `|det J|`: the rule for
+/// `∫_t f dx` (used piece by piece on the sub-triangles of HCT cells).
+pub fn on_triangle(rule: &TriangleRule, t: [[f64; 2]; 3]) -> impl Iterator<Item = ([f64; 2], f64)> + '_ {
+    let (a, e1, e2) = (t[0], [t[1][0] - t[0][0], t[1][1] - t[0][1]], [t[2][0] - t[0][0], t[2][1] - t[0][1]]);
+    let jac = (e1[0] * e2[1] - e1[1] * e2[0]).abs();
+    rule.points
+        .iter()
+        .zip(&rule.weights)
+        .map(move |(xi, w)| ([a[0] + xi[0] * e1[0] + xi[1] * e2[0], a[1] + xi[0] * e1[1] + xi[1] * e2[1]], w * jac))
+}
+
 /// Gauss–Legendre rule with `n` points on `[0, 1]` (`n = 0` is treated as 1), exact for degree
 /// `2n − 1`.
 pub fn gauss_legendre(n: usize) -> LineRule {

@@ -127,6 +127,23 @@ impl Mesh {
         let len = (dx * dx + dy * dy).sqrt();
         ([dy / len, -dx / len], len)
     }
+    /// The diagonal of the bounding box of the nodes (0 for a mesh without nodes): the size
+    /// of the body, the scale of geometric tolerances.
+    pub fn diagonal(&self) -> f64 {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &self.nodes {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        if self.nodes.is_empty() {
+            0.0
+        } else {
+            (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+        }
+    }
+
     /// Smallest and largest edge length over all triangles (vertex chords).
     pub fn size_range(&self) -> (f64, f64) {
         let (mut hmin, mut hmax) = (f64::INFINITY, 0.0f64);

@@ -19,18 +19,10 @@ pub struct Warning {
     pub message: String,
 }
 
-/// Bounding-box diagonal and centroid of the nodes.
-fn extent(mesh: &Mesh) -> (f64, [f64; 2]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in &mesh.nodes {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+/// The centroid of the nodes.
+fn centroid(mesh: &Mesh) -> [f64; 2] {
     let n = mesh.num_nodes().max(1) as f64;
-    let centre = [mesh.nodes.iter().map(|p| p[0]).sum::<f64>() / n, mesh.nodes.iter().map(|p| p[1]).sum::<f64>() / n];
-    ((hi[0] - lo[0]).hypot(hi[1] - lo[1]), centre)
+    [mesh.nodes.iter().map(|p| p[0]).sum::<f64>() / n, mesh.nodes.iter().map(|p| p[1]).sum::<f64>() / n]
 }
 
 /// Warnings about the model, known before solving.
@@ -68,7 +60,7 @@ pub fn before_solving(
 /// Warnings about the answer `u` (`u[2 node + c]`).
 pub fn after_solving(mesh: &Mesh, u: &[f64]) -> Vec<Warning> {
     let mut out = Vec::new();
-    let (size, centre) = extent(mesh);
+    let (size, centre) = (mesh.diagonal(), centroid(mesh));
     let max_u = u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
     if max_u > 1e-2 * size {
         out.push(Warning {

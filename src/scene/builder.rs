@@ -37,6 +37,19 @@ fn pair(p: [f64; 2]) -> String {
     format!("[{}, {}]", num(p[0]), num(p[1]))
 }
 
+/// The `refine = { ... }` line of a mesh table.
+fn refine_line(t: &mut String, refine: &Option<super::RefineSpec>) {
+    if let Some(r) = refine {
+        let _ = writeln!(
+            t,
+            "refine = {{ point = {}, cell_size = {}, radius = {} }}",
+            pair(r.point),
+            num(r.cell_size),
+            num(r.radius)
+        );
+    }
+}
+
 fn string(s: &str) -> String {
     // TOML basic strings: escape the backslash and the quote.
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
@@ -60,15 +73,7 @@ impl Scene {
                     num(*cell_size)
                 );
                 let _ = writeln!(t, "mesher = \"{}\"", if *mesher == Mesher::Gmsh { "gmsh" } else { "structured" });
-                if let Some(r) = refine {
-                    let _ = writeln!(
-                        t,
-                        "refine = {{ point = {}, cell_size = {}, radius = {} }}",
-                        pair(r.point),
-                        num(r.cell_size),
-                        num(r.radius)
-                    );
-                }
+                refine_line(&mut t, refine);
             }
             MeshSpec::Disc { center, radius, cell_size, refine }
             | MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
@@ -80,15 +85,7 @@ impl Scene {
                     num(*radius),
                     num(*cell_size)
                 );
-                if let Some(r) = refine {
-                    let _ = writeln!(
-                        t,
-                        "refine = {{ point = {}, cell_size = {}, radius = {} }}",
-                        pair(r.point),
-                        num(r.cell_size),
-                        num(r.radius)
-                    );
-                }
+                refine_line(&mut t, refine);
             }
             MeshSpec::File { path } => {
                 // Absolute, so that reading the text back resolves it to the same file.

@@ -26,14 +26,7 @@ impl Scene {
     /// Refuse loads and prescribed displacements whose energy scale overflows, given the body's
     /// size (the mesh's bounding-box diagonal).
     pub fn check_magnitudes(&self, mesh: &Mesh) -> Result<()> {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &mesh.nodes {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let size = mesh.diagonal();
         let young = self.material.young;
         let energy_of_traction = |t: f64| (t * size) * (t * size / young);
         for t in &self.tractions {

@@ -240,17 +240,7 @@ pub fn nearest_node(mesh: &Mesh, point: [f64; 2]) -> Option<(usize, f64)> {
 /// [`POINT_TOLERANCE`] times the diagonal of the bounding box of the mesh's nodes: the largest
 /// distance from a point condition's point to its node.
 pub fn point_tolerance(mesh: &Mesh) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in &mesh.nodes {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    match mesh.nodes.is_empty() {
-        true => 0.0,
-        false => POINT_TOLERANCE * (hi[0] - lo[0]).hypot(hi[1] - lo[1]),
-    }
+    POINT_TOLERANCE * mesh.diagonal()
 }
 
 /// The node at `point` (within [`point_tolerance`]), or [`Error::Scene`] at `at`.
