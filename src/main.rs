@@ -402,8 +402,21 @@ fn run_case<T: serde::de::DeserializeOwned>(
     serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
 }
 
-/// `bench contact`: each (size, solver) case in a child process.
-fn bench_contact(parsed: RunArgs) -> ExitCode {
+/// The parts of a benchmark run in child processes, one per (size, solver) case.
+struct CaseRunner<T> {
+    /// The child's subcommand is `bench {kind}-case`.
+    kind: &'static str,
+    /// `(dofs, solver index, solver name)` of each case.
+    cases: Vec<(usize, usize, String)>,
+    /// The progress line of a finished case.
+    describe: fn(&T) -> String,
+    table: fn(&[T]) -> String,
+    write: fn(&[T], &std::path::Path) -> Result<(PathBuf, PathBuf), Error>,
+}
+
+/// Run every case in a child process (each reports its own memory), print progress, write the
+/// table and the plot.
+fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunner<T>) -> ExitCode {
     let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
     let exe = match std::env::current_exe() {
         Ok(e) => e,
@@ -412,21 +425,13 @@ fn bench_contact(parsed: RunArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-contact-{}", std::process::id()));
-    let cases = bench::contact_cases(parsed.max_dofs);
-    let mut rows: Vec<bench::ContactBenchRow> = Vec::new();
-    for (k, (dofs, solver)) in cases.iter().enumerate() {
-        let index = bench::CONTACT_SOLVERS.iter().position(|s| s == solver).unwrap_or(0);
-        eprint!("[{}/{}] ~{dofs} dofs, {:<20} ", k + 1, cases.len(), solver);
-        match run_case::<bench::ContactBenchRow>(&exe, "contact", *dofs, index, &scratch, &parsed.petsc) {
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()));
+    let mut rows: Vec<T> = Vec::new();
+    for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
+        eprint!("[{}/{}] ~{dofs} dofs, {name:<26} ", k + 1, runner.cases.len());
+        match run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, &parsed.petsc) {
             Ok(row) => {
-                eprintln!(
-                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
-                    row.contact_seconds,
-                    row.iterations,
-                    row.contact_seconds / row.linear_seconds,
-                    row.worst_residual
-                );
+                eprintln!("{}", (runner.describe)(&row));
                 rows.push(row);
             }
             Err(e) => eprintln!("{e}"),
@@ -437,9 +442,9 @@ fn bench_contact(parsed: RunArgs) -> ExitCode {
         eprintln!("error: no benchmark case succeeded");
         return ExitCode::FAILURE;
     }
-    match bench::write_contact_outputs(&rows, &out) {
+    match (runner.write)(&rows, &out) {
         Ok((md, svg)) => {
-            println!("{}", bench::contact_table(&rows));
+            println!("{}", (runner.table)(&rows));
             eprintln!("wrote {}, {}", md.display(), svg.display());
             ExitCode::SUCCESS
         }
@@ -448,6 +453,34 @@ fn bench_contact(parsed: RunArgs) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// `bench contact`: each (size, solver) case in a child process.
+fn bench_contact(parsed: RunArgs) -> ExitCode {
+    let cases = bench::contact_cases(parsed.max_dofs)
+        .into_iter()
+        .map(|(dofs, solver)| {
+            (dofs, bench::CONTACT_SOLVERS.iter().position(|s| *s == solver).unwrap_or(0), solver.to_string())
+        })
+        .collect();
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::ContactBenchRow> {
+            kind: "contact",
+            cases,
+            describe: |row| {
+                format!(
+                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
+                    row.contact_seconds,
+                    row.iterations,
+                    row.contact_seconds / row.linear_seconds,
+                    row.worst_residual
+                )
+            },
+            table: bench::contact_table,
+            write: bench::write_contact_outputs,
+        },
+    )
 }
 
 fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
@@ -463,47 +496,27 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
 
 /// `bench dual`: each (size, solver) case in a child process.
 fn bench_dual(parsed: RunArgs) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let exe = match std::env::current_exe() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-dual-{}", std::process::id()));
-    let cases = bench::dual::dual_cases(parsed.max_dofs);
-    let mut rows: Vec<bench::dual::DualBenchRow> = Vec::new();
-    for (k, (dofs, solver)) in cases.iter().enumerate() {
-        let index = bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0);
-        eprint!("[{}/{}] ~{dofs} dual dofs, {:<26} ", k + 1, cases.len(), solver.name);
-        match run_case::<bench::dual::DualBenchRow>(&exe, "dual", *dofs, index, &scratch, &parsed.petsc) {
-            Ok(row) => {
-                eprintln!(
+    let cases = bench::dual::dual_cases(parsed.max_dofs)
+        .into_iter()
+        .map(|(dofs, solver)| {
+            (dofs, bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0), solver.name.to_string())
+        })
+        .collect();
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::dual::DualBenchRow> {
+            kind: "dual",
+            cases,
+            describe: |row| {
+                format!(
                     "setup {:.3} s, solve {:.3} s ({} its), estimate {:.3} s; primal P2 {:.3} s",
                     row.setup_seconds, row.solve_seconds, row.iterations, row.estimate_seconds, row.primal_seconds
-                );
-                rows.push(row);
-            }
-            Err(e) => eprintln!("{e}"),
-        }
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
-    if rows.is_empty() {
-        eprintln!("error: no benchmark case succeeded");
-        return ExitCode::FAILURE;
-    }
-    match bench::write_dual_outputs(&rows, &out) {
-        Ok((md, svg)) => {
-            println!("{}", bench::dual::dual_table(&rows));
-            eprintln!("wrote {}, {}", md.display(), svg.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+                )
+            },
+            table: bench::dual::dual_table,
+            write: bench::write_dual_outputs,
+        },
+    )
 }
 
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
