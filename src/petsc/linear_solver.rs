@@ -40,6 +40,8 @@ pub struct LinearSolver<'s> {
     last: Option<SolveStats>,
     prefix: String,
     session: &'s Session,
+    /// The MUMPS ordering (ICNTL(7)) used unless the user gives one: AMF (2) by default.
+    ordering: i32,
     _p: PhantomData<&'s Session>,
 }
 
@@ -51,12 +53,18 @@ impl<'s> LinearSolver<'s> {
     pub fn new(session: &'s Session, comm: Comm, prefix: &str) -> Result<Self> {
         let mut raw: sys::KSP = std::ptr::null_mut();
         petsc!(KSPCreate(comm.raw(), &mut raw))?;
-        let ksp = LinearSolver { raw, last: None, prefix: prefix.to_string(), session, _p: PhantomData };
+        let ksp = LinearSolver { raw, last: None, prefix: prefix.to_string(), session, ordering: 2, _p: PhantomData };
         if !prefix.is_empty() {
             let p = cstring(prefix)?;
             petsc!(KSPSetOptionsPrefix(ksp.raw, p.as_ptr()))?;
         }
         Ok(ksp)
+    }
+
+    /// Use MUMPS ordering `icntl_7` (ICNTL(7)) when the direct default is used and the user
+    /// gives no ordering; call before [`LinearSolver::set_operator`].
+    pub fn prefer_ordering(&mut self, icntl_7: i32) {
+        self.ordering = icntl_7;
     }
 
     /// Set the operator and configure the solver: defaults first, then the options database.
@@ -76,7 +84,7 @@ impl<'s> LinearSolver<'s> {
                 petsc!(KSPSetType(self.raw, c"preonly".as_ptr()))?;
                 petsc!(PCSetType(pc, c"cholesky".as_ptr()))?;
                 petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
-                self.session.prefer_amf_ordering(&self.prefix)?;
+                self.session.prefer_mumps_ordering(&self.prefix, self.ordering)?;
             }
             _ => {}
         }

@@ -189,6 +189,8 @@ pub struct Session {
     size: usize,
     /// PETSc is not thread safe in this build: keep the session on its thread.
     _not_send: PhantomData<*const ()>,
+    /// Options the program set as its own defaults (not the user's choices).
+    program_options: std::cell::RefCell<std::collections::HashSet<String>>,
 }
 
 /// Open MPI settings that let a process started without `mpirun` (a "singleton") initialise
@@ -272,7 +274,15 @@ impl Session {
         let world = Comm { raw: unsafe { sys::signorini_comm_world() } };
         let rank = world.rank()?;
         let size = world.size()?;
-        Ok(Session { _args: c_args, _argv: argv, world, rank, size, _not_send: PhantomData })
+        Ok(Session {
+            _args: c_args,
+            _argv: argv,
+            world,
+            rank,
+            size,
+            _not_send: PhantomData,
+            program_options: Default::default(),
+        })
     }
 
     /// `PETSC_COMM_WORLD`.
@@ -302,9 +312,17 @@ impl Session {
     /// MUMPS's AMF ordering (`-<prefix>mat_mumps_icntl_7 2`) unless the options already choose
     /// one: about twice as fast as Debian's default PORD (its MUMPS has no METIS).
     pub fn prefer_amf_ordering(&self, prefix: &str) -> Result<()> {
+        self.prefer_mumps_ordering(prefix, 2)
+    }
+
+    /// Use MUMPS ordering `icntl_7` for the solvers under `prefix` unless the user chose one
+    /// (an ordering the program itself set earlier, for another solver, is not the user's).
+    pub fn prefer_mumps_ordering(&self, prefix: &str, icntl_7: i32) -> Result<()> {
         let ordering = format!("-{prefix}mat_mumps_icntl_7");
-        if !self.has_option(&ordering)? {
-            self.set_option(&ordering, Some("2"))?;
+        let ours = self.program_options.borrow().contains(&ordering);
+        if ours || !self.has_option(&ordering)? {
+            self.set_option(&ordering, Some(&icntl_7.to_string()))?;
+            self.program_options.borrow_mut().insert(ordering);
         }
         Ok(())
     }
