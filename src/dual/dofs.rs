@@ -23,6 +23,8 @@ pub struct HctDofs {
     pub edges: Vec<[usize; 2]>,
     /// Edge index of each cell's local edge k (a_k → a_k+1).
     pub cell_edges: Vec<[usize; 3]>,
+    /// The edge of each (lower node, higher node) pair.
+    edge_index: std::collections::HashMap<[usize; 2], usize>,
 }
 
 impl HctDofs {
@@ -53,7 +55,12 @@ impl HctDofs {
             }
             cell_edges.push(local);
         }
-        HctDofs { vertex_of_node, vertex_nodes, edges, cell_edges }
+        HctDofs { vertex_of_node, vertex_nodes, edges, cell_edges, edge_index: index }
+    }
+
+    /// The edge between nodes `a` and `b`, if the cells have one.
+    pub fn edge_between(&self, a: usize, b: usize) -> Option<usize> {
+        self.edge_index.get(&[a.min(b), a.max(b)]).copied()
     }
 
     pub fn num_vertices(&self) -> usize {

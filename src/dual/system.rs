@@ -143,8 +143,7 @@ impl DualSystem {
                     }
                 }
             }
-            let edge = dofs.cell_edges.iter().flatten().copied().find(|&k| dofs.edges[k] == [a.min(b), a.max(b)]);
-            let edge = edge.ok_or_else(|| {
+            let edge = dofs.edge_between(a, b).ok_or_else(|| {
                 boundary::formulation_error(
                     format!("boundary edge {a} -> {b} is not an edge of any triangle"),
                     "check the mesh",

@@ -52,7 +52,7 @@
 //! compliance of [`Material`] (plane strain or plane stress). Second derivatives are linear on
 //! each piece, so a degree-2 rule per sub-triangle is exact. Its kernel is the affine functions
 //! (zero stress).
-use nalgebra::{DMatrix, SMatrix};
+use nalgebra::SMatrix;
 
 use super::material::Material;
 use super::quadrature;
@@ -63,6 +63,9 @@ pub const HCT_DOFS: usize = 12;
 
 /// Monomials of a cubic in (ξ, η): 1, ξ, η, ξ², ξη, η², ξ³, ξ²η, ξη², η³.
 const MONOMIALS: usize = 10;
+
+/// Conditions of the construction: 21 for C¹ across the interior edges, 12 degrees of freedom.
+const CONDITIONS: usize = 33;
 
 fn monomials(p: [f64; 2]) -> [f64; MONOMIALS] {
     let (x, y) = (p[0], p[1]);
@@ -123,7 +126,7 @@ impl HctElement {
         let sv: Vec<[f64; 2]> = vertices.iter().map(|&v| scaled(v)).collect();
         let sc = [0.0, 0.0];
         // Unknowns: piece k's coefficients at columns 10k..10k+10.
-        let mut rows: Vec<[f64; 3 * MONOMIALS]> = Vec::with_capacity(33);
+        let mut rows: Vec<[f64; 3 * MONOMIALS]> = Vec::with_capacity(CONDITIONS);
         let mut dof_row = [usize::MAX; HCT_DOFS];
         // C¹ across the interior edge c -> a_k, shared by pieces k−1 (left) and k (right).
         for k in 0..3 {
@@ -180,16 +183,21 @@ impl HctElement {
             dof_row[9 + k] = rows.len();
             rows.push(row);
         }
-        let matrix = DMatrix::from_fn(rows.len(), 3 * MONOMIALS, |r, c| rows[r][c]);
-        let mut rhs = DMatrix::<f64>::zeros(rows.len(), HCT_DOFS);
+        debug_assert_eq!(rows.len(), CONDITIONS);
+        // Fixed sizes: no allocation per element (the dual builds one per cell).
+        let matrix = SMatrix::<f64, CONDITIONS, { 3 * MONOMIALS }>::from_fn(|r, c| rows[r][c]);
+        let mut rhs = SMatrix::<f64, CONDITIONS, HCT_DOFS>::zeros();
         for (j, &r) in dof_row.iter().enumerate() {
             rhs[(r, j)] = 1.0;
         }
         // Least squares through QR: the 33 × 30 system has full column rank (its 3 redundant
         // rows are consistent), so R is invertible and x = R⁻¹ Qᵀ b solves it exactly.
+        // Qᵀ b by the Householder reflections themselves (Q is never formed).
         let qr = matrix.qr();
-        let qtb = qr.q().transpose() * rhs;
-        let solution = qr.r().solve_upper_triangular(&qtb).ok_or_else(|| {
+        let mut qtb = rhs;
+        qr.q_tr_mul(&mut qtb);
+        let top = qtb.fixed_rows::<{ 3 * MONOMIALS }>(0).into_owned();
+        let solution = qr.r().solve_upper_triangular(&top).ok_or_else(|| {
             Error::mesh("HCT element", "cannot build the basis on this triangle (singular system); it is too distorted")
         })?;
         let mut coefficients = [[[0.0; MONOMIALS]; HCT_DOFS]; 3];
