@@ -402,6 +402,9 @@ fn run_case<T: serde::de::DeserializeOwned>(
     serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
 }
 
+/// Writes a benchmark's table and plot into a directory; their paths.
+type Writer<T> = fn(&[T], &std::path::Path) -> Result<(PathBuf, PathBuf), Error>;
+
 /// The parts of a benchmark run in child processes, one per (size, solver) case.
 struct CaseRunner<T> {
     /// The child's subcommand is `bench {kind}-case`.
@@ -411,7 +414,7 @@ struct CaseRunner<T> {
     /// The progress line of a finished case.
     describe: fn(&T) -> String,
     table: fn(&[T]) -> String,
-    write: fn(&[T], &std::path::Path) -> Result<(PathBuf, PathBuf), Error>,
+    write: Writer<T>,
 }
 
 /// Run every case in a child process (each reports its own memory), print progress, write the

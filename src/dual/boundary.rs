@@ -153,6 +153,9 @@ pub(crate) fn formulation_error(message: String, hint: &str) -> Error {
     Error::Formulation { message: format!("dual formulation: {message}"), hint: hint.to_string() }
 }
 
+/// An affine expression `Σ c_j dof_j + constant` of free dofs.
+type Expansion = (Vec<(usize, f64)>, f64);
+
 /// A linear constraint `Σ c_d dof_d = rhs`, with the dofs it may be solved for.
 struct Row {
     terms: Vec<(usize, f64)>,
@@ -166,7 +169,7 @@ struct Row {
 pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<AffineDofs> {
     let n = dofs.len();
     // Slave expressions in terms of free global dofs.
-    let mut slave: Vec<Option<(Vec<(usize, f64)>, f64)>> = vec![None; n];
+    let mut slave: Vec<Option<Expansion>> = vec![None; n];
     let mut referenced = vec![false; n];
     // Start the walk where a run of known tractions starts (after an edge with an unknown
     // component), so that the first vertex of every run stays free.
@@ -225,7 +228,7 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                 }
             }
             let scaled = |dof: usize, coeff: f64| {
-                if dof % 3 == 0 && dof < 3 * dofs.num_vertices() {
+                if dof.is_multiple_of(3) && dof < 3 * dofs.num_vertices() {
                     coeff * len
                 } else {
                     coeff

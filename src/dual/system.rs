@@ -29,13 +29,16 @@ use crate::fem::quadrature;
 use crate::mesh::Mesh;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats};
 
+/// `x -> (F(x), σp(x))`: a variable body force and its particular stress field.
+pub type BodyField = Arc<dyn Fn([f64; 2]) -> ([f64; 2], [f64; 3]) + Send + Sync>;
+
 /// A body force and its particular stress field `σp` (`div σp + F = 0`).
 #[derive(Clone)]
 pub enum BodyLoad {
     /// A constant force F (N/m³), with `σp = diag(−Fx x, −Fy y)`.
     Constant([f64; 2]),
     /// `x -> (F(x), σp(x))` for a variable force, σp given by the caller.
-    Field(Arc<dyn Fn([f64; 2]) -> ([f64; 2], [f64; 3]) + Send + Sync>),
+    Field(BodyField),
 }
 
 impl BodyLoad {

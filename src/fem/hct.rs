@@ -106,6 +106,7 @@ impl HctElement {
     /// The element on the counter-clockwise triangle `vertices`; `edge_sign[k]` is +1 when the
     /// global normal of edge k (a_k → a_k+1) is its outward normal, −1 when it is the inward
     /// one (see the module doc).
+    #[allow(clippy::needless_range_loop)] // k indexes vertices, pieces and edges together
     pub fn new(vertices: [[f64; 2]; 3], edge_sign: [f64; 3]) -> Result<Self> {
         let [a, b, c] = vertices;
         let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
@@ -456,6 +457,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn c1_inside_the_element() {
         let t = [[0.0, 0.0], [2.0, 0.3], [0.4, 1.5]];
         let e = HctElement::new(t, [1.0, 1.0, -1.0]).unwrap();

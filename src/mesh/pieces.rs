@@ -27,13 +27,13 @@ pub fn node_pieces(mesh: &Mesh) -> (Vec<usize>, usize) {
     let mut label = vec![usize::MAX; n];
     let mut pieces = vec![0; n];
     let mut count = 0;
-    for k in 0..n {
+    for (k, piece) in pieces.iter_mut().enumerate() {
         let r = root(&mut parent, k);
         if label[r] == usize::MAX {
             label[r] = count;
             count += 1;
         }
-        pieces[k] = label[r];
+        *piece = label[r];
     }
     (pieces, count)
 }
