@@ -281,6 +281,23 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
             c.resultant[1],
             c.zone.map(|z| format!("[{:.4e}, {:.4e}]", z[0], z[1])).unwrap_or_else(|| "none".into())
         );
+        if let Some(p) = &c.peak_pressure {
+            eprintln!(
+                "            peak pressure {:.4e} at ({:.4e}, {:.4e}); closed zones (arc length): {}",
+                p.pressure,
+                p.position[0],
+                p.position[1],
+                if c.zones.is_empty() {
+                    "none".to_string()
+                } else {
+                    c.zones
+                        .iter()
+                        .map(|z| format!("[{:.4e}, {:.4e}]", z.extent[0], z.extent[1]))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                }
+            );
+        }
         eprintln!(
             "            independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity {:.1e} / {:.1e} (worst {worst:.1e})",
             c.residuals.max_penetration,

@@ -88,7 +88,12 @@ pub struct ContactReport {
     pub normal_resultant: f64,
     pub tangential_resultant: f64,
     /// Extent of the closed contact zone along the first point's tangent: [min, max] of x·t.
+    /// Kept for compatibility; `zones` is right for every obstacle.
     pub zone: Option<[f64; 2]>,
+    /// The largest nodal contact pressure and where it is.
+    pub peak_pressure: Option<super::contact_zones::PeakPressure>,
+    /// Each connected run of closed points, as an interval of arc length along the part.
+    pub zones: Vec<super::contact_zones::ClosedZone>,
     /// Independent check: relative residuals of (r, B u) with u from the field solve.
     pub residuals: ContactResidualsReport,
     /// Resultant of the stabilisation springs at the last proximal iteration (0 when none
@@ -749,6 +754,8 @@ impl ContactSetup {
             normal_resultant,
             tangential_resultant,
             zone,
+            peak_pressure: None,
+            zones: Vec::new(),
             residuals: ContactResidualsReport {
                 max_penetration: residuals.max_penetration,
                 max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,

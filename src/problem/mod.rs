@@ -22,10 +22,12 @@ use std::path::{Path, PathBuf};
 
 mod block_elimination;
 mod contact;
+mod contact_zones;
 mod dual;
 mod full_space;
 mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
 pub use warnings::Warning;
@@ -477,6 +479,13 @@ impl<'s> ElasticityProblem<'s> {
                 residual: equilibrium_residual,
                 tried: self.stats.as_ref().map_or_else(String::new, |s| format!("{} + {}", s.ksp_type, s.pc_type)),
             });
+        }
+        // The peak pressure and the closed zones along the part.
+        if let (Some(c), Some(outcome)) = (&self.contact, &mut self.contact_outcome) {
+            let (pressure, _) = c.boundary.tractions(&outcome.force);
+            let (peak, zones) = contact_zones::zones(&self.mesh, &c.boundary, &pressure, &outcome.status);
+            outcome.report.peak_pressure = peak;
+            outcome.report.zones = zones;
         }
         // Nodes of the contact part left out of the contact points (prescribed in both
         // components) must not penetrate either.
