@@ -7,7 +7,7 @@ use std::time::Instant;
 use super::{BenchSolver, SOLVERS};
 use crate::dual::{BodyLoad, DualData, DualSystem};
 use crate::error::Result;
-use crate::estimate::{volume_terms, Estimate, EstimateKind};
+use crate::estimate::{pair_degree, volume_terms, Estimate, EstimateKind};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{Material, PlaneModel};
 use crate::mesh::{structured, Order};
@@ -83,7 +83,7 @@ pub fn dual_case(session: &Session, target_dofs: usize, solver: &BenchSolver) ->
     // The estimate of the pair, on the P2 mesh (its cells are the vertex triangles).
     let t = Instant::now();
     let field = dual.field(&mesh, &phi);
-    let volume = volume_terms(&p2, &material, &u, &field, 4);
+    let volume = volume_terms(&p2, &material, &u, &field, pair_degree(&p2));
     let estimate = Estimate::new(EstimateKind::GuaranteedBound, &volume, None);
     let estimate_seconds = t.elapsed().as_secs_f64();
     Ok(DualBenchRow {

@@ -23,6 +23,7 @@ use super::dofs::HctDofs;
 use crate::error::Result;
 use crate::estimate::StressField;
 use crate::fem::assembly::EdgeLoad;
+use crate::fem::csr_assembly::CsrAssembler;
 use crate::fem::hct::{HctElement, HCT_DOFS};
 use crate::fem::material::Material;
 use crate::fem::quadrature;
@@ -84,6 +85,19 @@ pub struct DualSystem {
     pub affine: AffineDofs,
     pub material: Material,
     pub body_force: BodyLoad,
+}
+
+/// The terms `(unknown, coefficient)` of a dof's expansion: one for a master, a list for a slave.
+#[derive(Clone, Copy)]
+struct Terms<'a> {
+    one: Option<(usize, f64)>,
+    many: &'a [(usize, f64)],
+}
+
+impl Terms<'_> {
+    fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.one.into_iter().chain(self.many.iter().copied())
+    }
 }
 
 /// The reduced rows `rows` of the system, CSR with global column indices.
@@ -201,78 +215,80 @@ impl DualSystem {
         out
     }
 
-    /// The reduced rows `rows` (every rank assembles the whole and keeps its block).
+    /// The expansion of dof `d` in the reduced unknowns: its terms and its constant.
+    fn expansion(&self, d: usize) -> (Terms<'_>, f64) {
+        match &self.affine.role[d] {
+            DofRole::Master(k) => (Terms { one: Some((*k, 1.0)), many: &[] }, 0.0),
+            DofRole::Slave(t, c) => (Terms { one: None, many: t }, *c),
+            DofRole::Fixed(v) => (Terms { one: None, many: &[] }, *v),
+        }
+    }
+
+    /// The reduced rows `rows` (every rank computes every element and keeps its rows).
     pub fn assemble(&self, mesh: &Mesh, rows: Range<usize>) -> ReducedRows {
         let l = self.load_functional();
         let nm = self.num_unknowns();
-        let mut triplets: Vec<Vec<(usize, f64)>> = vec![Vec::new(); rows.len()];
         let mut rhs = vec![0.0; rows.len()];
-        // The expansion of a dof: its reduced terms and its constant.
-        let expansion = |d: usize| -> (Vec<(usize, f64)>, f64) {
-            match &self.affine.role[d] {
-                DofRole::Master(k) => (vec![(*k, 1.0)], 0.0),
-                DofRole::Slave(t, c) => (t.clone(), *c),
-                DofRole::Fixed(v) => (Vec::new(), *v),
-            }
-        };
-        // The load functional on dofs outside any element is impossible: l lives on vertices.
+        // The load functional: l lives on vertex dofs.
         for (d, &ld) in l.iter().enumerate() {
             if ld != 0.0 {
-                let (terms, _) = expansion(d);
-                for (k, a) in terms {
+                for (k, a) in self.expansion(d).0.iter() {
                     if rows.contains(&k) {
                         rhs[k - rows.start] += a * ld;
                     }
                 }
             }
         }
+        // Each element couples the reduced unknowns of its dofs' expansions.
+        let mut group_ptr = Vec::with_capacity(self.elements.len() + 1);
+        group_ptr.push(0);
+        let mut group_indices = Vec::with_capacity(13 * self.elements.len());
+        for c in 0..self.elements.len() {
+            let start = group_indices.len();
+            for d in self.dofs.cell_dofs(mesh, c) {
+                for (k, _) in self.expansion(d).0.iter() {
+                    if !group_indices[start..].contains(&k) {
+                        group_indices.push(k);
+                    }
+                }
+            }
+            group_ptr.push(group_indices.len());
+        }
+        let mut matrix = CsrAssembler::new(rows.clone(), nm, &group_ptr, &group_indices);
+        drop((group_ptr, group_indices));
         for (c, element) in self.elements.iter().enumerate() {
             let cell_dofs = self.dofs.cell_dofs(mesh, c);
+            let exp: Vec<(Terms<'_>, f64)> = cell_dofs.iter().map(|&d| self.expansion(d)).collect();
+            // Elements whose expanded unknowns are all elsewhere contribute nothing here.
+            if !exp.iter().any(|(t, _)| t.iter().any(|(k, _)| rows.contains(&k))) {
+                continue;
+            }
             let s: SMatrix<f64, HCT_DOFS, HCT_DOFS> = element.compliance_stiffness(&self.material);
             let bp = self.particular_cross_term(element);
-            let exp: Vec<(Vec<(usize, f64)>, f64)> = cell_dofs.iter().map(|&d| expansion(d)).collect();
             // S φ0 restricted to the element (constants of the expansions).
             let mut s_phi0 = [0.0; HCT_DOFS];
             for i in 0..HCT_DOFS {
                 s_phi0[i] = (0..HCT_DOFS).map(|j| s[(i, j)] * exp[j].1).sum();
             }
             for i in 0..HCT_DOFS {
-                for &(ki, ai) in &exp[i].0 {
+                for (ki, ai) in exp[i].0.iter() {
                     if !rows.contains(&ki) {
                         continue;
                     }
-                    let r = ki - rows.start;
-                    rhs[r] -= ai * (s_phi0[i] + bp[i]);
+                    rhs[ki - rows.start] -= ai * (s_phi0[i] + bp[i]);
                     for j in 0..HCT_DOFS {
                         let sij = s[(i, j)];
                         if sij == 0.0 {
                             continue;
                         }
-                        for &(kj, aj) in &exp[j].0 {
-                            triplets[r].push((kj, ai * sij * aj));
+                        for (kj, aj) in exp[j].0.iter() {
+                            matrix.add(ki, kj, ai * sij * aj);
                         }
                     }
                 }
             }
         }
-        let mut indptr = Vec::with_capacity(rows.len() + 1);
-        indptr.push(0);
-        let (mut indices, mut values) = (Vec::new(), Vec::new());
-        for row in triplets.iter_mut() {
-            row.sort_unstable_by_key(|t| t.0);
-            let mut last = usize::MAX;
-            for &(k, v) in row.iter() {
-                if k == last {
-                    *values.last_mut().unwrap() += v;
-                } else {
-                    indices.push(k);
-                    values.push(v);
-                    last = k;
-                }
-            }
-            indptr.push(indices.len());
-        }
-        debug_assert!(indices.iter().all(|&k| k < nm));
+        let (indptr, indices, values) = matrix.into_parts();
         ReducedRows { first_row: rows.start, indptr, indices, values, rhs }
     }
 

@@ -114,6 +114,21 @@ pub fn strain_at_point(mesh: &Mesh, u: &[f64], cell: usize, x: [f64; 2]) -> [f64
     e
 }
 
+/// The quadrature degree for a Lagrange displacement against an HCT stress field: 2 when every
+/// cell is straight (both stresses are linear on each piece, so the integrands are quadratic
+/// and the rule is exact), 4 when some P2 cell is curved (the strain is then rational).
+pub fn pair_degree(mesh: &Mesh) -> usize {
+    let curved = (0..mesh.num_cells()).any(|c| {
+        let coords: Vec<[f64; 2]> = mesh.cell(c).iter().map(|&n| mesh.nodes[n]).collect();
+        !lagrange::is_affine(&coords)
+    });
+    if curved {
+        4
+    } else {
+        2
+    }
+}
+
 /// The volume terms of the pair (`u`, `sigma`), integrated exactly for polynomial integrands of
 /// total degree `degree` on each piece (2 suffices for an HCT stress against a P1 or P2 field
 /// on straight cells).
@@ -151,6 +166,16 @@ mod tests {
     use crate::fem::material::PlaneModel;
     use crate::fem::postprocess;
     use crate::mesh::structured;
+
+    #[test]
+    fn pair_degree_is_two_on_straight_cells_and_four_on_curved_ones() {
+        let mut mesh = structured::rectangle([0.0, 0.0], [2.0, 1.0], 3, 2, crate::mesh::Order::P2).unwrap();
+        assert_eq!(pair_degree(&mesh), 2);
+        // Bend one edge: move a midpoint node off its chord.
+        let mid = mesh.cell(0)[3];
+        mesh.nodes[mid][1] += 0.05;
+        assert_eq!(pair_degree(&mesh), 4);
+    }
 
     #[test]
     fn exact_stress_gives_the_primal_energy_error() {

@@ -62,7 +62,7 @@
 pub mod constitutive_relation;
 pub mod contact_terms;
 
-pub use constitutive_relation::{volume_terms, ExactStress, StressField, VolumeTerms};
+pub use constitutive_relation::{pair_degree, volume_terms, ExactStress, StressField, VolumeTerms};
 pub use contact_terms::{contact_integrand, ContactLawTerm, ContactSample, ContactTerms};
 
 /// What the estimate is, for the report: a guaranteed bound or an estimator.

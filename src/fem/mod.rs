@@ -13,6 +13,7 @@
 //! Degrees of freedom are interleaved: `dof = 2 * node + component` (0 = x, 1 = y), with the
 //! node numbering of [`crate::mesh::Mesh`].
 pub mod assembly;
+pub mod csr_assembly;
 pub mod hct;
 pub mod lagrange;
 pub mod material;

@@ -15,7 +15,7 @@
 use super::ElasticityProblem;
 use crate::dual::{check, BodyLoad, DualCheck, DualData, DualSystem};
 use crate::error::{Error, Result};
-use crate::estimate::{volume_terms, Estimate, EstimateKind};
+use crate::estimate::{pair_degree, volume_terms, Estimate, EstimateKind};
 use crate::fem::assembly::EdgeLoad;
 use crate::petsc::SolveStats;
 use crate::scene::DirichletTarget;
@@ -174,7 +174,7 @@ impl<'s> ElasticityProblem<'s> {
             }
         }
         let field = dual.system.field(&self.mesh, &dual.phi);
-        let volume = volume_terms(&self.mesh, &self.material, u, &field, 4);
+        let volume = volume_terms(&self.mesh, &self.material, u, &field, pair_degree(&self.mesh));
         let estimate = Estimate::new(EstimateKind::GuaranteedBound, &volume, None);
         let estimate_seconds = start.elapsed().as_secs_f64();
         self.timings.add("estimate", estimate_seconds);
