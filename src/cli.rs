@@ -65,6 +65,12 @@ pub struct RunOptions {
     /// function on HCT elements); overrides [discretization] formulation.
     #[arg(long, value_name = "NAME", value_parser = ["primal", "dual"])]
     pub formulation: Option<String>,
+    /// How the dual formulation imposes its boundary constraints: eliminated (a symmetric
+    /// positive definite system, the default) or multipliers (a symmetric indefinite saddle
+    /// point: MUMPS LDLᵀ, or -ksp_type symmlq -pc_type jacobi); overrides
+    /// [discretization] dual_constraints.
+    #[arg(long, value_name = "HOW", value_parser = ["eliminated", "multipliers"])]
+    pub dual_constraints: Option<String>,
     /// Solve both formulations on the same mesh and report the error in the constitutive
     /// relation, per element and in total (as [estimate] in a scene).
     #[arg(long)]
@@ -126,7 +132,8 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 5] = ["--out", "--max-dofs", "--case", "--contact-solver", "--formulation"];
+const VALUE_FLAGS: [&str; 6] =
+    ["--out", "--max-dofs", "--case", "--contact-solver", "--formulation", "--dual-constraints"];
 
 /// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never
 /// `-h` alone (ours) nor a negative number (a value).

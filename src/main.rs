@@ -26,6 +26,8 @@ struct RunArgs {
     /// run: `--formulation`, `--estimate`.
     formulation: Option<String>,
     estimate: bool,
+    /// run: `--dual-constraints`.
+    dual_constraints: Option<String>,
     petsc: Vec<String>,
 }
 
@@ -50,6 +52,7 @@ fn main() -> ExitCode {
         contact_solver,
         formulation: None,
         estimate: false,
+        dual_constraints: None,
         petsc: petsc.clone(),
     };
     match parsed.command {
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
             let mut a = args(r.scene, r.out, r.quiet, r.contact_solver, 0, None);
             a.formulation = r.formulation;
             a.estimate = r.estimate;
+            a.dual_constraints = r.dual_constraints;
             with_session(&program, a, run)
         }
         Command::Bench { which } => match which {
@@ -156,6 +160,11 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         None => problem.scene.formulation == signorini::scene::Formulation::Dual,
     };
     let estimate = args.estimate || problem.scene.estimate;
+    match args.dual_constraints.as_deref() {
+        Some("multipliers") => problem.scene.dual_constraints = signorini::scene::DualConstraints::Multipliers,
+        Some(_) => problem.scene.dual_constraints = signorini::scene::DualConstraints::Eliminated,
+        None => {}
+    }
     if !dual || estimate {
         problem.assemble()?;
         say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
@@ -516,12 +525,7 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
 
 /// `bench dual`: each (size, solver) case in a child process.
 fn bench_dual(parsed: RunArgs) -> ExitCode {
-    let cases = bench::dual::dual_cases(parsed.max_dofs)
-        .into_iter()
-        .map(|(dofs, solver)| {
-            (dofs, bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0), solver.name.to_string())
-        })
-        .collect();
+    let cases = bench::dual::dual_cases(parsed.max_dofs);
     run_bench(
         &parsed,
         CaseRunner::<bench::dual::DualBenchRow> {
@@ -542,7 +546,8 @@ fn bench_dual(parsed: RunArgs) -> ExitCode {
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
         args.case.ok_or_else(|| Error::Usage("bench dual-case needs --case DOFS,SOLVER_INDEX".into()))?;
-    let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
+    let solvers = bench::dual::dual_solvers();
+    let solver = solvers.get(index).ok_or_else(|| Error::Usage(format!("no dual benchmark solver {index}")))?;
     let row = bench::dual::dual_case(session, dofs, solver)?;
     if session.rank() == 0 {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);

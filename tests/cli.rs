@@ -591,6 +591,67 @@ fn dual_formulation_run_writes_stresses_and_its_check() {
 }
 
 #[test]
+fn dual_saddle_point_route_serial_mpi_and_its_own_options() {
+    let cantilever = scene("examples/scenes/cantilever.toml");
+    let eliminated = scratch("kkt-eliminated");
+    run_ok(bin().arg("run").arg(&cantilever).args(["--quiet", "--estimate", "--out"]).arg(&eliminated));
+    let reference = report(&eliminated)["estimate"]["relative_percent"].as_f64().unwrap();
+    assert_eq!(report(&eliminated)["dual"]["constraints"], "eliminated");
+    // Multipliers with MUMPS LDLᵀ: the same estimate; the scene's primal options (cg + gamg)
+    // do not reach the dual, which reads -dual_*.
+    let kkt = scratch("kkt-serial");
+    run_ok(
+        bin()
+            .arg("run")
+            .arg(&cantilever)
+            .args(["--quiet", "--estimate", "--dual-constraints", "multipliers", "--out"])
+            .arg(&kkt),
+    );
+    let r = report(&kkt);
+    assert_eq!(r["dual"]["constraints"], "multipliers");
+    assert!(r["dual"]["saddle_point_size"].as_u64().unwrap() > r["dual"]["unknowns"].as_u64().unwrap());
+    assert_eq!(r["dual"]["solver"]["factor_package"], "mumps", "{}", r["dual"]["solver"]);
+    let e = r["estimate"]["relative_percent"].as_f64().unwrap();
+    assert!((e - reference).abs() < 1e-9 * reference, "{e} vs {reference}");
+    // SYMMLQ + Jacobi through the dual's own prefix, the primal untouched.
+    let symmlq = scratch("kkt-symmlq");
+    run_ok(
+        bin()
+            .arg("run")
+            .arg(&cantilever)
+            .args(["--quiet", "--estimate", "--dual-constraints", "multipliers", "--out"])
+            .arg(&symmlq)
+            .args(["-dual_ksp_type", "symmlq", "-dual_pc_type", "jacobi", "-dual_ksp_max_it", "100000"]),
+    );
+    let r = report(&symmlq);
+    assert_eq!(r["dual"]["solver"]["ksp_type"], "symmlq");
+    assert_eq!(r["solver"]["pc_type"], "gamg");
+    let e = r["estimate"]["relative_percent"].as_f64().unwrap();
+    assert!((e - reference).abs() < 1e-6 * reference, "{e} vs {reference}");
+    // Two MPI ranks: the same estimate.
+    let parallel = scratch("kkt-mpi");
+    let out = Command::new("mpirun")
+        .args(["-n", "2", "--oversubscribe"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(&cantilever)
+        .args(["--quiet", "--estimate", "--dual-constraints", "multipliers", "--out"])
+        .arg(&parallel)
+        .output()
+        .expect("mpirun (openmpi-bin, installed by ./setup.sh)");
+    assert!(out.status.success(), "mpirun failed: {}", String::from_utf8_lossy(&out.stderr));
+    let e = report(&parallel)["estimate"]["relative_percent"].as_f64().unwrap();
+    assert!((e - reference).abs() < 1e-8 * reference, "MPI {e} vs serial {reference}");
+    // A wrong value is a usage error naming the choices.
+    let msg = run_err(bin().arg("run").arg(&cantilever).args(["--dual-constraints", "lagrange"]), 2);
+    assert!(msg.contains("eliminated") && msg.contains("multipliers"), "{msg}");
+}
+
+#[test]
 fn estimate_reports_the_error_per_cell_and_in_total() {
     let dir = scratch("estimate");
     run_ok(

@@ -1696,6 +1696,20 @@ fn formulation_and_estimate_keys() {
 }
 
 #[test]
+fn dual_constraints_key() {
+    use signorini::scene::DualConstraints;
+    assert_eq!(parse(BASE).unwrap().dual_constraints, DualConstraints::Eliminated);
+    let s = parse(&base_with("order = 1", "order = 1\ndual_constraints = \"multipliers\"")).unwrap();
+    assert_eq!(s.dual_constraints, DualConstraints::Multipliers);
+    // It survives the round trip through the scene text.
+    assert_eq!(parse(&s.to_toml()).unwrap().dual_constraints, DualConstraints::Multipliers);
+    let text = base_with("order = 1", "order = 1\ndual_constraints = \"lagrange\"");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "lagrange"));
+    assert!(e.message.contains("dual_constraints") && e.hint.contains("multipliers"), "{} / {}", e.message, e.hint);
+}
+
+#[test]
 fn scenes_built_in_rust_get_the_checks_of_a_file() {
     use signorini::scene::{SceneBuilder, BUILT_IN_RUST};
     // ν = 0.6 and μ = −0.5: the same messages as in a file.

@@ -25,6 +25,7 @@
 pub mod boundary;
 pub mod checks;
 pub mod dofs;
+pub mod saddle_point;
 pub mod system;
 
 pub use checks::{check, DualCheck};

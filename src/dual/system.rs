@@ -29,6 +29,7 @@ use crate::fem::material::Material;
 use crate::fem::quadrature;
 use crate::mesh::Mesh;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats};
+use crate::scene::DualConstraints;
 
 /// `x -> (F(x), σp(x))`: a variable body force and its particular stress field.
 pub type BodyField = Arc<dyn Fn([f64; 2]) -> ([f64; 2], [f64; 3]) + Send + Sync>;
@@ -177,7 +178,7 @@ impl DualSystem {
     }
 
     /// The prescribed-displacement functional `l` on all dofs (vertex gradient dofs only).
-    fn load_functional(&self) -> Vec<f64> {
+    pub(super) fn load_functional(&self) -> Vec<f64> {
         let mut l = vec![0.0; self.dofs.len()];
         for e in &self.edges {
             let (gxa, gya) = (self.dofs.node_dof(e.a, 1), self.dofs.node_dof(e.a, 2));
@@ -195,7 +196,7 @@ impl DualSystem {
     }
 
     /// `b_p[i] = ∫_E σp : C⁻¹ σ(ψ_i)` of each element.
-    fn particular_cross_term(&self, element: &HctElement) -> [f64; HCT_DOFS] {
+    pub(super) fn particular_cross_term(&self, element: &HctElement) -> [f64; HCT_DOFS] {
         let mut out = [0.0; HCT_DOFS];
         if self.body_force.is_zero() {
             return out;
@@ -327,6 +328,22 @@ impl DualSystem {
         let stats = ksp.solve(&matrix, &b, &mut x)?;
         let z = x.gather_all()?;
         Ok((self.affine.expand(&z), stats))
+    }
+
+    /// Solve with the constraints `constraints` imposed as asked: eliminated
+    /// ([`DualSystem::solve_with_prefix`]) or by multipliers
+    /// ([`DualSystem::solve_saddle_point`]).
+    pub fn solve_with(
+        &self,
+        session: &Session,
+        mesh: &Mesh,
+        prefix: &str,
+        constraints: DualConstraints,
+    ) -> Result<(Vec<f64>, SolveStats)> {
+        match constraints {
+            DualConstraints::Eliminated => self.solve_with_prefix(session, mesh, prefix),
+            DualConstraints::Multipliers => self.solve_saddle_point(session, mesh, prefix),
+        }
     }
 
     /// The stress field of the dofs `phi`.

@@ -14,7 +14,8 @@
 //! computed after the solve, which must not exceed `max(1e-6, 100·rtol)`.
 //!
 //! SYMMLQ: PETSc 3.18 reports its iteration-0 residual on a different scale, so we give it an
-//! absolute tolerance rtol·‖b‖_{M⁻¹} (rtol 1e-8 by default), see `fix_symmlq_tolerance`.
+//! absolute tolerance rtol·‖b‖_{M⁻¹} (rtol 1e-8 by default) and no divergence test, see
+//! `fix_symmlq_tolerance`.
 use std::marker::PhantomData;
 
 use super::{cstring, from_c, petsc, Comm, Matrix, Session, Vector};
@@ -42,6 +43,9 @@ pub struct LinearSolver<'s> {
     session: &'s Session,
     /// The MUMPS ordering (ICNTL(7)) used unless the user gives one: AMF (2) by default.
     ordering: i32,
+    /// The operator is symmetric indefinite (a saddle point): the Krylov default for a
+    /// non-direct `-pc_type` is SYMMLQ instead of CG.
+    indefinite: bool,
     _p: PhantomData<&'s Session>,
 }
 
@@ -53,7 +57,15 @@ impl<'s> LinearSolver<'s> {
     pub fn new(session: &'s Session, comm: Comm, prefix: &str) -> Result<Self> {
         let mut raw: sys::KSP = std::ptr::null_mut();
         petsc!(KSPCreate(comm.raw(), &mut raw))?;
-        let ksp = LinearSolver { raw, last: None, prefix: prefix.to_string(), session, ordering: 2, _p: PhantomData };
+        let ksp = LinearSolver {
+            raw,
+            last: None,
+            prefix: prefix.to_string(),
+            session,
+            ordering: 2,
+            indefinite: false,
+            _p: PhantomData,
+        };
         if !prefix.is_empty() {
             let p = cstring(prefix)?;
             petsc!(KSPSetOptionsPrefix(ksp.raw, p.as_ptr()))?;
@@ -67,6 +79,14 @@ impl<'s> LinearSolver<'s> {
         self.ordering = icntl_7;
     }
 
+    /// The operator will be symmetric indefinite: with a non-direct `-pc_type` and no
+    /// `-ksp_type`, use SYMMLQ (CG would break down); the preconditioner must then be
+    /// symmetric positive definite (`-pc_type jacobi`, whose zero diagonal entries become 1).
+    /// The direct default stays MUMPS "Cholesky", an LDLᵀ factorisation for such a matrix.
+    pub fn set_indefinite(&mut self) {
+        self.indefinite = true;
+    }
+
     /// Set the operator and configure the solver: defaults first, then the options database.
     pub fn set_operator(&mut self, matrix: &Matrix<'s>) -> Result<()> {
         petsc!(KSPSetOperators(self.raw, matrix.raw, matrix.raw))?;
@@ -78,7 +98,8 @@ impl<'s> LinearSolver<'s> {
         petsc!(KSPGetPC(self.raw, &mut pc))?;
         match (&user_ksp, &user_pc) {
             (None, Some(p)) if !DIRECT_PCS.contains(&p.as_str()) => {
-                petsc!(KSPSetType(self.raw, c"cg".as_ptr()))?;
+                let krylov = if self.indefinite { c"symmlq" } else { c"cg" };
+                petsc!(KSPSetType(self.raw, krylov.as_ptr()))?;
             }
             (None, None) | (Some(_), None) if user_ksp.as_deref().is_none_or(|k| k == "preonly") => {
                 petsc!(KSPSetType(self.raw, c"preonly".as_ptr()))?;
@@ -117,6 +138,12 @@ impl<'s> LinearSolver<'s> {
         let mut bz = 0.0;
         petsc!(VecDot(b.raw, z.raw, &mut bz))?;
         let atol = rtol * bz.abs().sqrt();
+        // The same scale mismatch makes the divergence test (‖r_k‖ > dtol ‖r_0‖) fire at once
+        // on systems with small entries (seen: a saddle point whose stiffness is O(1/E)):
+        // off unless the user set it; the iteration limit and our residual check remain.
+        if !self.session.has_option(&format!("-{}ksp_divtol", self.prefix))? {
+            dtol = f64::MAX;
+        }
         petsc!(KSPSetTolerances(self.raw, rtol, atol, dtol, maxits))
     }
 
@@ -214,6 +241,14 @@ impl<'s> LinearSolver<'s> {
                 _ if !relative_residual.is_finite() => (
                     format!("{}: the residual is not finite", stats.converged_reason),
                     "check the loads, the material and the geometry for values whose products overflow".to_string(),
+                ),
+                _ if self.indefinite => (
+                    stats.converged_reason.clone(),
+                    format!(
+                        "rtol {rtol:e}, max {maxits} iterations on a symmetric indefinite (saddle-point) system; \
+                         raise -{p}ksp_max_it, or use the direct default (no -{p}ksp_type/-{p}pc_type: MUMPS LDLᵀ)",
+                        p = self.prefix
+                    ),
                 ),
                 _ => (
                     stats.converged_reason.clone(),

@@ -124,6 +124,13 @@ impl<'s> Matrix<'s> {
         Ok(m)
     }
 
+    /// Declare the matrix symmetric (not necessarily definite): MUMPS then factors it as
+    /// LDLᵀ under `-pc_type cholesky` (a saddle point, for instance).
+    pub fn set_symmetric(&self) -> Result<()> {
+        petsc!(MatSetOption(self.raw, sys::MatOption::MAT_SYMMETRIC, sys::PetscBool::PETSC_TRUE))?;
+        petsc!(MatSetOption(self.raw, sys::MatOption::MAT_SYMMETRY_ETERNAL, sys::PetscBool::PETSC_TRUE))
+    }
+
     pub fn global_size(&self) -> usize {
         self.global
     }

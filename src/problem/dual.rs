@@ -12,13 +12,21 @@
 //! says so in its notes; with an estimate, where the primal reaction at the point is known, a
 //! point reaction that is not zero (beyond round-off of the reactions) is an error, since the
 //! two formulations would then solve different problems.
+//!
+//! PETSc options: a dual-only run reads the unprefixed options (`-ksp_type ...`), as the primal
+//! does; in an estimate run those belong to the primal solve and the dual reads `-dual_ksp_type`,
+//! `-dual_pc_type`, ... The boundary constraints are eliminated unless the scene or the command
+//! line asks for multipliers (`dual_constraints`, [`crate::dual::saddle_point`]).
 use super::ElasticityProblem;
 use crate::dual::{check, BodyLoad, DualCheck, DualData, DualSystem};
 use crate::error::{Error, Result};
 use crate::estimate::{pair_degree, volume_terms, Estimate, EstimateKind};
 use crate::fem::assembly::EdgeLoad;
 use crate::petsc::SolveStats;
-use crate::scene::DirichletTarget;
+use crate::scene::{DirichletTarget, DualConstraints};
+
+/// The PETSc options prefix of the dual solve when the primal is solved in the same run.
+pub const DUAL_OPTIONS_PREFIX: &str = "dual_";
 
 /// What a dual solve reports (`report.json` under `dual`).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -27,6 +35,11 @@ pub struct DualReport {
     /// boundary conditions and the affine kernel are eliminated.
     pub hct_dofs: usize,
     pub unknowns: usize,
+    /// How the boundary constraints were imposed: "eliminated" (the unknowns above) or
+    /// "multipliers" (a saddle point of `saddle_point_size` unknowns).
+    pub constraints: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub saddle_point_size: Option<usize>,
     /// The node where φ, φ,x, φ,y were fixed to zero.
     pub anchor_node: usize,
     pub max_von_mises: f64,
@@ -116,7 +129,12 @@ impl<'s> ElasticityProblem<'s> {
             },
             other => other,
         })?;
-        let (phi, stats) = system.solve(self.session, &self.mesh)?;
+        let constraints = self.scene.dual_constraints;
+        // Alone, the dual solve is the run's main solve and reads the unprefixed PETSc options;
+        // after a primal solve (an estimate), those are the primal's, and the dual reads its
+        // own under `-dual_` (e.g. -dual_ksp_type symmlq -dual_pc_type jacobi).
+        let prefix = if self.displacement.is_some() { DUAL_OPTIONS_PREFIX } else { "" };
+        let (phi, stats) = system.solve_with(self.session, &self.mesh, prefix, constraints)?;
         let field = system.field(&self.mesh, &phi);
         let check = check(&field, &data);
         if check.worst() > 1e-8 {
@@ -134,6 +152,8 @@ impl<'s> ElasticityProblem<'s> {
         let report = DualReport {
             hct_dofs: system.dofs.len(),
             unknowns: system.num_unknowns(),
+            constraints: constraints.name(),
+            saddle_point_size: (constraints == DualConstraints::Multipliers).then(|| system.saddle_point_size()),
             anchor_node: system.affine.anchor,
             max_von_mises: von_mises.iter().cloned().fold(0.0, f64::max),
             check,

@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 use super::contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 use super::{
-    DirichletSpec, DirichletTarget, Formulation, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec, Scene, TractionSpec,
+    DirichletSpec, DirichletTarget, DualConstraints, Formulation, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec,
+    Scene, TractionSpec,
 };
 use crate::error::{Error, Location, Result};
 use crate::fem::mixed_pressure::Element;
@@ -95,10 +96,11 @@ impl Scene {
         }
         let _ = writeln!(
             t,
-            "[discretization]\norder = {}\nelement = \"{}\"\nformulation = \"{}\"",
+            "[discretization]\norder = {}\nelement = \"{}\"\nformulation = \"{}\"\ndual_constraints = \"{}\"",
             self.order.degree(),
             if self.element == Element::P2P0 { "p2p0" } else { "lagrange" },
-            self.formulation.name()
+            self.formulation.name(),
+            self.dual_constraints.name()
         );
         let MaterialSpec { young, poisson, plane } = self.material;
         let _ = writeln!(
@@ -244,6 +246,7 @@ impl SceneBuilder {
                 order: Order::P1,
                 element: Element::Lagrange,
                 formulation: Formulation::Primal,
+                dual_constraints: DualConstraints::Eliminated,
                 estimate: false,
                 material: MaterialSpec { young: f64::NAN, poisson: 0.3, plane: PlaneSpec::Strain },
                 body_force: [0.0, 0.0],

@@ -90,6 +90,8 @@ pub struct Scene {
     pub element: Element,
     /// `[discretization] formulation`: displacements (primal, the default) or stresses (dual).
     pub formulation: Formulation,
+    /// `[discretization] dual_constraints`: how the dual's boundary constraints are imposed.
+    pub dual_constraints: DualConstraints,
     /// `[estimate]`: also solve the other formulation and estimate the error (see
     /// [`crate::estimate`]).
     pub estimate: bool,
@@ -124,6 +126,28 @@ impl Formulation {
         match self {
             Formulation::Primal => "primal",
             Formulation::Dual => "dual",
+        }
+    }
+}
+
+/// How the boundary constraints of the dual formulation (the traction data on φ and ∂φ/∂n,
+/// and the affine kernel) are imposed ([`crate::dual::saddle_point`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DualConstraints {
+    /// Eliminated: the constrained dofs are expressed through the free ones, and the reduced
+    /// system is symmetric positive definite (the default).
+    #[default]
+    Eliminated,
+    /// Kept as rows of a saddle point with multipliers, symmetric indefinite (MUMPS LDLᵀ, or
+    /// SYMMLQ with a positive definite preconditioner).
+    Multipliers,
+}
+
+impl DualConstraints {
+    pub fn name(self) -> &'static str {
+        match self {
+            DualConstraints::Eliminated => "eliminated",
+            DualConstraints::Multipliers => "multipliers",
         }
     }
 }
@@ -365,6 +389,13 @@ impl Scene {
             },
             None => Formulation::Primal,
         };
+        let dual_constraints = match raw.discretization.as_ref().and_then(|d| d.dual_constraints.as_ref()) {
+            Some(v) => match src.choice(v, "dual_constraints", &["eliminated", "multipliers"])? {
+                "multipliers" => DualConstraints::Multipliers,
+                _ => DualConstraints::Eliminated,
+            },
+            None => DualConstraints::Eliminated,
+        };
         let estimate = match &raw.estimate {
             None => false,
             Some(e) => match e.enabled.as_ref() {
@@ -405,6 +436,7 @@ impl Scene {
             order,
             element,
             formulation,
+            dual_constraints,
             estimate,
             material,
             body_force,

@@ -62,6 +62,7 @@ pub(super) struct RawDiscretization {
     pub order: Leaf,
     pub element: Leaf,
     pub formulation: Leaf,
+    pub dual_constraints: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -155,7 +156,7 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     ),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
-    ("[discretization]", &["order", "element", "formulation"]),
+    ("[discretization]", &["order", "element", "formulation", "dual_constraints"]),
     ("[estimate]", &["enabled"]),
     ("[material]", &["young", "poisson", "plane"]),
     ("[loads]", &["body_force"]),

@@ -482,3 +482,73 @@ impl StressField for Shifted<'_> {
         [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
     }
 }
+
+/// The saddle point with the constraints as multipliers gives the eliminated solution: with
+/// MUMPS LDLᵀ to round-off, with SYMMLQ + Jacobi to its tolerance, and exactly admissible in
+/// both cases (the constraints are restored after the solve).
+pub fn dual_saddle_point_agrees_with_elimination(session: &Session) -> Result<(), String> {
+    use signorini::scene::DualConstraints;
+    let mesh = block(0.15, Order::P1);
+    let material = Material::new(2e11, 0.3, PlaneModel::Strain);
+    let right = [EdgeLoad { group: group(&mesh, "right"), traction: Traction::Constant([1e6, -3e6]) }];
+    let prescribed = [(group(&mesh, "left"), [Some(0.0), Some(0.0)]), (group(&mesh, "bottom"), [None, Some(0.0)])];
+    let data = DualData {
+        body_force: BodyLoad::Constant([0.0, -7.7e4]),
+        edge_loads: &right,
+        prescribed: &prescribed,
+        free_groups: &[],
+    };
+    let system = DualSystem::new(&mesh, &material, &data).map_err(|e| e.to_string())?;
+    if system.saddle_point_size() != 2 * system.dofs.len() - system.num_unknowns() {
+        return Err("saddle-point size".into());
+    }
+    let (reference, _) = system.solve(session, &mesh).map_err(|e| e.to_string())?;
+    let reference_field = system.field(&mesh, &reference);
+    let difference = |phi: &[f64]| {
+        let field = system.field(&mesh, phi);
+        let (mut worst, mut scale) = (0.0f64, 0.0f64);
+        for c in 0..mesh.num_cells() {
+            for &n in mesh.cell(c) {
+                let x = mesh.nodes[n];
+                let (a, b) = (field.stress_at(c, x), reference_field.stress_at(c, x));
+                for k in 0..3 {
+                    worst = worst.max((a[k] - b[k]).abs());
+                    scale = scale.max(b[k].abs());
+                }
+            }
+        }
+        (worst / scale, check(&field, &data))
+    };
+    let (phi, stats) =
+        system.solve_with(session, &mesh, "kkt_direct_", DualConstraints::Multipliers).map_err(|e| e.to_string())?;
+    let (err, chk) = difference(&phi);
+    if stats.factor_package.as_deref() != Some("mumps") || err > 1e-9 || chk.worst() > 1e-11 {
+        return Err(format!("saddle point, MUMPS: {stats:?}, stress difference {err:e}, check {chk:?}"));
+    }
+    for (k, v) in [("ksp_type", "symmlq"), ("pc_type", "jacobi"), ("ksp_max_it", "200000")] {
+        session.set_option(&format!("-kkt_symmlq_{k}"), Some(v)).map_err(|e| e.to_string())?;
+    }
+    let (phi, stats) =
+        system.solve_with(session, &mesh, "kkt_symmlq_", DualConstraints::Multipliers).map_err(|e| e.to_string())?;
+    let (err, chk) = difference(&phi);
+    // The operator is fourth order (condition ~h⁻⁴): a residual of 1e-8 leaves pointwise
+    // stresses right to ~1e-3 and the energy, quadratic, to ~1e-7.
+    let energy = check(&reference_field, &data).complementary_energy;
+    let energy_error = (chk.complementary_energy - energy).abs() / energy.abs();
+    if stats.ksp_type != "symmlq" || stats.iterations < 10 || err > 2e-3 || energy_error > 1e-7 || chk.worst() > 1e-11 {
+        return Err(format!(
+            "saddle point, SYMMLQ: {stats:?}, stress difference {err:e}, energy difference {energy_error:e}, check {chk:?}"
+        ));
+    }
+    // Without -ksp_type, a non-direct preconditioner gets SYMMLQ on the saddle point (CG would
+    // break down on the indefinite matrix).
+    for (k, v) in [("pc_type", "jacobi"), ("ksp_max_it", "200000")] {
+        session.set_option(&format!("-kkt_auto_{k}"), Some(v)).map_err(|e| e.to_string())?;
+    }
+    let (_, stats) =
+        system.solve_with(session, &mesh, "kkt_auto_", DualConstraints::Multipliers).map_err(|e| e.to_string())?;
+    if stats.ksp_type != "symmlq" {
+        return Err(format!("default Krylov method on the saddle point: {}", stats.ksp_type));
+    }
+    Ok(())
+}

@@ -43,6 +43,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_cantilever_rates", dual::dual_cantilever_rates),
     ("dual_does_not_lock", dual::dual_does_not_lock),
     ("dual_prager_synge_identity_manufactured", dual::dual_prager_synge_identity_manufactured),
+    ("dual_saddle_point_agrees_with_elimination", dual::dual_saddle_point_agrees_with_elimination),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
     ("hertz_pinned_at_a_contact_node", contact::hertz_pinned_at_a_contact_node),
     ("condensation_by_schur_complement_agrees", contact::condensation_by_schur_complement_agrees),
