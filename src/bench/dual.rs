@@ -104,7 +104,7 @@ pub fn dual_case(session: &Session, target_dofs: usize, choice: &DualBenchSolver
         body_force: BodyLoad::Constant([0.0, 0.0]),
         edge_loads: &loads,
         prescribed: &prescribed,
-        free_groups: &[],
+        contact: None,
     };
     let dual = DualSystem::new(&mesh, &material, &data)?;
     let setup_seconds = t.elapsed().as_secs_f64();

@@ -469,6 +469,19 @@ impl CondensedProblem {
         Ok(CondensedProblem { friction, ..self.clone() })
     }
 
+    /// The same problem with other free displacements (shares `W`; validates the new data).
+    pub fn with_free_displacement(&self, free_displacement: Vec<f64>) -> Result<Self> {
+        if free_displacement.len() != 2 * self.points() {
+            return Err(Error::Usage(format!(
+                "condensed contact problem: free displacement has {} entries, expected {}",
+                free_displacement.len(),
+                2 * self.points()
+            )));
+        }
+        check_finite(&free_displacement, "free displacement")?;
+        Ok(CondensedProblem { free_displacement, ..self.clone() })
+    }
+
     /// `u = W r + u_free`.
     pub fn displacement(&self, force: &[f64]) -> Result<Vec<f64>> {
         self.check_force(force, "force")?;

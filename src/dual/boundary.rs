@@ -72,6 +72,20 @@ pub struct BoundaryEdge {
     pub edge: usize,
     /// x and y traction components.
     pub components: [TractionComponent; 2],
+    /// On a contact edge: its traction is linear along the edge with unknown end values
+    /// ([`ContactEdge`]); `components` are then both [`TractionComponent::Free`].
+    pub contact: Option<ContactEdge>,
+}
+
+/// The traction of a contact edge `a → b` in terms of contact unknowns (forces, N per unit
+/// thickness): at each end `k` (0 = a, 1 = b) the traction is `(rN_k n_k + rT_k t_k) / w`
+/// with `w = L/2`, linear in between. The unknowns are numbered `first .. first + 4` as
+/// `(N_a, T_a, N_b, T_b)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactEdge {
+    pub first: usize,
+    /// Unit normal `n_k` and tangent `t_k` at each end.
+    pub frames: [[[f64; 2]; 2]; 2],
 }
 
 /// How each global dof depends on the unknowns of the reduced problem.
@@ -86,16 +100,29 @@ pub enum DofRole {
 }
 
 /// The affine map from the reduced unknowns `z` to all HCT dofs.
+///
+/// The reduced unknowns are the free HCT dofs (`0 .. num_masters`) followed, with contact, by
+/// the contact forces (`num_masters .. num_masters + num_contact`, see [`ContactEdge`]).
 #[derive(Debug, Clone)]
 pub struct AffineDofs {
     pub role: Vec<DofRole>,
     pub num_masters: usize,
+    /// Contact unknowns (4 per contact edge), numbered after the masters.
+    pub num_contact: usize,
     /// The vertex (mesh node) whose φ and gradient were fixed to remove the affine kernel.
     pub anchor: usize,
+    /// Where a run of known tractions closes through contact edges, global equilibrium becomes
+    /// a linear condition on the contact forces: `Σ c_j r_j = e` (`j` a contact unknown).
+    pub contact_equilibrium: Vec<(Vec<(usize, f64)>, f64)>,
 }
 
 impl AffineDofs {
     /// All dofs from the reduced unknowns.
+    /// All reduced unknowns (free HCT dofs, then contact forces).
+    pub fn num_unknowns(&self) -> usize {
+        self.num_masters + self.num_contact
+    }
+
     pub fn expand(&self, z: &[f64]) -> Vec<f64> {
         self.role
             .iter()
@@ -168,12 +195,18 @@ struct Row {
 /// of the loads (force per unit thickness).
 pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<AffineDofs> {
     let n = dofs.len();
+    // Contact forces are numbered after the HCT dofs (`n + j`) during the elimination: they
+    // are never solved for, so they stay free.
+    let num_contact = edges.iter().filter_map(|e| e.contact.map(|c| c.first + 4)).max().unwrap_or(0);
+    let total = n + num_contact;
     // Slave expressions in terms of free global dofs.
-    let mut slave: Vec<Option<Expansion>> = vec![None; n];
-    let mut referenced = vec![false; n];
+    let mut slave: Vec<Option<Expansion>> = vec![None; total];
+    let mut referenced = vec![false; total];
+    let mut contact_equilibrium = Vec::new();
     // Start the walk where a run of known tractions starts (after an edge with an unknown
     // component), so that the first vertex of every run stays free.
-    let fully_known = |e: &BoundaryEdge| e.components.iter().all(|c| matches!(c, TractionComponent::Known(_)));
+    let fully_known =
+        |e: &BoundaryEdge| e.contact.is_some() || e.components.iter().all(|c| matches!(c, TractionComponent::Known(_)));
     let start = (0..edges.len()).find(|&i| !fully_known(&edges[(i + edges.len() - 1) % edges.len()])).unwrap_or(0);
     let mut load_scale = 0.0f64;
     let mut closures = Vec::new();
@@ -212,6 +245,36 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
             terms.push((ga[c], -1.0));
             rows.push(Row { terms, rhs: i_half, candidates: candidates.clone() });
         }
+        if let Some(contact) = &e.contact {
+            // The traction is (rN n + rT t)/w at each end with w = L/2, linear in between:
+            // ∫_0^L rate ds = (L/2)(rate_a + rate_b) and ∫_0^{L/2} rate ds = (L/8)(3 rate_a + rate_b),
+            // so in forces the two conditions of component c carry the weights (1, 1) and (3/4, 1/4).
+            for c in 0..2 {
+                // rate = t_x for c = 1 (φ,y), −t_y for c = 0 (φ,x).
+                let (k, sign_c) = if c == 1 { (0, 1.0) } else { (1, -1.0) };
+                let force_terms = |weights: [f64; 2]| {
+                    let mut terms = Vec::with_capacity(4);
+                    for end in 0..2 {
+                        let [normal_end, tangent_end] = contact.frames[end];
+                        terms.push((n + contact.first + 2 * end, -sign_c * weights[end] * normal_end[k]));
+                        terms.push((n + contact.first + 2 * end + 1, -sign_c * weights[end] * tangent_end[k]));
+                    }
+                    terms
+                };
+                let mut full = vec![(gb[c], 1.0), (ga[c], -1.0)];
+                full.extend(force_terms([1.0, 1.0]));
+                rows.push(Row { terms: full, rhs: 0.0, candidates: candidates.clone() });
+                let mut terms =
+                    vec![(phi_b, 1.5 * tau[c] / len), (phi_a, -1.5 * tau[c] / len), (mid, normal[c] * sign)];
+                for j in 0..2 {
+                    terms.push((ga[j], -0.25 * tau[c] * tau[j]));
+                    terms.push((gb[j], -0.25 * tau[c] * tau[j]));
+                }
+                terms.push((ga[c], -1.0));
+                terms.extend(force_terms([0.75, 0.25]));
+                rows.push(Row { terms, rhs: 0.0, candidates: candidates.clone() });
+            }
+        }
         for row in rows {
             // Substitute what is already eliminated.
             let mut expanded: BTreeMap<usize, f64> = BTreeMap::new();
@@ -234,7 +297,9 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                     coeff
                 }
             };
-            let largest = expanded.iter().map(|(&d, &c)| scaled(d, c).abs()).fold(0.0f64, f64::max);
+            // HCT terms decide whether the row can be imposed; contact-force terms are kept.
+            let largest =
+                expanded.iter().filter(|(&d, _)| d < n).map(|(&d, &c)| scaled(d, c).abs()).fold(0.0f64, f64::max);
             let pivot = row
                 .candidates
                 .iter()
@@ -254,7 +319,15 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                     slave[p] = Some((terms, (row.rhs - constant) / cp));
                 }
                 None => {
-                    // A redundant condition: it must already hold (global equilibrium).
+                    // A redundant condition: it must already hold (global equilibrium), or,
+                    // through contact edges, it is a condition on the contact forces.
+                    let forces: Vec<(usize, f64)> =
+                        expanded.iter().filter(|(&d, &c)| d >= n && c != 0.0).map(|(&d, &c)| (d - n, c)).collect();
+                    let force_size = forces.iter().fold(0.0f64, |m, t| m.max(t.1.abs()));
+                    if largest <= 1e-8 && force_size > 1e-8 {
+                        contact_equilibrium.push((forces, row.rhs - constant));
+                        continue;
+                    }
                     if largest > 1e-8 {
                         return Err(formulation_error(
                             format!(
@@ -287,7 +360,7 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
         .or_else(|| (0..dofs.num_vertices()).find(|&v| free(v)))
         .ok_or_else(|| formulation_error("no vertex left to fix the affine part of φ".into(), "refine the mesh"))?;
     let mut role = Vec::with_capacity(n);
-    let mut master_of = vec![usize::MAX; n];
+    let mut master_of = vec![usize::MAX; total];
     let mut num_masters = 0;
     for d in 0..n {
         if d / 3 == anchor && d < 3 * dofs.num_vertices() {
@@ -299,6 +372,9 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
         } else {
             role.push(DofRole::Fixed(0.0)); // replaced below
         }
+    }
+    for j in 0..num_contact {
+        master_of[n + j] = num_masters + j;
     }
     for d in 0..n {
         if let Some((terms, c)) = &slave[d] {
@@ -313,5 +389,5 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
             role[d] = DofRole::Slave(reduced, constant);
         }
     }
-    Ok(AffineDofs { role, num_masters, anchor: dofs.vertex_nodes[anchor] })
+    Ok(AffineDofs { role, num_masters, num_contact, anchor: dofs.vertex_nodes[anchor], contact_equilibrium })
 }

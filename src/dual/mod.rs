@@ -22,12 +22,15 @@
 //! - [`dofs`]: the global HCT numbering.
 //! - [`boundary`]: traction conditions as constraints on the boundary dofs, eliminated.
 //! - [`system`]: assembly, PETSc solve, the stress field and its checks.
+//! - [`contact`]: contact with a rigid obstacle: the contact forces as unknowns, condensed onto
+//!   the same [`crate::contact::CondensedProblem`] as the primal's.
 pub mod boundary;
 pub mod checks;
+pub mod contact;
 pub mod dofs;
 pub mod saddle_point;
 pub mod system;
 
 pub use checks::{check, DualCheck};
 pub use dofs::HctDofs;
-pub use system::{particular_stress, BodyLoad, DualData, DualField, DualSystem};
+pub use system::{particular_stress, BodyLoad, ContactSide, DualData, DualField, DualSystem};

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use nalgebra::SMatrix;
 
-use super::boundary::{self, AffineDofs, BoundaryEdge, DofRole, TractionComponent};
+use super::boundary::{self, AffineDofs, BoundaryEdge, ContactEdge, DofRole, TractionComponent};
 use super::dofs::HctDofs;
 use crate::error::Result;
 use crate::estimate::StressField;
@@ -68,8 +68,18 @@ pub struct DualData<'a> {
     pub edge_loads: &'a [EdgeLoad<'a>],
     /// Prescribed displacement components `(group, [ux, uy])` on boundary groups.
     pub prescribed: &'a [(usize, [Option<f64>; 2])],
-    /// Groups whose tractions are unknown without a prescribed displacement (contact).
-    pub free_groups: &'a [usize],
+    /// The contact part, whose tractions are the contact forces.
+    pub contact: Option<ContactSide<'a>>,
+}
+
+/// The contact part of a dual problem: a boundary group whose traction is unknown, linear on
+/// each edge, with its end values as contact forces ([`super::boundary::ContactEdge`]).
+#[derive(Clone, Copy)]
+pub struct ContactSide<'a> {
+    pub group: usize,
+    /// The body's unit contact direction `n` at a point; the frame is `(n, t)` with `t` = `n`
+    /// turned by +90° (the convention of [`crate::contact::boundary`]).
+    pub normal: &'a (dyn Fn([f64; 2]) -> [f64; 2] + Sync),
 }
 
 /// The particular stress field of a constant body force F: `σp = diag(−Fx x, −Fy y)`,
@@ -117,6 +127,7 @@ impl DualSystem {
         let elements = (0..mesh.num_cells()).map(|c| dofs.element(mesh, c)).collect::<Result<Vec<_>>>()?;
         let order = boundary::boundary_loop(mesh)?;
         let mut edges = Vec::with_capacity(order.len());
+        let mut num_contact_edges = 0;
         for &e in &order {
             let ed = mesh.edge(e);
             let (a, b) = (ed[0], ed[1]);
@@ -147,8 +158,15 @@ impl DualSystem {
             }
             let t = [0, 1].map(|k| [mean[k] - 0.5 * slope[k], mean[k], mean[k] + 0.5 * slope[k]]);
             let mut components = [TractionComponent::Known(t[0]), TractionComponent::Known(t[1])];
-            if data.free_groups.contains(&group) {
+            let mut contact = None;
+            if let Some(side) = data.contact.filter(|c| c.group == group) {
                 components = [TractionComponent::Free, TractionComponent::Free];
+                let frames = [pa, pb].map(|x| {
+                    let n = (side.normal)(x);
+                    [n, [-n[1], n[0]]]
+                });
+                contact = Some(ContactEdge { first: 4 * num_contact_edges, frames });
+                num_contact_edges += 1;
             }
             for (g, values) in data.prescribed {
                 if *g == group {
@@ -167,14 +185,15 @@ impl DualSystem {
                     "check the mesh",
                 )
             })?;
-            edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components });
+            edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components, contact });
         }
         let affine = boundary::eliminate(mesh, &dofs, &edges)?;
         Ok(DualSystem { dofs, elements, edges, affine, material: *material, body_force: data.body_force.clone() })
     }
 
+    /// The reduced unknowns: free HCT dofs, then the contact forces (if any).
     pub fn num_unknowns(&self) -> usize {
-        self.affine.num_masters
+        self.affine.num_unknowns()
     }
 
     /// The prescribed-displacement functional `l` on all dofs (vertex gradient dofs only).

@@ -100,6 +100,18 @@ pub fn reference_point(mesh: &Mesh, cell: usize, x: [f64; 2]) -> ([f64; 2], lagr
     (xi, p)
 }
 
+/// The displacement `u` at the physical point `x`, seen from cell `cell`.
+pub fn displacement_at_point(mesh: &Mesh, u: &[f64], cell: usize, x: [f64; 2]) -> [f64; 2] {
+    let nodes = mesh.cell(cell);
+    let (_, p) = reference_point(mesh, cell, x);
+    let mut out = [0.0; 2];
+    for (v, &n) in p.values[..nodes.len()].iter().zip(nodes) {
+        out[0] += v * u[2 * n];
+        out[1] += v * u[2 * n + 1];
+    }
+    out
+}
+
 /// Strain `(εxx, εyy, γxy)` of `u` at the physical point `x`, seen from cell `cell`.
 pub fn strain_at_point(mesh: &Mesh, u: &[f64], cell: usize, x: [f64; 2]) -> [f64; 3] {
     let nodes = mesh.cell(cell);

@@ -24,6 +24,8 @@ pub struct SchurFactor<'s> {
     factor: sys::Mat,
     size: usize,
     inverse: Vec<f64>,
+    /// `S` itself, row-major, when asked for ([`SchurFactor::with_complement`]).
+    complement: Vec<f64>,
     _session: PhantomData<&'s Session>,
 }
 
@@ -31,6 +33,17 @@ impl<'s> SchurFactor<'s> {
     /// Factorise `matrix` (SPD) with MUMPS and compute the Schur complement on `rows` (global
     /// indices; the complement's rows and columns follow this order).
     pub fn new(session: &'s Session, matrix: &Matrix<'s>, rows: &[usize]) -> Result<Self> {
+        Self::build(session, matrix, rows, false)
+    }
+
+    /// As [`SchurFactor::new`], keeping a copy of `S` itself ([`SchurFactor::complement`]) — the
+    /// flexibility of the contact forces in the dual formulation, where the contact unknowns
+    /// are forces.
+    pub fn with_complement(session: &'s Session, matrix: &Matrix<'s>, rows: &[usize]) -> Result<Self> {
+        Self::build(session, matrix, rows, true)
+    }
+
+    fn build(session: &'s Session, matrix: &Matrix<'s>, rows: &[usize], keep_complement: bool) -> Result<Self> {
         if session.size() != 1 {
             return Err(Error::PetscUsage(
                 "MUMPS Schur complements are computed on one process in PETSc 3.18: use the solve-per-column route in parallel".into(),
@@ -43,7 +56,13 @@ impl<'s> SchurFactor<'s> {
         session.prefer_amf_ordering("")?;
         let mut f: sys::Mat = std::ptr::null_mut();
         petsc!(MatGetFactor(matrix.raw, c"mumps".as_ptr(), sys::MatFactorType::MAT_FACTOR_CHOLESKY, &mut f))?;
-        let mut this = SchurFactor { factor: f, size: rows.len(), inverse: Vec::new(), _session: PhantomData };
+        let mut this = SchurFactor {
+            factor: f,
+            size: rows.len(),
+            inverse: Vec::new(),
+            complement: Vec::new(),
+            _session: PhantomData,
+        };
         let idx: Vec<sys::PetscInt> = rows.iter().map(|&r| r as sys::PetscInt).collect();
         let mut is: sys::IS = std::ptr::null_mut();
         petsc!(ISCreateGeneral(
@@ -60,28 +79,29 @@ impl<'s> SchurFactor<'s> {
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
         petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
+        let m = rows.len();
+        if keep_complement {
+            let (complement, status) = read_schur(f, m)?;
+            if status != sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_UNFACTORED {
+                return Err(Error::PetscUsage("PETSc returned a factored Schur complement".into()));
+            }
+            this.complement = complement;
+        }
         // S⁻¹ in place, by PETSc's dense (LAPACK) Cholesky factorisation and inversion; the
         // factor's solves then apply it with a product instead of triangular solves.
         petsc!(MatFactorInvertSchurComplement(f))?;
-        let mut s: sys::Mat = std::ptr::null_mut();
-        let mut status = sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_UNFACTORED;
-        petsc!(MatFactorGetSchurComplement(f, &mut s, &mut status))?;
-        let m = rows.len();
-        let mut ptr: *const f64 = std::ptr::null();
-        let read = petsc!(MatDenseGetArrayRead(s, &mut ptr));
-        if read.is_ok() {
-            // SAFETY: a sequential dense m × m matrix, column-major with leading dimension m.
-            let col_major = unsafe { std::slice::from_raw_parts(ptr, m * m) };
-            this.inverse = (0..m * m).map(|k| col_major[(k % m) * m + k / m]).collect();
-            let _ = unsafe { sys::MatDenseRestoreArrayRead(s, &mut ptr) };
-        }
-        let restore = petsc!(MatFactorRestoreSchurComplement(f, &mut s, status));
-        read?;
-        restore?;
+        let (inverse, status) = read_schur(f, m)?;
+        this.inverse = inverse;
         if status != sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_INVERTED {
             return Err(Error::PetscUsage("PETSc did not invert the Schur complement".into()));
         }
         Ok(this)
+    }
+
+    /// The Schur complement `S` itself, row-major `size × size` (empty unless built by
+    /// [`SchurFactor::with_complement`]).
+    pub fn complement(&self) -> &[f64] {
+        &self.complement
     }
 
     /// The inverse of the Schur complement, `S⁻¹ = (K⁻¹)_cc`, row-major `size × size`.
@@ -100,6 +120,26 @@ impl<'s> SchurFactor<'s> {
         }
         petsc!(MatSolve(self.factor, b.raw, x.raw))
     }
+}
+
+/// The factor's current Schur matrix (`S`, or `S⁻¹` once inverted), row-major, and its status.
+fn read_schur(f: sys::Mat, m: usize) -> Result<(Vec<f64>, sys::MatFactorSchurStatus)> {
+    let mut s: sys::Mat = std::ptr::null_mut();
+    let mut status = sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_UNFACTORED;
+    petsc!(MatFactorGetSchurComplement(f, &mut s, &mut status))?;
+    let mut out = Vec::new();
+    let mut ptr: *const f64 = std::ptr::null();
+    let read = petsc!(MatDenseGetArrayRead(s, &mut ptr));
+    if read.is_ok() {
+        // SAFETY: a sequential dense m × m matrix, column-major with leading dimension m.
+        let col_major = unsafe { std::slice::from_raw_parts(ptr, m * m) };
+        out = (0..m * m).map(|k| col_major[(k % m) * m + k / m]).collect();
+        let _ = unsafe { sys::MatDenseRestoreArrayRead(s, &mut ptr) };
+    }
+    let restore = petsc!(MatFactorRestoreSchurComplement(f, &mut s, status));
+    read?;
+    restore?;
+    Ok((out, status))
 }
 
 impl Drop for SchurFactor<'_> {

@@ -579,41 +579,8 @@ impl ContactSetup {
         }
     }
 
-    /// TAO on the Tresca box QP: min ½ rᵀ W r + rᵀ (u_free − g̃), rN ≤ 0, |rT| ≤ s.
     fn solve_with_tao(&self, session: &Session, problem: &CondensedProblem) -> Result<contact::ContactSolution> {
-        let m = problem.points();
-        let w = match problem.delassus() {
-            Delassus::Dense(w) => w,
-            _ => return Err(Error::Usage("TAO needs the dense flexibility matrix".into())),
-        };
-        let n2 = 2 * m;
-        let h: Vec<f64> = (0..n2 * n2).map(|k| w[(k / n2, k % n2)]).collect();
-        let mut c = problem.free_displacement().to_vec();
-        for i in 0..m {
-            c[2 * i] -= problem.gap()[i];
-        }
-        let thresholds = match problem.friction() {
-            FrictionLaw::Tresca { threshold } => threshold.clone(),
-            _ => return Err(Error::Usage("TAO solves the Tresca problem (friction = \"tresca\")".into())),
-        };
-        let inf = f64::INFINITY;
-        let lower: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { -inf } else { -thresholds[k / 2] }).collect();
-        let upper: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { 0.0 } else { thresholds[k / 2] }).collect();
-        let mut r = vec![0.0; n2];
-        let run = crate::petsc::bounded::solve_box_qp(session, &h, &c, &lower, &upper, &mut r, "contact_")?;
-        let displacement = problem.displacement(&r)?;
-        let residuals = problem.residuals(&r)?;
-        let status = problem.status(&r)?;
-        Ok(contact::ContactSolution {
-            force: r,
-            displacement,
-            iterations: run.iterations,
-            history: Vec::new(),
-            status,
-            residuals,
-            solver: run.method,
-            notes: vec![run.converged_reason],
-        })
+        tao_box_qp(session, problem)
     }
 
     fn solve_condensed(
@@ -623,21 +590,12 @@ impl ContactSetup {
         progress: &mut dyn FnMut(&str),
     ) -> Result<contact::ContactSolution> {
         let m = problem.points();
-        let solver = match &self.spec.solver {
-            // The full-space Newton falls back to the condensed one.
-            ContactSolverSpec::Newton | ContactSolverSpec::FullSpaceNewton => ContactSolver::SemismoothNewton,
-            ContactSolverSpec::Relaxation { omega } => ContactSolver::ProjectedRelaxation { omega: *omega },
-            ContactSolverSpec::DPana => ContactSolver::DPana,
-            ContactSolverSpec::Uzawa => ContactSolver::Uzawa { accelerated: true },
-            ContactSolverSpec::TrescaFixedPoint => {
-                ContactSolver::TrescaFixedPoint { inner: Box::new(ContactSolver::SemismoothNewton) }
-            }
-            other => {
-                return Err(Error::Usage(format!(
-                    "contact solver {other:?} runs on the full system, not on the condensed problem"
-                )))
-            }
-        };
+        let solver = condensed_solver(&self.spec.solver).ok_or_else(|| {
+            Error::Usage(format!(
+                "contact solver {:?} runs on the full system, not on the condensed problem",
+                self.spec.solver
+            ))
+        })?;
         progress(&format!("  contact: {m} points, solver {}", solver.name()));
         contact::solve(problem, &solver, settings)
     }
@@ -869,4 +827,57 @@ impl<'s> Factorised<'_, 's> {
             }),
         }
     }
+}
+
+/// TAO on the Tresca box QP: min ½ rᵀ W r + rᵀ (u_free − g̃), rN ≤ 0, |rT| ≤ s.
+pub(crate) fn tao_box_qp(session: &Session, problem: &CondensedProblem) -> Result<contact::ContactSolution> {
+    let m = problem.points();
+    let w = match problem.delassus() {
+        Delassus::Dense(w) => w,
+        _ => return Err(Error::Usage("TAO needs the dense flexibility matrix".into())),
+    };
+    let n2 = 2 * m;
+    let h: Vec<f64> = (0..n2 * n2).map(|k| w[(k / n2, k % n2)]).collect();
+    let mut c = problem.free_displacement().to_vec();
+    for i in 0..m {
+        c[2 * i] -= problem.gap()[i];
+    }
+    let thresholds = match problem.friction() {
+        FrictionLaw::Tresca { threshold } => threshold.clone(),
+        _ => return Err(Error::Usage("TAO solves the Tresca problem (friction = \"tresca\")".into())),
+    };
+    let inf = f64::INFINITY;
+    let lower: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { -inf } else { -thresholds[k / 2] }).collect();
+    let upper: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { 0.0 } else { thresholds[k / 2] }).collect();
+    let mut r = vec![0.0; n2];
+    let run = crate::petsc::bounded::solve_box_qp(session, &h, &c, &lower, &upper, &mut r, "contact_")?;
+    let displacement = problem.displacement(&r)?;
+    let residuals = problem.residuals(&r)?;
+    let status = problem.status(&r)?;
+    Ok(contact::ContactSolution {
+        force: r,
+        displacement,
+        iterations: run.iterations,
+        history: Vec::new(),
+        status,
+        residuals,
+        solver: run.method,
+        notes: vec![run.converged_reason],
+    })
+}
+
+/// The condensed solver of a scene's `solver = ...` (the full-space Newton maps to the condensed
+/// semi-smooth Newton); `None` for the solvers that only run on the full system (SNESVI) or
+/// outside [`contact::solve`] (TAO).
+pub(crate) fn condensed_solver(spec: &ContactSolverSpec) -> Option<ContactSolver> {
+    Some(match spec {
+        ContactSolverSpec::Newton | ContactSolverSpec::FullSpaceNewton => ContactSolver::SemismoothNewton,
+        ContactSolverSpec::Relaxation { omega } => ContactSolver::ProjectedRelaxation { omega: *omega },
+        ContactSolverSpec::DPana => ContactSolver::DPana,
+        ContactSolverSpec::Uzawa => ContactSolver::Uzawa { accelerated: true },
+        ContactSolverSpec::TrescaFixedPoint => {
+            ContactSolver::TrescaFixedPoint { inner: Box::new(ContactSolver::SemismoothNewton) }
+        }
+        ContactSolverSpec::SnesVi | ContactSolverSpec::Tao => return None,
+    })
 }

@@ -17,13 +17,14 @@
 //! does; in an estimate run those belong to the primal solve and the dual reads `-dual_ksp_type`,
 //! `-dual_pc_type`, ... The boundary constraints are eliminated unless the scene or the command
 //! line asks for multipliers (`dual_constraints`, [`crate::dual::saddle_point`]).
+use super::dual_contact::{dual_data_with_contact, DualContactOutcome};
 use super::ElasticityProblem;
 use crate::dual::{check, BodyLoad, DualCheck, DualData, DualSystem};
 use crate::error::{Error, Result};
 use crate::estimate::{pair_degree, volume_terms, Estimate, EstimateKind};
 use crate::fem::assembly::EdgeLoad;
 use crate::petsc::SolveStats;
-use crate::scene::{DirichletTarget, DualConstraints};
+use crate::scene::{DirichletTarget, DualConstraints, FrictionSpec};
 
 /// The PETSc options prefix of the dual solve when the primal is solved in the same run.
 pub const DUAL_OPTIONS_PREFIX: &str = "dual_";
@@ -46,6 +47,10 @@ pub struct DualReport {
     /// The independent check of static admissibility, and the complementary energy.
     pub check: DualCheck,
     pub solver: SolveStats,
+    /// With a [contact] section: the dual contact solution and its independent check (forces
+    /// at both ends of every contact edge, in the contact frames).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<super::contact::ContactReport>,
     pub notes: Vec<String>,
 }
 
@@ -57,6 +62,7 @@ pub struct DualOutcome {
     pub von_mises: Vec<f64>,
     pub airy: Vec<f64>,
     pub report: DualReport,
+    pub contact: Option<DualContactOutcome>,
 }
 
 /// The estimate (`report.json` under `estimate`).
@@ -78,14 +84,11 @@ impl<'s> ElasticityProblem<'s> {
     /// Solve the dual (stress) formulation on the problem's mesh.
     pub fn solve_dual(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
-        if let Some(c) = &self.scene.contact {
+        let side = self.dual_contact_side()?;
+        if side.is_some() && self.scene.dual_constraints == DualConstraints::Multipliers {
             return Err(Error::Formulation {
-                message: format!(
-                    "dual formulation: the scene has a [contact] section (part '{}'); contact in the dual formulation \
-                     is not available yet",
-                    c.part
-                ),
-                hint: "use the primal formulation (the default) for contact problems".into(),
+                message: "dual formulation: contact with dual_constraints = \"multipliers\" is not available".into(),
+                hint: "remove dual_constraints (the constraints are then eliminated, the default)".into(),
             });
         }
         let (body, edge) = self.loads()?;
@@ -104,12 +107,16 @@ impl<'s> ElasticityProblem<'s> {
                 )),
             }
         }
-        let data = DualData {
+        let normal = |x: [f64; 2]| side.as_ref().map_or([0.0, 0.0], |s| s.normal(x));
+        let mut data = DualData {
             body_force: BodyLoad::Constant(body.unwrap_or([0.0, 0.0])),
             edge_loads: &edge_loads,
             prescribed: &prescribed,
-            free_groups: &[],
+            contact: None,
         };
+        if let Some(s) = &side {
+            data = dual_data_with_contact(data, s.group, &normal);
+        }
         let points: Vec<[f64; 2]> = self
             .scene
             .dirichlet
@@ -134,7 +141,16 @@ impl<'s> ElasticityProblem<'s> {
         // after a primal solve (an estimate), those are the primal's, and the dual reads its
         // own under `-dual_` (e.g. -dual_ksp_type symmlq -dual_pc_type jacobi).
         let prefix = if self.displacement.is_some() { DUAL_OPTIONS_PREFIX } else { "" };
-        let (phi, stats) = system.solve_with(self.session, &self.mesh, prefix, constraints)?;
+        let (phi, stats, contact) = match &side {
+            Some(side) => {
+                let (phi, stats, outcome) = self.solve_dual_contact(&system, side)?;
+                (phi, stats, Some(outcome))
+            }
+            None => {
+                let (phi, stats) = system.solve_with(self.session, &self.mesh, prefix, constraints)?;
+                (phi, stats, None)
+            }
+        };
         let field = system.field(&self.mesh, &phi);
         let check = check(&field, &data);
         if check.worst() > 1e-8 {
@@ -158,9 +174,10 @@ impl<'s> ElasticityProblem<'s> {
             max_von_mises: von_mises.iter().cloned().fold(0.0, f64::max),
             check,
             solver: stats,
+            contact: contact.as_ref().map(|c| c.report.clone()),
             notes,
         };
-        self.dual = Some(DualOutcome { system, phi, nodal_stress, von_mises, airy, report });
+        self.dual = Some(DualOutcome { system, phi, nodal_stress, von_mises, airy, report, contact });
         self.timings.add("dual", start.elapsed().as_secs_f64());
         Ok(())
     }
@@ -195,14 +212,34 @@ impl<'s> ElasticityProblem<'s> {
         }
         let field = dual.system.field(&self.mesh, &dual.phi);
         let volume = volume_terms(&self.mesh, &self.material, u, &field, pair_degree(&self.mesh));
-        let estimate = Estimate::new(EstimateKind::GuaranteedBound, &volume, None);
+        let contact = self.dual_contact_terms(u, &dual.system, &dual.phi)?;
+        let coulomb = matches!(self.scene.contact.as_ref().map(|c| c.friction), Some(FrictionSpec::Coulomb { .. }));
+        let kind = if coulomb { EstimateKind::Estimator } else { EstimateKind::GuaranteedBound };
+        let estimate = Estimate::new(kind, &volume, contact.as_ref().map(|c| &c.0));
+        let admissible = contact.as_ref().is_none_or(|c| c.1);
         let estimate_seconds = start.elapsed().as_secs_f64();
         self.timings.add("estimate", estimate_seconds);
         self.estimate = Some(EstimateReport {
             estimate,
             norm: "energy norm of the mean field, ‖½(σ_h + Cε(u_h))‖ in the compliance C⁻¹",
-            meaning: "a guaranteed upper bound of ‖u − u_h‖_a and of ‖σ − σ_h‖_b (Prager–Synge): \
-                      error² = ‖u − u_h‖²_a + ‖σ − σ_h‖²_b",
+            meaning: match (kind, contact.is_some(), admissible) {
+                (EstimateKind::Estimator, _, _) => {
+                    "an estimator of the error (Coulomb friction is not a minimisation: no guaranteed bound); \
+                     error² = volume² + contact², contact² = 2 ∫Γc (σN (uN − g0) + σT·uT + μ|σN||uT|)"
+                }
+                (_, true, true) => {
+                    "a guaranteed upper bound of the error (frictionless or Tresca contact, every contact term ≥ 0): \
+                     error² = volume² + contact², contact² = 2 ∫Γc (σN (uN − g0) + σT·uT + g|uT|)"
+                }
+                (_, true, false) => {
+                    "NOT guaranteed: a contact term is negative (see min_contact_integrand), one of the fields is \
+                     not admissible on the contact part (e.g. a P2 primal penetrating between nodes)"
+                }
+                _ => {
+                    "a guaranteed upper bound of ‖u − u_h‖_a and of ‖σ − σ_h‖_b (Prager–Synge): \
+                     error² = ‖u − u_h‖²_a + ‖σ − σ_h‖²_b"
+                }
+            },
             primal_seconds: self.timings.get("solve").unwrap_or(0.0),
             dual_seconds: self.timings.get("dual").unwrap_or(0.0),
             estimate_seconds,

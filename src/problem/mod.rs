@@ -24,6 +24,7 @@ mod block_elimination;
 mod contact;
 mod contact_zones;
 mod dual;
+mod dual_contact;
 mod full_space;
 mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
@@ -562,7 +563,12 @@ impl<'s> ElasticityProblem<'s> {
             memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
             results,
             parts,
-            contact: self.contact_outcome.as_ref().map(|o| o.report.clone()),
+            // A dual-only run reports its own contact solution here, like the primal's.
+            contact: self
+                .contact_outcome
+                .as_ref()
+                .map(|o| o.report.clone())
+                .or_else(|| self.dual.as_ref().and_then(|d| d.contact.as_ref()).map(|c| c.report.clone())),
             dual: self.dual.as_ref().map(|d| d.report.clone()),
             estimate: self.estimate.clone(),
             warnings: self.warnings.clone(),
@@ -623,10 +629,20 @@ impl<'s> ElasticityProblem<'s> {
             }
             cell.push((format!("{prefix}cell_stress"), 6, cell_stress));
             cell.push((format!("{prefix}cell_von_mises"), 1, cell_vm));
+            if let Some(c) = &d.contact {
+                let (pressure, friction, status) = dual_contact::nodal_contact_fields(self.mesh.num_nodes(), c);
+                point.push((format!("{prefix}contact_pressure"), 1, pressure));
+                point.push((format!("{prefix}friction_traction"), 1, friction));
+                point.push((format!("{prefix}contact_status"), 1, status));
+            }
             with_edges = false;
         }
         if let Some(e) = &self.estimate {
             cell.push(("error".into(), 1, e.estimate.element_error()));
+            if self.scene.contact.is_some() {
+                let contact: Vec<f64> = e.estimate.element_contact.iter().map(|v| v.max(0.0).sqrt()).collect();
+                cell.push(("error_contact".into(), 1, contact));
+            }
         }
         let points: Vec<vtu::Field> =
             point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();

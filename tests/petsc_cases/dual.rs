@@ -65,12 +65,8 @@ pub fn dual_patch_test_all_tractions_exact(session: &Session) -> Result<(), Stri
             EdgeLoad { group: group(&mesh, "left"), traction: Traction::Pressure(lateral) },
             EdgeLoad { group: group(&mesh, "right"), traction: Traction::Pressure(lateral) },
         ];
-        let data = DualData {
-            body_force: BodyLoad::Constant([0.0, 0.0]),
-            edge_loads: &loads,
-            prescribed: &[],
-            free_groups: &[],
-        };
+        let data =
+            DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], contact: None };
         let (err, check) = solve_and_compare(session, &mesh, &material, &data, |_| [-lateral, -p, 0.0])?;
         if err > 1e-11 || check.worst() > 1e-11 {
             return Err(format!("{order:?}: stress error {err:e}, check {check:?}"));
@@ -94,7 +90,7 @@ pub fn dual_stick_patch_and_roller_support_exact(session: &Session) -> Result<()
         EdgeLoad { group: group(&mesh, "right"), traction: Traction::Constant([-lateral, q]) },
     ];
     let data =
-        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], free_groups: &[] };
+        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], contact: None };
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, exact)?;
     if err > 1e-11 || check.worst() > 1e-11 {
         return Err(format!("stick patch: stress error {err:e}, check {check:?}"));
@@ -112,7 +108,7 @@ pub fn dual_stick_patch_and_roller_support_exact(session: &Session) -> Result<()
         body_force: BodyLoad::Constant([0.0, 0.0]),
         edge_loads: &loads,
         prescribed: &prescribed,
-        free_groups: &[],
+        contact: None,
     };
     // With a support the field comes out of a genuine minimisation: the linear solve's
     // round-off shows (measured 7e-11).
@@ -143,7 +139,7 @@ pub fn dual_cubic_airy_and_body_force_exact(session: &Session) -> Result<(), Str
         EdgeLoad { group: group(&mesh, "right"), traction: Traction::Field(&right) },
     ];
     let data =
-        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], free_groups: &[] };
+        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], contact: None };
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, |x| [k * x[1], 0.0, 0.0])?;
     if err > 1e-11 || check.worst() > 1e-11 {
         return Err(format!("bending: stress error {err:e}, check {check:?}"));
@@ -155,12 +151,8 @@ pub fn dual_cubic_airy_and_body_force_exact(session: &Session) -> Result<(), Str
     let rho_g = 7.7e4;
     let exact = |x: [f64; 2]| [0.0, rho_g * (x[1] - 1.0), 0.0];
     let bottom = [EdgeLoad { group: group(&mesh, "bottom"), traction: Traction::Constant([0.0, rho_g]) }];
-    let data = DualData {
-        body_force: BodyLoad::Constant([0.0, -rho_g]),
-        edge_loads: &bottom,
-        prescribed: &[],
-        free_groups: &[],
-    };
+    let data =
+        DualData { body_force: BodyLoad::Constant([0.0, -rho_g]), edge_loads: &bottom, prescribed: &[], contact: None };
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, exact)?;
     if err > 1e-11 || check.worst() > 1e-11 {
         return Err(format!("weight on tractions: stress error {err:e}, check {check:?}"));
@@ -171,7 +163,7 @@ pub fn dual_cubic_airy_and_body_force_exact(session: &Session) -> Result<(), Str
         body_force: BodyLoad::Constant([0.0, -rho_g]),
         edge_loads: &[],
         prescribed: &prescribed,
-        free_groups: &[],
+        contact: None,
     };
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, exact)?;
     if err > 1e-9 || check.worst() > 1e-11 {
@@ -188,7 +180,7 @@ pub fn dual_refuses_unbalanced_loads_and_holes(session: &Session) -> Result<(), 
     let material = Material::new(2e11, 0.3, PlaneModel::Strain);
     let loads = [EdgeLoad { group: group(&mesh, "top"), traction: Traction::Pressure(1e6) }];
     let data =
-        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], free_groups: &[] };
+        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], contact: None };
     match DualSystem::new(&mesh, &material, &data) {
         Err(e @ signorini::Error::NoEquilibrium(_)) => {
             let m = e.to_string();
@@ -211,7 +203,7 @@ pub fn dual_refuses_unbalanced_loads_and_holes(session: &Session) -> Result<(), 
         body_force: BodyLoad::Constant([0.0, -1.0]),
         edge_loads: &[],
         prescribed: &prescribed,
-        free_groups: &[],
+        contact: None,
     };
     match DualSystem::new(&holed, &material, &data) {
         Err(e @ signorini::Error::Formulation { .. }) => {
@@ -297,7 +289,7 @@ fn cantilever_errors(session: &Session, mesh: &Mesh, material: &Material) -> Res
     let primal_loads = Loads { body_force: None, edge_loads: loads.to_vec() };
     let (u, _) = super::solve(session, mesh, material, &constraints, &primal_loads, "").map_err(|e| e.to_string())?;
     let data =
-        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], free_groups: &[] };
+        DualData { body_force: BodyLoad::Constant([0.0, 0.0]), edge_loads: &loads, prescribed: &[], contact: None };
     let system = DualSystem::new(mesh, material, &data).map_err(|e| e.to_string())?;
     let (phi, _) = system.solve(session, mesh).map_err(|e| e.to_string())?;
     let field = system.field(mesh, &phi);
@@ -440,7 +432,7 @@ pub fn dual_prager_synge_identity_manufactured(session: &Session) -> Result<(), 
                 body_force: BodyLoad::Field(Arc::new(move |x| (force(x), particular(x)))),
                 edge_loads: &[],
                 prescribed: &prescribed,
-                free_groups: &[],
+                contact: None,
             };
             let system = DualSystem::new(&mesh, &material, &data).map_err(|e| e.to_string())?;
             let (phi, _) = system.solve(session, &mesh).map_err(|e| e.to_string())?;
@@ -496,7 +488,7 @@ pub fn dual_saddle_point_agrees_with_elimination(session: &Session) -> Result<()
         body_force: BodyLoad::Constant([0.0, -7.7e4]),
         edge_loads: &right,
         prescribed: &prescribed,
-        free_groups: &[],
+        contact: None,
     };
     let system = DualSystem::new(&mesh, &material, &data).map_err(|e| e.to_string())?;
     if system.saddle_point_size() != 2 * system.dofs.len() - system.num_unknowns() {

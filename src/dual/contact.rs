@@ -1,0 +1,438 @@
+//! # Contact in the dual formulation: the contact forces as unknowns, condensed
+//!
+//! On the contact part Γc the traction of a statically admissible field is unknown. With the
+//! full HCT element the traction of `σ(φ)` is linear along every boundary edge (`∇φ` is
+//! quadratic there), so the discrete contact force space is **the traction at the two ends of
+//! every contact edge**, in the contact frame `(n, t)` of the end (the obstacle's normal at the
+//! node, as in the primal: [`crate::contact::boundary`]):
+//!
+//! ```text
+//!        a ------------------- b          contact edge a → b, length L, w = L/2
+//!        t(s) = (1 − s/L) T_a + (s/L) T_b,     T_k = (rN_k n_k + rT_k t_k) / w
+//!        unknowns of the edge: (rN_a, rT_a, rN_b, rT_b)   (forces, N per unit thickness)
+//! ```
+//!
+//! The tractions are integrated along the boundary like known ones ([`super::boundary`]), with
+//! the forces as extra unknowns: every such traction is represented exactly, and conversely
+//! every field's contact traction is one of them. A linear traction meets `σN ≤ 0` and the
+//! (convex) friction cone on the whole edge iff it does at both ends: imposing the conditions
+//! on these unknowns imposes them pointwise (exactly for a straight obstacle, where the frame
+//! is the same at both ends; for curved obstacles the frame turns between the ends).
+//!
+//! ## The condensed problem (the talk's `D f_C = G + G_C`)
+//!
+//! With the reduced unknowns `x = (z, r)` (free HCT dofs, contact forces) the complementary
+//! energy is `½ xᵀ A x − bᵀ x − g̃ᵀ r`, where `g̃` is the gap conjugate to `rN`
+//! (`−∫Γc g0 σN ds` with `g0` linear on the edge: `g̃_a = (2 g0_a + g0_b)/3`). Minimising over
+//! `z` for given `r` leaves
+//!
+//! ```text
+//!   J(r) = ½ rᵀ W r + rᵀ (u_free − g̃),   W = A_rr − A_rz A_zz⁻¹ A_zr,   u_free = −W r_0,
+//! ```
+//!
+//! with `r_0` the contact forces of the unconstrained minimiser (the body glued to the
+//! obstacle). `W` is the flexibility of the contact forces: symmetric positive definite, a
+//! [`crate::contact::CondensedProblem`] like the primal's, so every condensed solver applies.
+//! `u = W r + u_free` is the dual contact displacement (the multiplier of the force
+//! constraints: a weighted mean of the displacement near each edge end). `W` comes from one
+//! MUMPS factorisation of `A` with the Schur complement on the contact forces
+//! ([`crate::petsc::schur::SchurFactor`]); `z` then from one solve with the same factor.
+//!
+//! ## Equilibrium through the contact
+//!
+//! Where the tractions around the boundary close through Γc (a body held, in some direction,
+//! only by the obstacle), global equilibrium is a linear condition on the forces:
+//! `E r = e` (one row per closed component: force x, force y, moment). Its multipliers `ρ`
+//! are rigid displacements, `u = W r + u_free + Eᵀ ρ`. No rigid motion exists in stress space,
+//! so nothing needs stabilising; the conditions are imposed by an augmented Lagrangian around
+//! the unchanged condensed solver: each outer step solves the box-constrained problem with
+//! `W + κ EᵀE` and `u_free + Eᵀ(ρ − κ e)`, then `ρ ← ρ + κ (E r − e)`, with
+//! `κ = 100 / λ_min(E W⁻¹ Eᵀ)` (the multiplier error then shrinks by ~100 per step while the
+//! contact set does not change). Loads the obstacle cannot balance (a body pulled away, or a
+//! tangential load beyond the friction capacity) leave `E r − e` stuck away from zero: a
+//! [`crate::Error::NoEquilibrium`].
+//!
+//! References: F. Lebon, "Modèles d'interface et formulations pour le contact frottant :
+//! résultats et calcul d'erreur" (slides "Formulation en contraintes", "Résolution numérique
+//! duale 1–4"); the augmented Lagrangian: M. Fortin, R. Glowinski, *Augmented Lagrangian
+//! Methods*, North-Holland 1983.
+use nalgebra::{DMatrix, DVector};
+
+use super::system::DualSystem;
+use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver, Delassus, FrictionLaw, SolverSettings};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::petsc::schur::SchurFactor;
+use crate::petsc::{Matrix, Session};
+
+/// One contact point of the dual: one end of a contact edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DualContactPoint {
+    /// Index of the edge in [`DualSystem::edges`].
+    pub edge: usize,
+    /// 0 at the edge's start `a`, 1 at its end `b`.
+    pub end: usize,
+    pub node: usize,
+    pub position: [f64; 2],
+    pub normal: [f64; 2],
+    pub tangent: [f64; 2],
+    /// `w = L/2`: the traction at the end is the force over `w`.
+    pub weight: f64,
+    /// The initial gap at the node (signed distance to the obstacle plus the scene's gap).
+    pub node_gap: f64,
+    /// The gap conjugate to `rN`: `(2 g0_end + g0_other) / 3`.
+    pub gap: f64,
+}
+
+/// The contact points of a dual system, in the order of the contact unknowns (point `p` owns
+/// unknowns `2p` (N) and `2p + 1` (T)). `node_gap(x)` is the initial gap at `x`.
+pub fn contact_points(system: &DualSystem, mesh: &Mesh, node_gap: &dyn Fn([f64; 2]) -> f64) -> Vec<DualContactPoint> {
+    let mut points = vec![None; system.affine.num_contact / 2];
+    for (k, e) in system.edges.iter().enumerate() {
+        let Some(c) = e.contact else { continue };
+        let (pa, pb) = (mesh.nodes[e.a], mesh.nodes[e.b]);
+        let weight = 0.5 * (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+        let gaps = [node_gap(pa), node_gap(pb)];
+        for end in 0..2 {
+            points[c.first / 2 + end] = Some(DualContactPoint {
+                edge: k,
+                end,
+                node: [e.a, e.b][end],
+                position: [pa, pb][end],
+                normal: c.frames[end][0],
+                tangent: c.frames[end][1],
+                weight,
+                node_gap: gaps[end],
+                gap: (2.0 * gaps[end] + gaps[1 - end]) / 3.0,
+            });
+        }
+    }
+    points.into_iter().flatten().collect()
+}
+
+/// The equilibrium conditions `E r = e` on the contact forces (dense, one row per condition).
+#[derive(Debug, Clone)]
+pub struct ContactEquilibrium {
+    pub matrix: DMatrix<f64>,
+    pub rhs: Vec<f64>,
+}
+
+impl ContactEquilibrium {
+    pub fn new(system: &DualSystem) -> Self {
+        let rows = &system.affine.contact_equilibrium;
+        let n = system.affine.num_contact;
+        let mut matrix = DMatrix::zeros(rows.len(), n);
+        for (i, (terms, _)) in rows.iter().enumerate() {
+            for &(j, c) in terms {
+                matrix[(i, j)] += c;
+            }
+        }
+        ContactEquilibrium { matrix, rhs: rows.iter().map(|r| r.1).collect() }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rhs.is_empty()
+    }
+
+    /// `E r − e` and, per row, its scale `|e_i| + Σ_j |E_ij r_j|`.
+    pub fn residual(&self, r: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        (0..self.rhs.len())
+            .map(|i| {
+                let row = self.matrix.row(i);
+                let value: f64 = row.iter().zip(r).map(|(a, b)| a * b).sum::<f64>() - self.rhs[i];
+                let scale: f64 = self.rhs[i].abs() + row.iter().zip(r).map(|(a, b)| (a * b).abs()).sum::<f64>();
+                (value, scale)
+            })
+            .unzip()
+    }
+
+    /// The largest `|E r − e|_i / scale_i`.
+    /// relative to the largest scale of all rows (a row that round-off only balances, such as
+    /// the horizontal force of a symmetric frictionless problem, is measured against the loads).
+    pub fn relative_residual(&self, r: &[f64]) -> f64 {
+        let (value, scale) = self.residual(r);
+        let scale = scale.iter().fold(0.0f64, |m, s| m.max(*s)).max(f64::MIN_POSITIVE);
+        value.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale
+    }
+
+    /// The same conditions with each row scaled by `1/√(E W⁻¹ Eᵀ)_ii` (rows of forces and of
+    /// moments become comparable).
+    fn scaled(&self, m: &DMatrix<f64>) -> (ContactEquilibrium, DMatrix<f64>, Vec<f64>) {
+        let d: Vec<f64> = (0..self.rhs.len()).map(|i| 1.0 / m[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
+        let mut matrix = self.matrix.clone();
+        for (i, di) in d.iter().enumerate() {
+            matrix.row_mut(i).scale_mut(*di);
+        }
+        let rhs = self.rhs.iter().zip(&d).map(|(e, di)| e * di).collect();
+        let scaled_m = DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * d[i] * d[j]);
+        (ContactEquilibrium { matrix, rhs }, scaled_m, d)
+    }
+
+    /// `Eᵀ ρ`.
+    pub fn transpose_times(&self, rho: &[f64]) -> Vec<f64> {
+        (self.matrix.transpose() * DVector::from_column_slice(rho)).iter().copied().collect()
+    }
+}
+
+/// The assembled and factorised dual contact problem, condensed onto the contact forces.
+pub struct CondensedDual<'s> {
+    /// `W`, `u_free`, the gaps, the friction law and the weights `w`.
+    pub problem: CondensedProblem,
+    pub equilibrium: ContactEquilibrium,
+    pub matrix: Matrix<'s>,
+    /// The reduced right-hand side `b` (all rows).
+    pub rhs: Vec<f64>,
+    factor: SchurFactor<'s>,
+    /// Seconds: assembly, factorisation with the Schur complement.
+    pub assemble_seconds: f64,
+    pub factor_seconds: f64,
+}
+
+/// Assemble the dual system with its contact forces and condense it onto them.
+pub fn condense<'s>(
+    session: &'s Session,
+    system: &DualSystem,
+    mesh: &Mesh,
+    points: &[DualContactPoint],
+    friction: FrictionLaw,
+) -> Result<CondensedDual<'s>> {
+    if session.size() != 1 {
+        return Err(Error::Usage(
+            "contact in the dual formulation runs on one process (the Schur complement on the contact forces is \
+             sequential in PETSc 3.18): run without mpirun"
+                .into(),
+        ));
+    }
+    let nm = system.num_unknowns();
+    let nz = system.affine.num_masters;
+    if points.len() * 2 != nm - nz || points.is_empty() {
+        return Err(Error::Usage(format!(
+            "dual contact: {} contact points for {} contact unknowns",
+            points.len(),
+            nm - nz
+        )));
+    }
+    let start = std::time::Instant::now();
+    let rows = system.assemble(mesh, 0..nm);
+    let matrix =
+        Matrix::from_csr_rows(session, session.world(), nm, 0, &rows.indptr, &rows.indices, &rows.values, 1, true)?;
+    let assemble_seconds = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
+    let schur_rows: Vec<usize> = (nz..nm).collect();
+    session.prefer_mumps_ordering("", 4)?;
+    let factor = SchurFactor::with_complement(session, &matrix, &schur_rows)?;
+    let factor_seconds = start.elapsed().as_secs_f64();
+    let m2 = nm - nz;
+    let s = factor.complement();
+    // MUMPS returns a symmetric Schur complement in one triangle only: mirror the filled one.
+    let upper_empty = (0..m2).all(|i| (i + 1..m2).all(|j| s[i * m2 + j] == 0.0));
+    let lower_empty = (0..m2).all(|i| (0..i).all(|j| s[i * m2 + j] == 0.0));
+    let w = DMatrix::from_fn(m2, m2, |i, j| {
+        let (lo, hi) = (s[i.max(j) * m2 + i.min(j)], s[i.min(j) * m2 + i.max(j)]);
+        match (upper_empty, lower_empty) {
+            (true, false) => lo,
+            (false, true) => hi,
+            _ => 0.5 * (lo + hi),
+        }
+    });
+    // The unconstrained minimiser (contact glued): its forces r_0 give u_free = −W r_0.
+    let mut b = matrix.create_vector()?;
+    b.set_owned(&rows.rhs)?;
+    let mut x = matrix.create_vector()?;
+    factor.solve(&b, &mut x)?;
+    let x = x.gather_all()?;
+    let r0 = DVector::from_column_slice(&x[nz..]);
+    let u_free: Vec<f64> = (-(&w * r0)).iter().copied().collect();
+    let problem = CondensedProblem::new(
+        Delassus::Dense(w),
+        u_free,
+        points.iter().map(|p| p.gap).collect(),
+        friction,
+        Some(points.iter().map(|p| p.weight).collect()),
+    )?;
+    Ok(CondensedDual {
+        problem,
+        equilibrium: ContactEquilibrium::new(system),
+        matrix,
+        rhs: rows.rhs,
+        factor,
+        assemble_seconds,
+        factor_seconds,
+    })
+}
+
+/// A solved dual contact problem.
+pub struct DualContactAnswer {
+    pub solution: ContactSolution,
+    /// The rigid displacements of the equilibrium conditions (one per row of `E`).
+    pub rigid: Vec<f64>,
+    /// Outer augmented-Lagrangian steps (1 without equilibrium conditions).
+    pub outer_iterations: usize,
+    /// All reduced unknowns `(z, r)` and all HCT dofs.
+    pub reduced: Vec<f64>,
+    pub phi: Vec<f64>,
+    /// The contact displacement recomputed from the assembled matrix, `(A x − b)_r + Eᵀ ρ`,
+    /// independently of `W`.
+    pub displacement_check: Vec<f64>,
+}
+
+impl CondensedDual<'_> {
+    /// Solve the contact problem (with the equilibrium conditions) and recover the field.
+    pub fn solve(
+        &self,
+        system: &DualSystem,
+        solver: &ContactSolver,
+        settings: &SolverSettings,
+        tao: Option<&dyn Fn(&CondensedProblem) -> Result<ContactSolution>>,
+    ) -> Result<DualContactAnswer> {
+        let run = |p: &CondensedProblem, s: &SolverSettings| match tao {
+            Some(f) => f(p),
+            None => contact::solve(p, solver, s),
+        };
+        let (solution, rigid, outer_iterations) =
+            solve_with_equilibrium(&self.problem, &self.equilibrium, settings, run)?;
+        // z from one solve with the same factor: A [z; y] = [b_z; b_r + W r + u_free] gives y = r.
+        let nz = system.affine.num_masters;
+        let w_r = self.problem.displacement(&solution.force)?;
+        let mut rhs = self.rhs.clone();
+        for (k, v) in w_r.iter().enumerate() {
+            rhs[nz + k] += v;
+        }
+        let mut b = self.matrix.create_vector()?;
+        b.set_owned(&rhs)?;
+        let mut x = self.matrix.create_vector()?;
+        self.factor.solve(&b, &mut x)?;
+        let mut reduced = x.gather_all()?;
+        // The contact forces are the solver's exactly (the solve returns them to round-off).
+        reduced[nz..].copy_from_slice(&solution.force);
+        // Independent displacement: the contact rows of A x − b, plus the rigid part.
+        let mut full = self.matrix.create_vector()?;
+        full.set_owned(&reduced)?;
+        let mut product = self.matrix.create_vector()?;
+        self.matrix.multiply(&full, &mut product)?;
+        let product = product.gather_all()?;
+        let rigid_part =
+            if self.equilibrium.is_empty() { vec![0.0; w_r.len()] } else { self.equilibrium.transpose_times(&rigid) };
+        let displacement_check: Vec<f64> =
+            (0..w_r.len()).map(|k| product[nz + k] - self.rhs[nz + k] + rigid_part[k]).collect();
+        let phi = system.affine.expand(&reduced);
+        Ok(DualContactAnswer { solution, rigid, outer_iterations, reduced, phi, displacement_check })
+    }
+}
+
+/// Outer augmented-Lagrangian steps at most.
+const MAX_OUTER: usize = 60;
+/// Relative residual of `E r = e` accepted.
+const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
+
+/// Solve `problem` subject to `E r = e` (see the module documentation). `run` solves one
+/// box-constrained problem.
+pub fn solve_with_equilibrium(
+    problem: &CondensedProblem,
+    equilibrium: &ContactEquilibrium,
+    settings: &SolverSettings,
+    run: impl Fn(&CondensedProblem, &SolverSettings) -> Result<ContactSolution>,
+) -> Result<(ContactSolution, Vec<f64>, usize)> {
+    if equilibrium.is_empty() {
+        return Ok((run(problem, settings)?, Vec::new(), 1));
+    }
+    let w = problem
+        .delassus()
+        .as_dense()
+        .ok_or_else(|| Error::Usage("the dual contact problem needs the dense flexibility".into()))?;
+    // κ from the smallest eigenvalue of E W⁻¹ Eᵀ, rows scaled to a unit diagonal.
+    let chol = w
+        .clone()
+        .cholesky()
+        .ok_or_else(|| Error::Usage("the flexibility of the dual contact forces is not positive definite".into()))?;
+    let unscaled = &equilibrium.matrix * chol.solve(&equilibrium.matrix.transpose());
+    let (scaled, m, row_scale) = equilibrium.scaled(&unscaled);
+    let equilibrium = &scaled;
+    let e = &equilibrium.matrix;
+    let lambda_min = m.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min);
+    if !(lambda_min > 0.0) {
+        return Err(Error::Usage("the equilibrium conditions of the contact forces are dependent".into()));
+    }
+    let kappa = 100.0 / lambda_min;
+    let augmented = w + kappa * e.transpose() * e;
+    let base = CondensedProblem::new(
+        Delassus::Dense(augmented),
+        problem.free_displacement().to_vec(),
+        problem.gap().to_vec(),
+        problem.friction().clone(),
+        Some(problem.weights().to_vec()),
+    )?;
+    let k = equilibrium.rhs.len();
+    let mut rho = vec![0.0; k];
+    // The inner problems are solved 1000× tighter than asked: a warm-started solver stops at
+    // once when the shift of one outer step is below its tolerance.
+    let mut settings = settings.clone();
+    settings.tolerance *= 1e-3;
+    // Go on to round-off while the residual still drops; accept down to the tolerance.
+    let target = 1e-14f64.max(0.1 * settings.tolerance);
+    let acceptable = EQUILIBRIUM_TOLERANCE.max(target);
+    let mut history: Vec<f64> = Vec::new();
+    let (mut iterations, mut all_history) = (0usize, Vec::new());
+    for outer in 1..=MAX_OUTER {
+        // u_free + Eᵀ(ρ − κ e)
+        let shift: Vec<f64> = (0..k).map(|i| rho[i] - kappa * equilibrium.rhs[i]).collect();
+        let extra = equilibrium.transpose_times(&shift);
+        let u: Vec<f64> = problem.free_displacement().iter().zip(&extra).map(|(a, b)| a + b).collect();
+        let step = base.with_free_displacement(u)?;
+        let mut solution = run(&step, &settings)?;
+        iterations += solution.iterations;
+        all_history.extend(solution.history.iter().copied());
+        let (residual, scale) = equilibrium.residual(&solution.force);
+        for i in 0..k {
+            rho[i] += kappa * residual[i];
+        }
+        let relative = equilibrium.relative_residual(&solution.force);
+        history.push(relative);
+        let n = history.len();
+        let stalled = n >= 4 && history[n - 1] > 0.5 * history[n - 3];
+        if relative <= target || (relative <= acceptable && (stalled || outer == MAX_OUTER)) {
+            solution.iterations = iterations;
+            solution.history = all_history;
+            solution.notes.push(format!(
+                "equilibrium of the contact forces imposed by {outer} augmented-Lagrangian step(s) (kappa = {kappa:.3e}), \
+                 relative residual {relative:.2e}"
+            ));
+            // The displacement of the original problem: W r + u_free + Eᵀ ρ.
+            let mut u = problem.displacement(&solution.force)?;
+            for (a, b) in u.iter_mut().zip(equilibrium.transpose_times(&rho)) {
+                *a += b;
+            }
+            solution.displacement = u;
+            // The multipliers of the unscaled rows.
+            let rigid = rho.iter().zip(&row_scale).map(|(r, d)| r * d).collect();
+            return Ok((solution, rigid, outer));
+        }
+        // No progress: the obstacle cannot balance the loads.
+        if n >= 6 && history[n - 1] > 0.5 * history[n - 4] {
+            return Err(no_equilibrium(&residual, &scale, &solution));
+        }
+        settings.initial_force = Some(solution.force);
+    }
+    Err(Error::SolverDiverged {
+        solver: "augmented Lagrangian on the equilibrium of the contact forces".into(),
+        reason: format!(
+            "the equilibrium residual is still {:.3e} after {MAX_OUTER} steps",
+            history.last().unwrap_or(&0.0)
+        ),
+        iterations,
+        residual: *history.last().unwrap_or(&0.0),
+        tried: "outer steps with kappa = 100 / lambda_min(E W^-1 E^T)".into(),
+    })
+}
+
+fn no_equilibrium(residual: &[f64], scale: &[f64], solution: &ContactSolution) -> Error {
+    let (normal, tangential) = solution.force.chunks(2).fold((0.0, 0.0), |(n, t), f| (n + f[0], t + f[1].abs()));
+    Error::NoEquilibrium(format!(
+        "dual formulation: the contact forces cannot balance the loads: the equilibrium conditions through the \
+         contact part keep a residual {:?} against loads of {:?}; the body slides (the tangential load exceeds \
+         what friction can carry) or is pulled away from the obstacle (normal contact force {normal:.4e}, \
+         sum of |tangential| {tangential:.4e})",
+        residual.iter().map(|v| format!("{v:.4e}")).collect::<Vec<_>>(),
+        scale.iter().map(|v| format!("{v:.4e}")).collect::<Vec<_>>(),
+    ))
+}

@@ -1,0 +1,378 @@
+//! The dual formulation with contact inside the driver:
+//!
+//! ```text
+//! ElasticityProblem::solve_dual        with a [contact] section:
+//!     contact_side                     the contact part and the obstacle's frame and gap
+//!     dual::contact::condense          assemble (z, r), MUMPS with the Schur complement on r
+//!     CondensedDual::solve             the scene's condensed solver (+ equilibrium of r)
+//!     verify_dual_contact              independent check: forces recomputed from σ_h,
+//!                                      displacements from the assembled matrix
+//!                ::estimate            + the Γc terms of the error in the constitutive relation
+//! ```
+//!
+//! The independent check does not trust the solver's bookkeeping: the contact forces are
+//! recomputed from the stress field itself (`σ_h n` at both ends of every contact edge, by
+//! linear extrapolation of two interior samples of the edge's piece, exact for the linear
+//! HCT traction), the contact displacements from the assembled sparse matrix (`(A x − b)_r`,
+//! not `W`), and the equilibrium conditions from the forces. Sign, friction cone and
+//! complementarity are then those of [`crate::contact::ContactResiduals`].
+use super::contact::{condensed_solver, tao_box_qp, ContactReport, ContactResidualsReport};
+use super::contact_zones::{ClosedZone, PeakPressure};
+use super::ElasticityProblem;
+use crate::contact::obstacle::Obstacle;
+use crate::contact::{FrictionLaw, PointStatus, SolverSettings};
+use crate::dual::contact::{condense, contact_points, DualContactPoint};
+use crate::dual::{DualData, DualSystem};
+use crate::error::{Error, Result};
+use crate::estimate::{ContactLawTerm, ContactSample, ContactTerms};
+use crate::fem::quadrature;
+use crate::petsc::SolveStats;
+use crate::scene::{ContactSolverSpec, FrictionSpec};
+
+/// The dual contact solution (forces per edge end, in the contact frames).
+pub struct DualContactOutcome {
+    pub points: Vec<DualContactPoint>,
+    pub force: Vec<f64>,
+    pub displacement: Vec<f64>,
+    pub status: Vec<PointStatus>,
+    pub report: ContactReport,
+}
+
+/// The contact part of a scene for the dual: its group and the obstacle.
+pub(super) struct DualContactSide {
+    pub group: usize,
+    pub obstacle: Obstacle,
+    pub extra_gap: f64,
+}
+
+impl DualContactSide {
+    /// The body's contact direction `n = −ν` (ν the obstacle normal towards the body).
+    pub fn normal(&self, x: [f64; 2]) -> [f64; 2] {
+        let p = self.obstacle.project(x);
+        [-p.normal[0], -p.normal[1]]
+    }
+    pub fn gap(&self, x: [f64; 2]) -> f64 {
+        self.obstacle.project(x).signed_distance + self.extra_gap
+    }
+}
+
+impl ElasticityProblem<'_> {
+    pub(super) fn dual_contact_side(&self) -> Result<Option<DualContactSide>> {
+        let Some(spec) = &self.scene.contact else { return Ok(None) };
+        if spec.solver == ContactSolverSpec::SnesVi {
+            return Err(Error::Formulation {
+                message: "dual formulation: solver = \"snes_vi\" works on the primal displacements only".into(),
+                hint: "use a condensed solver (newton, relaxation, dpana, uzawa, tresca_fixed_point, tao) or the \
+                       default"
+                    .into(),
+            });
+        }
+        Ok(Some(DualContactSide {
+            group: self.mesh.require_group(&spec.part, 1)?,
+            obstacle: super::contact::obstacle_of(&spec.obstacle)?,
+            extra_gap: spec.gap,
+        }))
+    }
+
+    /// Solve the dual problem with contact: returns φ and the solver statistics.
+    pub(super) fn solve_dual_contact(
+        &self,
+        system: &DualSystem,
+        side: &DualContactSide,
+    ) -> Result<(Vec<f64>, SolveStats, DualContactOutcome)> {
+        let spec = self.scene.contact.as_ref().expect("contact side without [contact]");
+        let points = contact_points(system, &self.mesh, &|x| side.gap(x));
+        let friction = match spec.friction {
+            FrictionSpec::None => FrictionLaw::None,
+            FrictionSpec::Coulomb { mu } => FrictionLaw::Coulomb { mu: vec![mu; points.len()] },
+            FrictionSpec::Tresca { threshold } => {
+                FrictionLaw::Tresca { threshold: points.iter().map(|p| threshold * p.weight).collect() }
+            }
+        };
+        let condensed = condense(self.session, system, &self.mesh, &points, friction)?;
+        let mut settings = SolverSettings::default();
+        if let Some(t) = spec.tolerance {
+            settings.tolerance = t;
+        }
+        if let Some(it) = spec.max_iterations {
+            settings.max_iterations = it;
+        }
+        let start = std::time::Instant::now();
+        let tao = |p: &crate::contact::CondensedProblem| tao_box_qp(self.session, p);
+        let answer = match condensed_solver(&spec.solver) {
+            Some(solver) => condensed.solve(system, &solver, &settings, None)?,
+            None => condensed.solve(system, &crate::contact::ContactSolver::SemismoothNewton, &settings, Some(&tao))?,
+        };
+        let contact_seconds = start.elapsed().as_secs_f64();
+        // Independent check.
+        let field = system.field(&self.mesh, &answer.phi);
+        let force_check = forces_from_field(system, &field, &points);
+        let scale = answer.solution.force.iter().chain(&force_check).fold(0.0f64, |m, v| m.max(v.abs()));
+        let force_mismatch =
+            answer.solution.force.iter().zip(&force_check).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+                / scale.max(f64::MIN_POSITIVE);
+        let residuals = condensed.problem.residuals_at(&force_check, &answer.displacement_check)?;
+        let equilibrium = condensed.equilibrium.relative_residual(&force_check);
+        let accepted = (100.0 * settings.tolerance.max(1e-10)).min(spec.tolerance.unwrap_or(f64::INFINITY));
+        if force_mismatch > 1e-8 || equilibrium > 1e-8 || !residuals.is_acceptable(accepted) {
+            return Err(Error::SolverDiverged {
+                solver: format!("dual formulation: {}", answer.solution.solver),
+                reason: format!(
+                    "its answer fails the independent check: forces recomputed from the stress field differ by \
+                     {force_mismatch:.2e} (relative), equilibrium of the contact forces {equilibrium:.2e}, {residuals}"
+                ),
+                iterations: answer.solution.iterations,
+                residual: residuals.worst().max(force_mismatch).max(equilibrium),
+                tried: answer.solution.notes.join("; "),
+            });
+        }
+        let status = condensed.problem.status_at(&force_check, &answer.displacement_check)?;
+        let mut notes = answer.solution.notes.clone();
+        notes.push(format!(
+            "forces recomputed from the stress field agree to {force_mismatch:.1e}; equilibrium of the contact forces \
+             {equilibrium:.1e}"
+        ));
+        let report = self.dual_contact_report(&points, &force_check, &status, &residuals, &answer.solution, notes);
+        let stats = SolveStats {
+            ksp_type: "preonly".into(),
+            pc_type: "cholesky".into(),
+            factor_package: Some("mumps (Schur complement on the contact forces)".into()),
+            iterations: answer.outer_iterations,
+            converged_reason: "contact solved on the condensed problem".into(),
+            relative_residual: 0.0,
+            seconds: condensed.assemble_seconds + condensed.factor_seconds + contact_seconds,
+        };
+        let outcome =
+            DualContactOutcome { points, force: force_check, displacement: answer.displacement_check, status, report };
+        Ok((answer.phi, stats, outcome))
+    }
+
+    fn dual_contact_report(
+        &self,
+        points: &[DualContactPoint],
+        force: &[f64],
+        status: &[PointStatus],
+        residuals: &crate::contact::ContactResiduals,
+        solution: &crate::contact::ContactSolution,
+        notes: Vec<String>,
+    ) -> ContactReport {
+        let spec = self.scene.contact.as_ref().expect("report without [contact]");
+        let mut resultant = [0.0f64; 2];
+        let (mut normal_resultant, mut tangential_resultant) = (0.0, 0.0);
+        for (i, p) in points.iter().enumerate() {
+            let (rn, rt) = (force[2 * i], force[2 * i + 1]);
+            for c in 0..2 {
+                resultant[c] += rn * p.normal[c] + rt * p.tangent[c];
+            }
+            normal_resultant += rn;
+            tangential_resultant += rt;
+        }
+        let count = |s: PointStatus| status.iter().filter(|&&x| x == s).count();
+        let (peak_pressure, zones) = peak_and_zones(points, force, status);
+        ContactReport {
+            part: spec.part.clone(),
+            friction: match spec.friction {
+                FrictionSpec::None => "none".into(),
+                FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
+                FrictionSpec::Tresca { threshold } => format!("Tresca, threshold = {threshold} N/m"),
+            },
+            solver: solution.solver.clone(),
+            iterations: solution.iterations,
+            status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
+            notes,
+            points: points.len(),
+            open: count(PointStatus::Open),
+            stick: count(PointStatus::Stick),
+            slip: count(PointStatus::Slip),
+            resultant,
+            normal_resultant,
+            tangential_resultant,
+            zone: None,
+            peak_pressure,
+            zones,
+            residuals: ContactResidualsReport {
+                max_penetration: residuals.max_penetration,
+                max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,
+                max_cone_violation: residuals.max_cone_violation,
+                normal_complementarity: residuals.normal_complementarity,
+                tangential_complementarity: residuals.tangential_complementarity,
+                force_scale: residuals.scale.force,
+                displacement_scale: residuals.scale.displacement,
+            },
+            stabilisation_force: [0.0; 2],
+            stabilisation_iterations: 0,
+            linear_solves: 2,
+        }
+    }
+
+    /// The Γc terms of the estimate: samples along every contact edge of the dual (the primal
+    /// displacement, the dual traction, the obstacle's direction and gap at each sample).
+    pub(super) fn dual_contact_terms(
+        &self,
+        u: &[f64],
+        system: &DualSystem,
+        phi: &[f64],
+    ) -> Result<Option<(ContactTerms, bool)>> {
+        let (Some(side), Some(spec)) = (self.dual_contact_side()?, &self.scene.contact) else { return Ok(None) };
+        let law = match spec.friction {
+            FrictionSpec::None => ContactLawTerm::Frictionless,
+            FrictionSpec::Tresca { threshold } => ContactLawTerm::Tresca { threshold },
+            FrictionSpec::Coulomb { mu } => ContactLawTerm::Coulomb { mu },
+        };
+        let field = system.field(&self.mesh, phi);
+        let cells = edge_cells(system);
+        let rule = quadrature::gauss_legendre(6);
+        let mut terms = ContactTerms::new(self.mesh.num_cells());
+        for e in system.edges.iter().filter(|e| e.contact.is_some()) {
+            let (pa, pb) = (self.mesh.nodes[e.a], self.mesh.nodes[e.b]);
+            let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+            let outward = [(pb[1] - pa[1]) / len, -(pb[0] - pa[0]) / len];
+            let cell = cells[e.edge];
+            let samples: Vec<ContactSample> = rule
+                .points
+                .iter()
+                .zip(&rule.weights)
+                .map(|(&s, &w)| {
+                    let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+                    let sigma = field.stress_at(cell, x);
+                    ContactSample {
+                        weight: w * len,
+                        traction: [
+                            sigma[0] * outward[0] + sigma[2] * outward[1],
+                            sigma[2] * outward[0] + sigma[1] * outward[1],
+                        ],
+                        displacement: crate::estimate::constitutive_relation::displacement_at_point(
+                            &self.mesh, u, cell, x,
+                        ),
+                        normal: side.normal(x),
+                        gap: side.gap(x),
+                    }
+                })
+                .collect();
+            terms.add_edge(cell, samples, law);
+        }
+        let admissible = terms.all_nonnegative(1e-8);
+        Ok(Some((terms, admissible)))
+    }
+}
+
+/// The cell of every HCT edge on the boundary (the only cell that has it).
+fn edge_cells(system: &DualSystem) -> Vec<usize> {
+    let mut cells = vec![usize::MAX; system.dofs.edges.len()];
+    for (c, edges) in system.dofs.cell_edges.iter().enumerate() {
+        for &e in edges {
+            cells[e] = c;
+        }
+    }
+    cells
+}
+
+/// The contact forces carried by the stress field: `σ_h n` at both ends of each contact edge
+/// (linear extrapolation of the samples at ¼ and ¾ of the edge, exact for the linear HCT
+/// traction), in the point's frame, times `w`.
+fn forces_from_field(system: &DualSystem, field: &crate::dual::DualField, points: &[DualContactPoint]) -> Vec<f64> {
+    let cells = edge_cells(system);
+    let mesh = field.mesh;
+    let mut out = vec![0.0; 2 * points.len()];
+    for (i, p) in points.iter().enumerate() {
+        let e = &system.edges[p.edge];
+        let (pa, pb) = (mesh.nodes[e.a], mesh.nodes[e.b]);
+        let len = (pb[0] - pa[0]).hypot(pb[1] - pa[1]);
+        let outward = [(pb[1] - pa[1]) / len, -(pb[0] - pa[0]) / len];
+        let at = |s: f64| {
+            let x = [pa[0] + s * (pb[0] - pa[0]), pa[1] + s * (pb[1] - pa[1])];
+            let sigma = field.stress_at(cells[e.edge], x);
+            [sigma[0] * outward[0] + sigma[2] * outward[1], sigma[2] * outward[0] + sigma[1] * outward[1]]
+        };
+        let (near, far) = if p.end == 0 { (at(0.25), at(0.75)) } else { (at(0.75), at(0.25)) };
+        let t = [1.5 * near[0] - 0.5 * far[0], 1.5 * near[1] - 0.5 * far[1]];
+        out[2 * i] = p.weight * (t[0] * p.normal[0] + t[1] * p.normal[1]);
+        out[2 * i + 1] = p.weight * (t[0] * p.tangent[0] + t[1] * p.tangent[1]);
+    }
+    out
+}
+
+/// The peak pressure (−rN / w) and the closed zones along the contact part: points follow
+/// the boundary loop, an edge's two ends share the arc length of their nodes.
+fn peak_and_zones(
+    points: &[DualContactPoint],
+    force: &[f64],
+    status: &[PointStatus],
+) -> (Option<PeakPressure>, Vec<ClosedZone>) {
+    let mut s = vec![0.0; points.len()];
+    for i in 1..points.len() {
+        let (a, b) = (points[i - 1].position, points[i].position);
+        let connected = points[i - 1].node == points[i].node || points[i].end == 1;
+        s[i] = s[i - 1] + if connected { (b[0] - a[0]).hypot(b[1] - a[1]) } else { 0.0 };
+    }
+    let mut peak: Option<PeakPressure> = None;
+    for (i, p) in points.iter().enumerate() {
+        let pressure = -force[2 * i] / p.weight;
+        if pressure > 0.0 && peak.as_ref().is_none_or(|q| pressure > q.pressure) {
+            peak = Some(PeakPressure { pressure, node: p.node, position: p.position, s: s[i] });
+        }
+    }
+    let mut zones: Vec<ClosedZone> = Vec::new();
+    let mut current: Option<(usize, usize)> = None;
+    let close = |(a, b): (usize, usize)| ClosedZone {
+        extent: [s[a], s[b]],
+        start: points[a].position,
+        end: points[b].position,
+        points: b - a + 1,
+    };
+    for i in 0..points.len() {
+        let chained = i > 0 && (points[i - 1].node == points[i].node || points[i].end == 1);
+        match (status[i] != PointStatus::Open, current) {
+            (true, Some((a, _))) if chained => current = Some((a, i)),
+            (true, c) => {
+                if let Some(z) = c {
+                    zones.push(close(z));
+                }
+                current = Some((i, i));
+            }
+            (false, Some(z)) => {
+                zones.push(close(z));
+                current = None;
+            }
+            (false, None) => {}
+        }
+    }
+    if let Some(z) = current {
+        zones.push(close(z));
+    }
+    (peak, zones)
+}
+
+/// The data of a contact side for [`DualData`].
+pub(super) fn dual_data_with_contact<'a>(
+    data: DualData<'a>,
+    group: usize,
+    normal: &'a (dyn Fn([f64; 2]) -> [f64; 2] + Sync),
+) -> DualData<'a> {
+    DualData { contact: Some(crate::dual::ContactSide { group, normal }), ..data }
+}
+
+/// Nodal contact pressure, friction traction and status (0 open, 1 stick, 2 slip) of the dual
+/// solution for `solution.vtu`: the mean of the edge ends at each node (the worst status).
+pub(super) fn nodal_contact_fields(num_nodes: usize, outcome: &DualContactOutcome) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let (mut pressure, mut friction, mut status, mut count) =
+        (vec![0.0; num_nodes], vec![0.0; num_nodes], vec![-1.0f64; num_nodes], vec![0usize; num_nodes]);
+    for (i, p) in outcome.points.iter().enumerate() {
+        pressure[p.node] += -outcome.force[2 * i] / p.weight;
+        friction[p.node] += outcome.force[2 * i + 1] / p.weight;
+        count[p.node] += 1;
+        let code = match outcome.status[i] {
+            PointStatus::Open => 0.0,
+            PointStatus::Stick => 1.0,
+            PointStatus::Slip => 2.0,
+        };
+        status[p.node] = status[p.node].max(code);
+    }
+    for k in 0..num_nodes {
+        if count[k] > 0 {
+            pressure[k] /= count[k] as f64;
+            friction[k] /= count[k] as f64;
+        }
+    }
+    (pressure, friction, status)
+}
