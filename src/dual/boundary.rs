@@ -249,6 +249,9 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
             // The traction is (rN n + rT t)/w at each end with w = L/2, linear in between:
             // ∫_0^L rate ds = (L/2)(rate_a + rate_b) and ∫_0^{L/2} rate ds = (L/8)(3 rate_a + rate_b),
             // so in forces the two conditions of component c carry the weights (1, 1) and (3/4, 1/4).
+            // Both gradient-difference rows first (they fix g(b)), then both midpoint rows,
+            // whose pivots φ_b and the midpoint dof form a rotation: always solvable.
+            let (mut differences, mut midpoints) = (Vec::new(), Vec::new());
             for c in 0..2 {
                 // rate = t_x for c = 1 (φ,y), −t_y for c = 0 (φ,x).
                 let (k, sign_c) = if c == 1 { (0, 1.0) } else { (1, -1.0) };
@@ -263,7 +266,7 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                 };
                 let mut full = vec![(gb[c], 1.0), (ga[c], -1.0)];
                 full.extend(force_terms([1.0, 1.0]));
-                rows.push(Row { terms: full, rhs: 0.0, candidates: candidates.clone() });
+                differences.push(Row { terms: full, rhs: 0.0, candidates: candidates.clone() });
                 let mut terms =
                     vec![(phi_b, 1.5 * tau[c] / len), (phi_a, -1.5 * tau[c] / len), (mid, normal[c] * sign)];
                 for j in 0..2 {
@@ -272,9 +275,15 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                 }
                 terms.push((ga[c], -1.0));
                 terms.extend(force_terms([0.75, 0.25]));
-                rows.push(Row { terms, rhs: 0.0, candidates: candidates.clone() });
+                midpoints.push(Row { terms, rhs: 0.0, candidates: candidates.clone() });
             }
+            rows.extend(differences);
+            rows.extend(midpoints);
         }
+        // Dofs referenced by this edge's own slaves may still be solved for by a later row of
+        // the edge (the two midpoint conditions share φ_b and the midpoint dof): the earlier
+        // slaves are then updated, and only at the end of the edge are their terms marked.
+        let mut edge_slaves: Vec<usize> = Vec::new();
         for row in rows {
             // Substitute what is already eliminated.
             let mut expanded: BTreeMap<usize, f64> = BTreeMap::new();
@@ -313,10 +322,28 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                     for (&d, &c) in &expanded {
                         if d != p && c != 0.0 {
                             terms.push((d, -c / cp));
-                            referenced[d] = true;
                         }
                     }
-                    slave[p] = Some((terms, (row.rhs - constant) / cp));
+                    let value = (row.rhs - constant) / cp;
+                    for &s in &edge_slaves {
+                        let Some((old_terms, old_constant)) = slave[s].take() else { continue };
+                        let Some(k) = old_terms.iter().position(|t| t.0 == p) else {
+                            slave[s] = Some((old_terms, old_constant));
+                            continue;
+                        };
+                        let a = old_terms[k].1;
+                        let mut merged: BTreeMap<usize, f64> = BTreeMap::new();
+                        for &(d, c) in old_terms.iter().filter(|t| t.0 != p) {
+                            *merged.entry(d).or_insert(0.0) += c;
+                        }
+                        for &(d, c) in &terms {
+                            *merged.entry(d).or_insert(0.0) += a * c;
+                        }
+                        slave[s] =
+                            Some((merged.into_iter().filter(|t| t.1 != 0.0).collect(), old_constant + a * value));
+                    }
+                    slave[p] = Some((terms, value));
+                    edge_slaves.push(p);
                 }
                 None => {
                     // A redundant condition: it must already hold (global equilibrium), or,
@@ -338,6 +365,13 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
                         ));
                     }
                     closures.push((row.rhs - constant, e.a, e.b));
+                }
+            }
+        }
+        for &p in &edge_slaves {
+            if let Some((terms, _)) = &slave[p] {
+                for &(d, _) in terms {
+                    referenced[d] = true;
                 }
             }
         }
