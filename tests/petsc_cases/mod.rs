@@ -13,6 +13,7 @@ use signorini::Error;
 
 mod contact;
 mod dual;
+mod dual_contact;
 mod locking;
 
 type Case = fn(&Session) -> Result<(), String>;
@@ -37,6 +38,10 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
     ("mumps_schur_complement_is_the_inverse_block", mumps_schur_complement_is_the_inverse_block),
     ("dual_patch_test_all_tractions_exact", dual::dual_patch_test_all_tractions_exact),
+    ("dual_contact_patch_tests_exact", dual_contact::dual_contact_patch_tests_exact),
+    ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
+    ("dual_square_block_raous", dual_contact::dual_square_block_raous),
+    ("dual_contact_estimate_tresca_and_coulomb", dual_contact::dual_contact_estimate_tresca_and_coulomb),
     ("dual_stick_patch_and_roller_support_exact", dual::dual_stick_patch_and_roller_support_exact),
     ("dual_cubic_airy_and_body_force_exact", dual::dual_cubic_airy_and_body_force_exact),
     ("dual_refuses_unbalanced_loads_and_holes", dual::dual_refuses_unbalanced_loads_and_holes),

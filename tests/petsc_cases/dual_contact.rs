@@ -1,0 +1,225 @@
+//! Contact in the dual formulation: patch tests exact, sliding refused, the square block of
+//! Raous–Chabrand–Lebon (without its corner point) against the primal and the references, the
+//! condensed solvers against each other, and the contact terms of the estimate.
+use std::path::Path;
+
+use signorini::contact::PointStatus;
+use signorini::problem::ElasticityProblem;
+use signorini::scene::Scene;
+use signorini::Error;
+
+use super::contact::{example, set_line, solve_text};
+use super::{ensure, manifest};
+
+/// Solve `text` in the dual formulation only (and the primal too with `estimate`).
+fn solve_dual<'s>(
+    s: &'s signorini::petsc::Session,
+    text: &str,
+    path: &Path,
+    estimate: bool,
+) -> Result<ElasticityProblem<'s>, Error> {
+    let scene = Scene::from_str(text, path)?;
+    let mut p = ElasticityProblem::setup_system(s, scene)?;
+    if estimate {
+        p.assemble()?;
+        p.solve()?;
+        p.postprocess()?;
+    }
+    p.solve_dual()?;
+    if estimate {
+        p.estimate()?;
+    }
+    Ok(p)
+}
+
+/// The largest relative difference between the dual stresses and `exact` at every node of
+/// every cell.
+fn stress_error(p: &ElasticityProblem, exact: [f64; 3]) -> f64 {
+    let d = p.dual.as_ref().unwrap();
+    let field = d.system.field(&p.mesh, &d.phi);
+    let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut worst = 0.0f64;
+    for c in 0..p.mesh.num_cells() {
+        for &n in p.mesh.cell(c) {
+            let s = field.stress_at(c, p.mesh.nodes[n]);
+            for k in 0..3 {
+                worst = worst.max((s[k] - exact[k]).abs() / scale);
+            }
+        }
+    }
+    worst
+}
+
+fn stick_patch_text(q_over_p: f64, mu: f64, order: u32) -> String {
+    let (nu, p) = (0.2_f64, 1e6_f64);
+    let side = nu * p / (1.0 - nu);
+    let q = q_over_p * p;
+    format!(
+        r#"
+title = "stick patch (dual)"
+[mesh]
+shape = "rectangle"
+size = [2.0, 1.0]
+cell_size = 0.3
+mesher = "gmsh"
+[discretization]
+order = {order}
+[material]
+young = 90e9
+poisson = 0.2
+[[traction]]
+part = "top"
+traction = [{q:e}, {mp:e}]
+[[traction]]
+part = "right"
+traction = [{ms:e}, {q:e}]
+[[traction]]
+part = "left"
+traction = [{side:e}, {mq:e}]
+[contact]
+part = "bottom"
+obstacle = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+friction = "coulomb"
+mu = {mu}
+solver = "newton"
+"#,
+        mp = -p,
+        ms = -side,
+        mq = -q,
+    )
+}
+
+/// Frictionless and stick patch tests: the dual stresses are exact, every point is closed (and
+/// sticks), and the contact terms of the estimate vanish.
+pub fn dual_contact_patch_tests_exact(s: &signorini::petsc::Session) -> Result<(), String> {
+    let (p, nu) = (1e6, 0.2);
+    let lateral = nu * p / (1.0 - nu);
+    let (text, path) = example("contact_patch.toml");
+    let pr = solve_dual(s, &text, &path, true).map_err(|e| format!("frictionless: {e}"))?;
+    let err = stress_error(&pr, [-lateral, -p, 0.0]);
+    // The equilibrium of the contact forces is imposed iteratively (augmented Lagrangian, to
+    // 1e-10 relative): exact up to that, not to round-off.
+    ensure(err < 1e-9, || format!("frictionless patch: stress error {err:e}"))?;
+    let c = pr.dual.as_ref().unwrap().contact.as_ref().unwrap();
+    ensure(c.status.iter().all(|s| *s != PointStatus::Open), || "an open point on the patch".into())?;
+    let peak = c.report.peak_pressure.as_ref().unwrap().pressure;
+    ensure((peak - p).abs() < 1e-9 * p, || format!("peak pressure {peak:e}"))?;
+    let e = &pr.estimate.as_ref().unwrap().estimate;
+    // Both fields are exact: the estimate, contact part included, vanishes to round-off.
+    ensure(e.contact <= 1e-8 * e.reference_norm && e.relative_percent < 1e-6, || {
+        format!("estimate on the patch: contact {:e}, error {:e}, norm {:e}", e.contact, e.error, e.reference_norm)
+    })?;
+    for order in [1, 2] {
+        let q = 0.3 * p;
+        let text = stick_patch_text(0.3, 0.5, order);
+        let pr = solve_dual(s, &text, &manifest("stick_patch.toml"), false).map_err(|e| format!("P{order}: {e}"))?;
+        let err = stress_error(&pr, [-lateral, -p, q]);
+        ensure(err < 1e-9, || format!("stick patch P{order}: stress error {err:e}"))?;
+        let c = pr.dual.as_ref().unwrap().contact.as_ref().unwrap();
+        ensure(c.report.stick == c.report.points, || format!("not all stick: {:?}", c.report))?;
+        ensure((c.report.resultant[0] + 2.0 * q).abs() < 1e-8 * q, || format!("resultant {:?}", c.report.resultant))?;
+    }
+    Ok(())
+}
+
+/// q > μp: no static solution; the dual says the body slides. A frictionless block with an
+/// unbalanced side load slides too; a block pulled off the plane has no equilibrium.
+pub fn dual_contact_sliding_has_no_static_solution(s: &signorini::petsc::Session) -> Result<(), String> {
+    let text = stick_patch_text(0.6, 0.5, 1);
+    match solve_dual(s, &text, &manifest("stick_patch.toml"), false) {
+        Err(Error::NoEquilibrium(m)) => ensure(m.contains("slides"), || m.clone())?,
+        Err(e) => return Err(format!("wrong error: {e}")),
+        Ok(_) => return Err("a sliding body got a static dual answer".into()),
+    }
+    let (text, path) = example("contact_patch.toml");
+    let unbalanced = text.replacen("pressure = 2.5e5", "pressure = 3.5e5", 1);
+    match solve_dual(s, &unbalanced, &path, false) {
+        Err(Error::NoEquilibrium(m)) => ensure(m.contains("slides"), || m.clone())?,
+        Err(e) => return Err(format!("frictionless, unbalanced: wrong error: {e}")),
+        Ok(_) => return Err("an unbalanced frictionless block got a static dual answer".into()),
+    }
+    let pulled = text.replacen("pressure = 1e6", "pressure = -1e6", 1);
+    match solve_dual(s, &pulled, &path, false) {
+        Err(Error::NoEquilibrium(_)) => Ok(()),
+        Err(e) => Err(format!("pulled off: wrong error: {e}")),
+        Ok(_) => Err("a block pulled off the plane got a static dual answer".into()),
+    }
+}
+
+/// The square block without its corner point: the tangential displacement on the contact
+/// side at the five reference points within 5 % (dual and primal), the two within a few percent
+/// of each other, and the same dual answer from every condensed solver.
+pub fn dual_square_block_raous(s: &signorini::petsc::Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let text =
+        text.replace("[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n", "");
+    ensure(!text.contains("point = [0.04"), || "the corner point was not removed".into())?;
+    let text = set_line(&text, "solver", "solver = \"newton\"");
+    let dual = solve_dual(s, &text, &path, false).map_err(|e| format!("dual: {e}"))?;
+    let primal = solve_text(s, &text, &path).map_err(|e| format!("primal: {e}"))?;
+    let u = primal.displacement.as_ref().unwrap();
+    let c = dual.dual.as_ref().unwrap().contact.as_ref().unwrap();
+    let reference = [(0.0, 2.86e-5), (1.25e-3, 2.72e-5), (5e-3, 2.28e-5), (7.5e-3, 1.98e-5), (11.25e-3, 1.50e-5)];
+    let mut rows = Vec::new();
+    for (x, ux_ref) in reference {
+        // Dual: the mean of the tangential contact displacements of the edge ends at the node
+        // (t = (1, 0) on the flat bottom, counter-clockwise).
+        let at: Vec<usize> = (0..c.points.len()).filter(|&i| (c.points[i].position[0] - x).abs() < 1e-9).collect();
+        ensure(!at.is_empty(), || format!("no dual contact point at x = {x}"))?;
+        let ux_dual = at.iter().map(|&i| c.displacement[2 * i + 1]).sum::<f64>() / at.len() as f64;
+        let node = (0..primal.mesh.num_nodes())
+            .find(|&n| (primal.mesh.nodes[n][0] - x).abs() < 1e-9 && primal.mesh.nodes[n][1].abs() < 1e-12)
+            .ok_or_else(|| format!("no node at ({x}, 0)"))?;
+        let ux_primal = u[2 * node];
+        rows.push((x, ux_dual, ux_primal, ux_ref));
+    }
+    for &(x, ux_dual, ux_primal, ux_ref) in &rows {
+        ensure((ux_dual - ux_ref).abs() <= 0.05 * ux_ref, || format!("dual ux({x}) off the reference: {rows:?}"))?;
+        ensure((ux_primal - ux_ref).abs() <= 0.05 * ux_ref, || format!("primal ux({x}) off the reference: {rows:?}"))?;
+        ensure((ux_dual - ux_primal).abs() <= 0.03 * ux_ref, || format!("primal and dual differ at {x}: {rows:?}"))?;
+    }
+    // Every condensed solver gives the same dual forces (on a coarser block, Tresca so that all
+    // of them apply).
+    let small = set_line(&text, "cell_size", "cell_size = 5e-3");
+    let small = set_line(&set_line(&small, "friction", "friction = \"tresca\""), "mu", "threshold = 1e7");
+    let mut reference: Option<Vec<f64>> = None;
+    for solver in ["newton", "relaxation", "uzawa", "dpana", "tresca_fixed_point", "tao"] {
+        let t = set_line(&small, "solver", &format!("solver = \"{solver}\""));
+        let p = solve_dual(s, &t, &path, false).map_err(|e| format!("{solver}: {e}"))?;
+        let f = p.dual.as_ref().unwrap().contact.as_ref().unwrap().force.clone();
+        match &reference {
+            None => reference = Some(f),
+            Some(r) => {
+                let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let diff = r.iter().zip(&f).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale;
+                ensure(diff < 1e-6, || format!("{solver} differs from newton by {diff:e}"))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Tresca: the estimate is a guaranteed bound, every contact term is non-negative, and its
+/// contact part is reported per element; Coulomb is reported as an estimator.
+pub fn dual_contact_estimate_tresca_and_coulomb(s: &signorini::petsc::Session) -> Result<(), String> {
+    let (text, path) = example("square_block.toml");
+    let text =
+        text.replace("[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n", "");
+    let text = set_line(&text, "cell_size", "cell_size = 5e-3");
+    let text = set_line(&text, "solver", "solver = \"newton\"");
+    let tresca = set_line(&set_line(&text, "friction", "friction = \"tresca\""), "mu", "threshold = 2e7");
+    let p = solve_dual(s, &tresca, &path, true).map_err(|e| format!("tresca: {e}"))?;
+    let e = &p.estimate.as_ref().unwrap().estimate;
+    ensure(e.kind == signorini::estimate::EstimateKind::GuaranteedBound, || format!("{:?}", e.kind))?;
+    let meaning = p.estimate.as_ref().unwrap().meaning;
+    ensure(meaning.starts_with("a guaranteed upper bound"), || format!("not guaranteed: {meaning}; {e:?}"))?;
+    ensure(e.contact > 0.0 && e.volume > 0.0, || format!("parts of the estimate: {e:?}"))?;
+    let per_element: f64 = e.element_contact.iter().sum();
+    ensure((per_element - e.contact.powi(2)).abs() <= 1e-10 * e.contact.powi(2), || "contact part per element".into())?;
+    let p = solve_dual(s, &text, &path, true).map_err(|e| format!("coulomb: {e}"))?;
+    let e = &p.estimate.as_ref().unwrap();
+    ensure(e.estimate.kind == signorini::estimate::EstimateKind::Estimator, || format!("{:?}", e.estimate.kind))?;
+    ensure(e.meaning.contains("estimator"), || e.meaning.to_string())
+}
