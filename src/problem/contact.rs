@@ -446,7 +446,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, Option<SolveStats>)> {
         let b = &self.boundary;
         let m = b.points();
@@ -504,7 +504,7 @@ impl ContactSetup {
                 w[(i, j)] = *v;
             }
             if count % 50 == 49 {
-                progress(&format!("  condensing: {} / {} flexibility columns", count + 1, columns.len()));
+                progress.note(&format!("condensing: {} / {} flexibility columns", count + 1, columns.len()));
             }
         }
         if !frictional {
@@ -547,7 +547,7 @@ impl ContactSetup {
             )?;
             settings.initial_force = initial_force.clone();
             let solution = if self.spec.solver == ContactSolverSpec::Tao {
-                progress(&format!("  contact: {m} points, solver PETSc TAO (box-constrained QP)"));
+                progress.note(&format!("contact: {m} points, solver PETSc TAO (box-constrained QP)"));
                 self.solve_with_tao(session, &problem)?
             } else {
                 self.solve_condensed(&problem, &settings, progress)?
@@ -620,7 +620,7 @@ impl ContactSetup {
         &self,
         problem: &CondensedProblem,
         settings: &SolverSettings,
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<contact::ContactSolution> {
         let m = problem.points();
         let solver = match &self.spec.solver {
@@ -638,8 +638,12 @@ impl ContactSetup {
                 )))
             }
         };
-        progress(&format!("  contact: {m} points, solver {}", solver.name()));
-        contact::solve(problem, &solver, settings)
+        progress.note(&format!("contact: {m} points, solver {}", solver.name()));
+        let solution = contact::solve(problem, &solver, settings)?;
+        for (k, h) in solution.history.iter().enumerate() {
+            progress.iteration(super::Phase::Solve, k + 1, h.residual);
+        }
+        Ok(solution)
     }
 
     /// K u = f + Bᵀ r by one more solve, then the independent check of (r, B u).

@@ -25,11 +25,13 @@ mod contact;
 mod contact_zones;
 mod dual;
 mod full_space;
+mod progress;
 mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
 pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
+pub use progress::{NoProgress, Phase, Progress};
 pub use warnings::Warning;
 
 use crate::error::{Error, Result};
@@ -140,6 +142,8 @@ pub struct ElasticityProblem<'s> {
     pub estimate: Option<EstimateReport>,
     /// Physics warnings so far.
     pub warnings: Vec<Warning>,
+    /// Who is told the progress of the run ([`NoProgress`] unless set).
+    progress: Box<dyn Progress>,
 }
 
 /// Post-processed fields.
@@ -155,10 +159,17 @@ impl<'s> ElasticityProblem<'s> {
     /// Mesh, material, constraints, partition. Scene PETSc options enter the options database
     /// as defaults (the command line wins).
     pub fn setup_system(session: &'s Session, scene: Scene) -> Result<Self> {
+        Self::setup_system_with_progress(session, scene, Box::new(NoProgress))
+    }
+
+    /// [`ElasticityProblem::setup_system`], telling `progress` about this and every later
+    /// phase of the run.
+    pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
         let mut timings = Timings::default();
-        let (mesh, file_order) = timings.time("mesh", || build_mesh(&scene))?;
+        let (mesh, file_order) =
+            progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
@@ -218,7 +229,18 @@ impl<'s> ElasticityProblem<'s> {
             dual: None,
             estimate: None,
             warnings: initial_warnings,
+            progress,
         })
+    }
+
+    /// Tell `progress` about the following phases of the run (replaces the observer).
+    pub fn set_progress(&mut self, progress: Box<dyn Progress>) {
+        self.progress = progress;
+    }
+
+    /// The observer of the run's progress.
+    pub fn progress(&self) -> &dyn Progress {
+        &*self.progress
     }
 
     pub fn num_dofs(&self) -> usize {
@@ -253,6 +275,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// Assemble this rank's rows of the stiffness matrix and load vector into PETSc objects.
     pub fn assemble(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Assemble);
         let start = std::time::Instant::now();
         let mut system = self.with_loads(|loads| {
             let element = self.scene.element;
@@ -267,6 +290,7 @@ impl<'s> ElasticityProblem<'s> {
             contact.set_stabilisation(self.session.world().max(&[max_diag])?[0]);
             self.full_space_system = Some(system);
             self.timings.add("assemble", start.elapsed().as_secs_f64());
+            self.progress.phase_finished(Phase::Assemble, start.elapsed().as_secs_f64());
             return Ok(());
         }
         if let Some(contact) = &mut self.contact {
@@ -279,11 +303,13 @@ impl<'s> ElasticityProblem<'s> {
         }
         self.system = Some(self.to_petsc(&system)?);
         self.timings.add("assemble", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Assemble, start.elapsed().as_secs_f64());
         Ok(())
     }
 
     /// Solve the linear system with the KSP configured by the options database.
     pub fn solve(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Solve);
         let start = std::time::Instant::now();
         if let (Some(contact), Some(system)) = (&self.contact, &self.full_space_system) {
             let ranges = dof_ranges(self.mesh.num_nodes(), self.session.size());
@@ -294,7 +320,7 @@ impl<'s> ElasticityProblem<'s> {
                 &self.constraints,
                 system,
                 &ranges,
-                &mut |_| {},
+                &*self.progress,
             )?;
             stats.seconds = start.elapsed().as_secs_f64();
             self.stats = Some(stats);
@@ -302,6 +328,7 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
             self.timings.add("solve", start.elapsed().as_secs_f64());
+            self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
             return Ok(());
         }
         let (matrix, rhs) =
@@ -323,7 +350,8 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {
-            let (u, outcome, stats) = contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &mut |_| {})?;
+            let (u, outcome, stats) =
+                contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &*self.progress)?;
             self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
             self.check_contact_equilibrium(&outcome)?;
             self.displacement = Some(u);
@@ -335,6 +363,7 @@ impl<'s> ElasticityProblem<'s> {
             self.stats = Some(stats);
         }
         self.timings.add("solve", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -408,6 +437,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// Stresses, von Mises, reactions per Dirichlet part, global equilibrium.
     pub fn postprocess(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Postprocess);
         let start = std::time::Instant::now();
         let u = self
             .displacement
@@ -518,6 +548,7 @@ impl<'s> ElasticityProblem<'s> {
             report: ResultsReport { max_displacement, max_von_mises, applied_force, reactions, equilibrium_residual },
         });
         self.timings.add("postprocess", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Postprocess, start.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -638,6 +669,7 @@ impl<'s> ElasticityProblem<'s> {
     /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
     /// Returns the report and the paths written.
     pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
+        self.progress.phase_started(Phase::Output);
         let start = std::time::Instant::now();
         let mut written = Vec::new();
         if self.session.rank() == 0 {
@@ -657,7 +689,10 @@ impl<'s> ElasticityProblem<'s> {
             Ok(report)
         };
         match finish(&mut written) {
-            Ok(report) => Ok((report, written)),
+            Ok(report) => {
+                self.progress.phase_finished(Phase::Output, start.elapsed().as_secs_f64());
+                Ok((report, written))
+            }
             Err(e) => {
                 for path in &written {
                     let _ = std::fs::remove_file(path);
