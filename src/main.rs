@@ -3,11 +3,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod cli;
+mod summary;
+mod terminal_progress;
 
 use clap::Parser as _;
 use cli::{Bench, Cli, Command};
 use signorini::petsc::Session;
-use signorini::problem::{ElasticityProblem, Report};
+use signorini::problem::ElasticityProblem;
 use signorini::scene::Scene;
 use signorini::{bench, Error};
 
@@ -110,11 +112,6 @@ fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Re
 }
 
 fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let say = |s: &str| {
-        if session.rank() == 0 && !args.quiet {
-            eprintln!("{s}");
-        }
-    };
     // Nothing stale after a failure: the previous results go before anything is read or solved
     // (with --out known now; else once the scene says where its results go).
     let clear = |out: &std::path::Path| -> Result<(), Error> {
@@ -138,22 +135,9 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
     if args.out.is_none() {
         clear(&out)?;
     }
-    say(&format!(
-        "signorini {} — {} ({})",
-        env!("CARGO_PKG_VERSION"),
-        scene.title.as_deref().unwrap_or("untitled scene"),
-        scene.source.display()
-    ));
-    let mut problem = ElasticityProblem::setup_system(session, scene)?;
-    say(&format!(
-        "  mesh      {} nodes, {} {:?} triangles, {} dofs on {} rank(s) [{:.2} s]",
-        problem.mesh.num_nodes(),
-        problem.mesh.num_cells(),
-        problem.mesh.order,
-        problem.num_dofs(),
-        session.size(),
-        problem.timings.get("mesh").unwrap_or(0.0)
-    ));
+    let show_progress = session.rank() == 0 && terminal_progress::wanted(args.quiet);
+    let progress = Box::new(terminal_progress::TerminalProgress::new(show_progress));
+    let mut problem = ElasticityProblem::setup_system_with_progress(session, scene, progress)?;
     let dual = match args.formulation.as_deref() {
         Some("dual") => true,
         Some(_) => false,
@@ -167,7 +151,6 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
     }
     if !dual || estimate {
         problem.assemble()?;
-        say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
         problem.solve()?;
         problem.postprocess()?;
     }
@@ -178,8 +161,15 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         problem.estimate()?;
     }
     let (report, written) = problem.write_output(&out)?;
+    drop(problem); // clears the spinner
     if session.rank() == 0 && !args.quiet {
-        print_summary(&report, &written);
+        // The summary on stdout, warnings on stderr.
+        for line in summary::summary_lines(&report, &written) {
+            println!("{line}");
+        }
+        for line in summary::warning_lines(&report) {
+            eprintln!("{line}");
+        }
     }
     Ok(())
 }
@@ -218,125 +208,6 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
             Ok(())
         }
     }
-}
-
-fn print_summary(r: &Report, written: &[PathBuf]) {
-    let s = &r.solver.stats;
-    let pkg = s.factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default();
-    eprintln!(
-        "  solve     {} + {}{pkg}: {} iteration(s), {}, true residual {:.1e} [{:.2} s]",
-        s.ksp_type, s.pc_type, s.iterations, s.converged_reason, s.relative_residual, s.seconds
-    );
-    if let Some(res) = &r.results {
-        eprintln!("  result    max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises);
-        let reactions: Vec<String> =
-            res.reactions.iter().map(|(k, v)| format!("{k} ({:.4e}, {:.4e})", v[0], v[1])).collect();
-        eprintln!(
-            "  check     applied force ({:.4e}, {:.4e}), reactions {}, equilibrium residual {:.1e}",
-            res.applied_force[0],
-            res.applied_force[1],
-            reactions.join(", "),
-            res.equilibrium_residual
-        );
-    }
-    if let Some(d) = &r.dual {
-        eprintln!(
-            "  dual      HCT, {} unknowns: max von Mises = {:.4e}, complementary energy {:.6e} [{:.2} s]",
-            d.unknowns, d.max_von_mises, d.check.complementary_energy, d.solver.seconds
-        );
-        eprintln!(
-            "            independent check: traction {:.1e}, equilibrium {:.1e}, stress jumps {:.1e}",
-            d.check.traction_residual, d.check.interior_equilibrium, d.check.stress_jump
-        );
-        for note in &d.notes {
-            eprintln!("            note: {note}");
-        }
-    }
-    if let Some(e) = &r.estimate {
-        eprintln!(
-            "  estimate  error {:.4e} = {:.3} % of the energy norm ({}), in {:.2} s of {:.2} s run time",
-            e.estimate.error,
-            e.estimate.relative_percent,
-            if e.estimate.kind == signorini::estimate::EstimateKind::GuaranteedBound {
-                "a guaranteed bound"
-            } else {
-                "an estimator"
-            },
-            e.estimate_seconds,
-            r.timings.total()
-        );
-    }
-    if let Some(c) = &r.contact {
-        let worst = [
-            c.residuals.max_penetration,
-            c.residuals.max_wrong_sign_pressure,
-            c.residuals.max_cone_violation,
-            c.residuals.normal_complementarity,
-            c.residuals.tangential_complementarity,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max);
-        eprintln!(
-            "  contact   {} on '{}' (friction {}): {} iteration(s), status changes {:?}",
-            c.solver, c.part, c.friction, c.iterations, c.status_changes
-        );
-        eprintln!(
-            "            {} points: {} open, {} stick, {} slip; contact force ({:.4e}, {:.4e}); zone {}",
-            c.points,
-            c.open,
-            c.stick,
-            c.slip,
-            c.resultant[0],
-            c.resultant[1],
-            c.zone.map(|z| format!("[{:.4e}, {:.4e}]", z[0], z[1])).unwrap_or_else(|| "none".into())
-        );
-        if let Some(p) = &c.peak_pressure {
-            eprintln!(
-                "            peak pressure {:.4e} at ({:.4e}, {:.4e}); closed zones (arc length): {}",
-                p.pressure,
-                p.position[0],
-                p.position[1],
-                if c.zones.is_empty() {
-                    "none".to_string()
-                } else {
-                    c.zones
-                        .iter()
-                        .map(|z| format!("[{:.4e}, {:.4e}]", z.extent[0], z.extent[1]))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                }
-            );
-        }
-        eprintln!(
-            "            independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity {:.1e} / {:.1e} (worst {worst:.1e})",
-            c.residuals.max_penetration,
-            c.residuals.max_wrong_sign_pressure,
-            c.residuals.max_cone_violation,
-            c.residuals.normal_complementarity,
-            c.residuals.tangential_complementarity
-        );
-        if c.stabilisation_iterations > 0 {
-            eprintln!(
-                "            held by contact: {} proximal iteration(s), residual spring force ({:.1e}, {:.1e})",
-                c.stabilisation_iterations, c.stabilisation_force[0], c.stabilisation_force[1]
-            );
-        }
-    }
-    let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
-    eprintln!(
-        "  time      {} s; total {:.3} s; peak memory {}",
-        phases.join(", "),
-        r.timings.total(),
-        r.memory.peak_bytes.map(|b| format!("{:.1} MB", b as f64 / 1e6)).unwrap_or_else(|| "n/a".into())
-    );
-    for w in &r.warnings {
-        eprintln!("  warning   {}: {}", w.kind, w.message);
-    }
-    for u in &r.solver.unused_options {
-        eprintln!("  warning   PETSc option {u} was never used (a typo?)");
-    }
-    let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-    eprintln!("  wrote     {}", files.join(", "));
 }
 
 /// `bench elasticity`: runs every (size, solver) case in a child process of its own (so that

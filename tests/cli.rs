@@ -71,8 +71,9 @@ fn relative_difference(a: &Path, b: &Path) -> f64 {
 fn default_scene_writes_report_and_solution() {
     let dir = scratch("default");
     let out = run_ok(bin().args(["run", "--out"]).arg(&dir));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("wrote") && stderr.contains("equilibrium residual"), "{stderr}");
+    // The summary is the program's answer: on stdout.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("wrote") && stdout.contains("equilibrium residual"), "{stdout}");
     let r = report(&dir);
     for key in ["nodes", "elements", "dofs", "formulation", "timings", "solver", "memory", "results"] {
         assert!(r.get(key).is_some(), "report.json lacks {key}: {r}");
@@ -99,7 +100,7 @@ fn default_scene_writes_report_and_solution() {
     ] {
         assert!(c["residuals"][k].as_f64().unwrap() < 1e-7, "contact residual {k}: {c}");
     }
-    assert!(stderr.contains("independent check"), "{stderr}");
+    assert!(stdout.contains("independent check"), "{stdout}");
     assert!(r["solver"]["relative_residual"].as_f64().unwrap() < 1e-8);
     for phase in ["mesh", "assemble", "solve", "output", "total"] {
         assert!(r["timings"][phase].as_f64().unwrap() >= 0.0, "timings.{phase}");
@@ -795,4 +796,47 @@ fn bench_dual_writes_its_table_and_plot() {
     let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("primal P2"), "{table}");
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
+}
+
+/// The terminal summary of a contact run: within 100 columns, the solver said once, every
+/// quantity an engineer looks for; piped output holds no progress escape codes.
+#[test]
+fn the_summary_fits_100_columns_and_says_each_thing_once() {
+    for (name, scene_file) in [("summary-default", None), ("summary-hertz", Some("examples/scenes/hertz.toml"))] {
+        let dir = scratch(name);
+        let mut cmd = bin();
+        cmd.arg("run");
+        if let Some(f) = scene_file {
+            cmd.arg(scene(f));
+        }
+        let out = run_ok(cmd.arg("--out").arg(&dir));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        for line in stdout.lines().chain(stderr.lines()) {
+            assert!(line.chars().count() <= 100, "{name}: a line of {} characters: {line}", line.chars().count());
+        }
+        // Output that is not a terminal: no escape codes, no carriage returns.
+        assert!(!stdout.contains('\u{1b}') && !stderr.contains('\u{1b}'), "{name}: escape codes");
+        assert!(!stdout.contains('\r') && !stderr.contains('\r'), "{name}: carriage returns");
+        let r = report(&dir);
+        let solver = r["contact"]["solver"].as_str().unwrap();
+        // The solver description is wrapped like any text: compare without line breaks.
+        let flat = stdout.lines().map(|l| l.get(10..).unwrap_or("").trim()).collect::<Vec<_>>().join(" ");
+        assert_eq!(flat.matches(solver).count(), 1, "{name}: the solver once: {stdout}");
+        for label in ["problem", "solver", "time", "contact", "wrote"] {
+            let n = stdout.lines().filter(|l| l.starts_with(&format!("{label:<10}"))).count();
+            assert_eq!(n, 1, "{name}: one '{label}' line: {stdout}");
+        }
+        for what in
+            ["peak pressure", "closed zone 1: s in [", "stick", "slip", "open", "resultant", "independent check"]
+        {
+            assert!(flat.contains(what), "{name}: no '{what}': {stdout}");
+        }
+        for phase in ["mesh", "assemble", "solve", "output", "total"] {
+            assert!(flat.contains(&format!("{phase} ")), "{name}: time of {phase}: {stdout}");
+        }
+        let peak = r["contact"]["peak_pressure"]["pressure"].as_f64().unwrap();
+        assert!(flat.contains(&format!("peak pressure {peak:.4e}")), "{name}: {stdout}");
+        assert!(r["contact"]["zones"].as_array().is_some_and(|z| !z.is_empty()), "{name}");
+    }
 }
