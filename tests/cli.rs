@@ -110,7 +110,7 @@ fn default_scene_writes_report_and_solution() {
     // No temporary files left next to the outputs.
     let names: Vec<String> =
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
-    assert_eq!(names.len(), 2, "{names:?}");
+    assert_eq!(names.len(), 5, "solution.vtu, report.json and the three contact files: {names:?}");
 }
 
 /// The plane-elasticity block (no contact): its linear solver is the main KSP.
@@ -839,4 +839,76 @@ fn the_summary_fits_100_columns_and_says_each_thing_once() {
         assert!(flat.contains(&format!("peak pressure {peak:.4e}")), "{name}: {stdout}");
         assert!(r["contact"]["zones"].as_array().is_some_and(|z| !z.is_empty()), "{name}");
     }
+}
+
+/// Is `path` well-formed XML with an `<svg>` root? (Python's parser, which the tests need anyway.)
+fn svg_is_well_formed(path: &Path) -> bool {
+    let out = python(&format!(
+        "import xml.etree.ElementTree as E\nr = E.parse({:?}).getroot()\nprint(r.tag.endswith('svg'), len(r.findall('.//{{http://www.w3.org/2000/svg}}text')) > 0)",
+        path.display().to_string()
+    ));
+    out.trim() == "True True"
+}
+
+/// Every contact run writes contact.csv (one row per contact point, in order of arc length,
+/// the report's peak among its pressures), contact.svg and convergence.svg (well-formed SVG
+/// with text); a run without contact removes them; a failed run leaves none.
+#[test]
+fn contact_runs_write_the_curve_as_csv_and_pictures() {
+    let dir = scratch("contact-files");
+    let stdout = String::from_utf8_lossy(
+        &run_ok(bin().arg("run").arg(scene("examples/scenes/hertz.toml")).arg("--out").arg(&dir)).stdout,
+    )
+    .to_string();
+    let r = report(&dir);
+    let c = &r["contact"];
+    let text = std::fs::read_to_string(dir.join("contact.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "s,x,y,pressure,tangential_traction,gap,normal_displacement,tangential_slip,status"
+    );
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_string).collect()).collect();
+    assert_eq!(rows.len() as u64, c["points"].as_u64().unwrap(), "one row per contact point");
+    let num = |row: &[String], k: usize| row[k].parse::<f64>().unwrap();
+    let s: Vec<f64> = rows.iter().map(|r| num(r, 0)).collect();
+    assert!(s.windows(2).all(|w| w[1] >= w[0]), "rows in order of arc length");
+    let peak = rows.iter().map(|r| num(r, 3)).fold(f64::NEG_INFINITY, f64::max);
+    let reported = c["peak_pressure"]["pressure"].as_f64().unwrap();
+    assert!((peak - reported).abs() <= 1e-12 * reported.abs(), "csv peak {peak} against report {reported}");
+    let peak_row = rows.iter().find(|r| num(r, 3) == peak).unwrap();
+    assert!((num(peak_row, 0) - c["peak_pressure"]["s"].as_f64().unwrap()).abs() < 1e-12);
+    for (status, key) in [("open", "open"), ("stick", "stick"), ("slip", "slip")] {
+        let n = rows.iter().filter(|r| r[8] == status).count() as u64;
+        assert_eq!(n, c[key].as_u64().unwrap(), "{status} rows");
+    }
+    for row in &rows {
+        if row[8] == "open" {
+            assert!(num(row, 3).abs() <= 1e-12 * reported, "an open point carries no pressure: {row:?}");
+            assert!(num(row, 5) >= -1e-12, "an open point has a gap: {row:?}");
+        } else {
+            assert!(num(row, 5).abs() < 1e-9, "a closed point has no gap: {row:?}");
+        }
+    }
+    assert_eq!(c["residual_history"].as_array().unwrap().len() as u64, c["iterations"].as_u64().unwrap());
+    for f in ["contact.svg", "convergence.svg"] {
+        assert!(svg_is_well_formed(&dir.join(f)), "{f} is not well-formed SVG with text");
+        assert!(stdout.contains(f), "the summary names {f}");
+    }
+    // The next run rewrites them; a run without contact removes them.
+    let before = std::fs::metadata(dir.join("contact.csv")).unwrap().modified().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    assert!(std::fs::metadata(dir.join("contact.csv")).unwrap().modified().unwrap() > before, "rewritten");
+    let rows = std::fs::read_to_string(dir.join("contact.csv")).unwrap().lines().count() - 1;
+    assert_eq!(rows as u64, report(&dir)["contact"]["points"].as_u64().unwrap());
+    run_ok(bin().arg("run").arg(block()).args(["--quiet", "--out"]).arg(&dir));
+    for f in ["contact.csv", "contact.svg", "convergence.svg"] {
+        assert!(!dir.join(f).exists(), "{f} left from the previous contact run");
+    }
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    run_err(bin().args(["run", "/nonexistent/scene.toml", "--quiet", "--out"]).arg(&dir), 1);
+    let left: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
+    assert!(left.is_empty(), "stale results after a failed run: {left:?}");
 }

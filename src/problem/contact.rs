@@ -77,6 +77,9 @@ pub struct ContactReport {
     pub iterations: usize,
     /// Status changes (open/stick/slip) per iteration of the contact solver.
     pub status_changes: Vec<usize>,
+    /// The contact solver's residual after each iteration (relative; what `convergence.svg`
+    /// plots).
+    pub residual_history: Vec<f64>,
     pub notes: Vec<String>,
     pub points: usize,
     pub open: usize,
@@ -531,7 +534,7 @@ impl ContactSetup {
         let mut solves = columns.len();
         let mut history: Vec<f64> = Vec::new();
         let mut initial_force: Option<Vec<f64>> = None;
-        let (mut total_iterations, mut all_changes) = (0usize, Vec::new());
+        let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::new());
         loop {
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             e.set_owned(&rk)?;
@@ -556,6 +559,8 @@ impl ContactSetup {
                 self.recover_and_verify(mesh, matrix, &rk, &mut linear, &problem, solution, &settings, solves)?;
             total_iterations += outcome.report.iterations;
             all_changes.extend(outcome.report.status_changes.iter().copied());
+            all_residuals.extend(outcome.report.residual_history.iter().copied());
+            outcome.report.residual_history = all_residuals.clone();
             outcome.report.iterations = total_iterations;
             outcome.report.status_changes = all_changes.clone();
             let Some(k) = self.spring else { return Ok((u, outcome, linear.stats())) };
@@ -749,6 +754,7 @@ impl ContactSetup {
             solver: solution.solver.clone(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
+            residual_history: solution.history.iter().map(|h| h.residual).collect(),
             notes: solution.notes.clone(),
             points: m,
             open,

@@ -22,12 +22,14 @@ use std::path::{Path, PathBuf};
 
 mod block_elimination;
 mod contact;
+mod contact_curve;
 mod contact_zones;
 mod dual;
 mod full_space;
 mod progress;
 mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
 pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
@@ -666,19 +668,59 @@ impl<'s> ElasticityProblem<'s> {
         vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
     }
 
-    /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
+    /// The contact answer point by point in order along the contact part (after
+    /// [`ElasticityProblem::solve`]); `None` without contact.
+    pub fn contact_curve(&self) -> Option<Vec<ContactCurvePoint>> {
+        let (c, o, u) = (self.contact.as_ref()?, self.contact_outcome.as_ref()?, self.displacement.as_ref()?);
+        Some(contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
+    }
+
+    /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`.
+    fn write_contact_files(&self, dir: &Path, written: &mut Vec<PathBuf>) -> Result<()> {
+        let (Some(points), Some(outcome)) = (self.contact_curve(), &self.contact_outcome) else {
+            return Ok(());
+        };
+        let path = dir.join("contact.csv");
+        contact_curve::write_contact_csv(&path, &points)?;
+        written.push(path);
+        let r = &outcome.report;
+        let s: Vec<f64> = points.iter().map(|p| p.s).collect();
+        let pressure: Vec<f64> = points.iter().map(|p| p.pressure).collect();
+        let traction: Vec<f64> = points.iter().map(|p| p.tangential_traction).collect();
+        let path = dir.join("contact.svg");
+        let title = format!("Contact tractions on '{}' (friction {})", r.part, r.friction);
+        output::contact_plots::write_contact_svg(&path, &title, &s, &pressure, &traction)?;
+        written.push(path);
+        let path = dir.join("convergence.svg");
+        let title = format!("Contact solver convergence ({} iterations)", r.residual_history.len());
+        output::contact_plots::write_convergence_svg(&path, &title, &r.residual_history)?;
+        written.push(path);
+        Ok(())
+    }
+
+    /// Write `solution.vtu`, `report.json` and, with contact, `contact.csv`, `contact.svg` and
+    /// `convergence.svg` into `dir` (rank 0 only; each atomically, and all or none of them).
     /// Returns the report and the paths written.
     pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
         self.progress.phase_started(Phase::Output);
         let start = std::time::Instant::now();
         let mut written = Vec::new();
-        if self.session.rank() == 0 {
-            let path = dir.join("solution.vtu");
-            self.write_vtu(&path)?;
-            written.push(path);
+        let files = |written: &mut Vec<PathBuf>| -> Result<()> {
+            if self.session.rank() == 0 {
+                let path = dir.join("solution.vtu");
+                self.write_vtu(&path)?;
+                written.push(path);
+                self.write_contact_files(dir, written)?;
+            }
+            Ok(())
+        };
+        if let Err(e) = files(&mut written) {
+            for path in &written {
+                let _ = std::fs::remove_file(path);
+            }
+            return Err(e);
         }
         self.timings.add("output", start.elapsed().as_secs_f64());
-        // All or nothing: a failure after solution.vtu removes it again.
         let finish = |written: &mut Vec<PathBuf>| -> Result<Report> {
             let report = self.report()?;
             if self.session.rank() == 0 {
@@ -688,6 +730,7 @@ impl<'s> ElasticityProblem<'s> {
             }
             Ok(report)
         };
+        // All or nothing: a failure after some files were written removes them again.
         match finish(&mut written) {
             Ok(report) => {
                 self.progress.phase_finished(Phase::Output, start.elapsed().as_secs_f64());
