@@ -2,6 +2,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod bench_runner;
 mod cli;
 mod summary;
 mod terminal_progress;
@@ -67,16 +68,20 @@ fn main() -> ExitCode {
         }
         Command::Bench { which } => match which {
             Bench::Elasticity(o) => {
-                bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
+                bench_runner::bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
             }
-            Bench::Contact(o) => bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::Contact(o) => {
+                bench_runner::bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
             Bench::ElasticityCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_elasticity_case)
             }
             Bench::ContactCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_contact_case)
             }
-            Bench::Dual(o) => bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::Dual(o) => {
+                bench_runner::bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
             Bench::DualCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
             }
@@ -210,61 +215,6 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
     }
 }
 
-/// `bench elasticity`: runs every (size, solver) case in a child process of its own (so that
-/// each reports its own memory) and collects their rows.
-fn bench_elasticity(parsed: RunArgs) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}", std::process::id()));
-    let exe = match std::env::current_exe() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let mut rows: Vec<bench::BenchRow> = Vec::new();
-    let cases = bench::elasticity_cases(parsed.max_dofs);
-    for (k, (dofs, solver)) in cases.iter().enumerate() {
-        let index = bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0);
-        eprint!("[{}/{}] {dofs} dofs, {:<26} ", k + 1, cases.len(), solver.name);
-        let child = std::process::Command::new(&exe)
-            .args(["bench", "elasticity-case", "--case", &format!("{dofs},{index}"), "--out"])
-            .arg(&scratch)
-            .args(&parsed.petsc)
-            .output();
-        match child {
-            Ok(o) if o.status.success() => match serde_json::from_slice::<bench::BenchRow>(&o.stdout) {
-                Ok(row) => {
-                    eprintln!(
-                        "{:>8.3} s, {:>5} iterations, {:>6.0} MB",
-                        row.solve_seconds, row.iterations, row.solve_memory_mb
-                    );
-                    rows.push(row);
-                }
-                Err(e) => eprintln!("unreadable result: {e}"),
-            },
-            Ok(o) => eprintln!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()),
-            Err(e) => eprintln!("could not start: {e}"),
-        }
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
-    if rows.is_empty() {
-        eprintln!("error: no benchmark case succeeded");
-        return ExitCode::FAILURE;
-    }
-    match bench::write_elasticity_outputs(&rows, &out) {
-        Ok((md, svg)) => {
-            println!("{}", bench::elasticity_table(&rows));
-            eprintln!("wrote {}, {}", md.display(), svg.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
 /// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.
 fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
@@ -278,111 +228,6 @@ fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> 
     Ok(())
 }
 
-/// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row.
-fn run_case<T: serde::de::DeserializeOwned>(
-    exe: &std::path::Path,
-    kind: &str,
-    dofs: usize,
-    index: usize,
-    out: &std::path::Path,
-    petsc: &[String],
-) -> Result<T, String> {
-    let o = std::process::Command::new(exe)
-        .args(["bench", &format!("{kind}-case"), "--case", &format!("{dofs},{index}"), "--out"])
-        .arg(out)
-        .args(petsc)
-        .output()
-        .map_err(|e| format!("could not start: {e}"))?;
-    if !o.status.success() {
-        return Err(format!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()));
-    }
-    serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
-}
-
-/// Writes a benchmark's table and plot into a directory; their paths.
-type Writer<T> = fn(&[T], &std::path::Path) -> Result<(PathBuf, PathBuf), Error>;
-
-/// The parts of a benchmark run in child processes, one per (size, solver) case.
-struct CaseRunner<T> {
-    /// The child's subcommand is `bench {kind}-case`.
-    kind: &'static str,
-    /// `(dofs, solver index, solver name)` of each case.
-    cases: Vec<(usize, usize, String)>,
-    /// The progress line of a finished case.
-    describe: fn(&T) -> String,
-    table: fn(&[T]) -> String,
-    write: Writer<T>,
-}
-
-/// Run every case in a child process (each reports its own memory), print progress, write the
-/// table and the plot.
-fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunner<T>) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let exe = match std::env::current_exe() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()));
-    let mut rows: Vec<T> = Vec::new();
-    for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
-        eprint!("[{}/{}] ~{dofs} dofs, {name:<26} ", k + 1, runner.cases.len());
-        match run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, &parsed.petsc) {
-            Ok(row) => {
-                eprintln!("{}", (runner.describe)(&row));
-                rows.push(row);
-            }
-            Err(e) => eprintln!("{e}"),
-        }
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
-    if rows.is_empty() {
-        eprintln!("error: no benchmark case succeeded");
-        return ExitCode::FAILURE;
-    }
-    match (runner.write)(&rows, &out) {
-        Ok((md, svg)) => {
-            println!("{}", (runner.table)(&rows));
-            eprintln!("wrote {}, {}", md.display(), svg.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-/// `bench contact`: each (size, solver) case in a child process.
-fn bench_contact(parsed: RunArgs) -> ExitCode {
-    let cases = bench::contact_cases(parsed.max_dofs)
-        .into_iter()
-        .map(|(dofs, solver)| {
-            (dofs, bench::CONTACT_SOLVERS.iter().position(|s| *s == solver).unwrap_or(0), solver.to_string())
-        })
-        .collect();
-    run_bench(
-        &parsed,
-        CaseRunner::<bench::ContactBenchRow> {
-            kind: "contact",
-            cases,
-            describe: |row| {
-                format!(
-                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
-                    row.contact_seconds,
-                    row.iterations,
-                    row.contact_seconds / row.linear_seconds,
-                    row.worst_residual
-                )
-            },
-            table: bench::contact_table,
-            write: bench::write_contact_outputs,
-        },
-    )
-}
-
 fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
         args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
@@ -392,26 +237,6 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }
     Ok(())
-}
-
-/// `bench dual`: each (size, solver) case in a child process.
-fn bench_dual(parsed: RunArgs) -> ExitCode {
-    let cases = bench::dual::dual_cases(parsed.max_dofs);
-    run_bench(
-        &parsed,
-        CaseRunner::<bench::dual::DualBenchRow> {
-            kind: "dual",
-            cases,
-            describe: |row| {
-                format!(
-                    "setup {:.3} s, solve {:.3} s ({} its), estimate {:.3} s; primal P2 {:.3} s",
-                    row.setup_seconds, row.solve_seconds, row.iterations, row.estimate_seconds, row.primal_seconds
-                )
-            },
-            table: bench::dual::dual_table,
-            write: bench::write_dual_outputs,
-        },
-    )
 }
 
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {

@@ -334,14 +334,43 @@ print(err_u / abs({k:e}), err_s / {p:e}, sorted(ids))
     }
 }
 
+/// The data rows of the first Markdown table of a benchmark file (after its header and
+/// separator lines).
+fn table_rows(md: &str) -> Vec<&str> {
+    md.lines().skip_while(|l| !l.starts_with('|')).skip(2).take_while(|l| l.starts_with('|')).collect()
+}
+
+/// The rows of the failed-cases table (`| dofs | solver | failed: reason |`).
+fn failed_rows(md: &str) -> Vec<&str> {
+    md.lines()
+        .skip_while(|l| !l.starts_with("| dofs | solver | failed: reason |"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .collect()
+}
+
+/// Every benchmark file says when, by what and how it was run.
+fn assert_provenance(md: &str, command: &str) {
+    assert!(md.starts_with("# Benchmark"), "{md}");
+    let date = md.lines().find_map(|l| l.strip_prefix("- date: ")).expect("a date line");
+    assert!(date.len() == 23 && date.ends_with(" UTC") && date.starts_with("20"), "date {date}");
+    let program = md.lines().find_map(|l| l.strip_prefix("- program: ")).expect("a program line");
+    assert!(program.starts_with(&format!("signorini {} (commit ", env!("CARGO_PKG_VERSION"))), "{program}");
+    let commit = program.rsplit("commit ").next().unwrap().trim_end_matches(')');
+    assert!(commit == "unknown" || commit.chars().take(7).all(|c| c.is_ascii_hexdigit()), "commit {commit}");
+    assert!(md.contains(&format!("- command: `signorini {command}")), "{md}");
+}
+
 #[test]
 fn bench_elasticity_small_writes_table_and_plot() {
     let dir = scratch("bench");
     let out = run_ok(bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir));
     let table = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("SYMMLQ + SSOR") && table.contains("BoomerAMG"), "{table}");
+    assert_provenance(&table, "bench elasticity --max-dofs 3000 --out");
+    assert!(failed_rows(&table).is_empty() && !table.contains("Failed cases"), "{table}");
     // Each row its own solver, iterative ones iterating.
-    let rows: Vec<&str> = table.lines().skip(2).collect();
+    let rows = table_rows(&table);
     assert_eq!(rows.len(), 5, "{table}");
     let iterations: Vec<u64> = rows.iter().map(|r| r.split('|').nth(4).unwrap().trim().parse().unwrap()).collect();
     assert!(iterations[0] == 1 && iterations[1..].iter().all(|&i| i > 1), "{table}");
@@ -355,7 +384,8 @@ fn bench_contact_small_writes_table_and_plot() {
     let dir = scratch("bench-contact");
     run_ok(bin().args(["bench", "contact", "--max-dofs", "1000", "--out"]).arg(&dir));
     let table = std::fs::read_to_string(dir.join("bench_contact.md")).unwrap();
-    let rows: Vec<&str> = table.lines().skip(2).collect();
+    assert_provenance(&table, "bench contact --max-dofs 1000");
+    let rows = table_rows(&table);
     assert_eq!(rows.len(), 6, "one row per contact solver: {table}");
     for solver in ["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"] {
         assert!(rows.iter().any(|r| r.contains(&format!("| {solver} |"))), "{solver} missing: {table}");
@@ -795,7 +825,44 @@ fn bench_dual_writes_its_table_and_plot() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("primal P2"), "{table}");
+    assert_provenance(&table, "bench dual --max-dofs 2000");
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
+}
+
+/// A case that fails is a row of the file with its reason, never dropped; when every case
+/// fails the file is still written (with no plot) and the run fails.
+#[test]
+fn bench_failed_cases_are_rows_with_their_reason() {
+    let dir = scratch("bench-failed");
+    let out = run_ok(
+        bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir).args(["-b_ssor_ksp_max_it", "2"]),
+    );
+    let md = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
+    assert_provenance(&md, "bench elasticity --max-dofs 3000 --out");
+    assert!(md.contains("-b_ssor_ksp_max_it 2`"), "the whole command line: {md}");
+    assert_eq!(table_rows(&md).len(), 4, "{md}");
+    let failed = failed_rows(&md);
+    assert_eq!(failed.len(), 1, "{md}");
+    assert!(
+        failed[0].starts_with("| 3000 | SYMMLQ + SSOR | exit 1: error: ") && failed[0].contains("DIVERGED_ITS"),
+        "{md}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("SYMMLQ + SSOR | exit 1"));
+    assert!(dir.join("bench_elasticity.svg").exists());
+
+    let out = bin()
+        .args(["bench", "elasticity", "--max-dofs", "3000", "--out"])
+        .arg(&dir)
+        .args(["-b_mumps_pc_type", "bogus", "-b_icc0_ksp_max_it", "1", "-b_icc2_ksp_max_it", "1"])
+        .args(["-b_amg_ksp_max_it", "1", "-b_ssor_ksp_max_it", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no benchmark case succeeded"));
+    let md = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
+    assert_eq!(failed_rows(&md).len(), 5, "every case a row: {md}");
+    assert!(table_rows(&md).is_empty() && md.contains("Failed cases (5)"), "{md}");
+    assert!(!dir.join("bench_elasticity.svg").exists(), "no plot of nothing (and no stale one)");
 }
 
 /// The terminal summary of a contact run: within 100 columns, the solver said once, every
