@@ -1,7 +1,9 @@
 //! Progress on the terminal: an `indicatif` spinner on stderr for work that lasts more than
 //! [`DELAY`] (meshing, factorisation and solve, the contact Newton steps with their residuals,
 //! benchmark cases). Drawn only when stderr is a terminal and `--quiet` is not given, so piped
-//! output and report files never hold escape codes; cleared when its work ends.
+//! output and report files never hold escape codes; cleared when its work ends. The delay can
+//! be set in milliseconds with the environment variable `SIGNORINI_PROGRESS_DELAY_MS` (the
+//! tests use 0).
 use std::io::IsTerminal as _;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -11,8 +13,15 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use signorini::problem::{Phase, Progress};
 
-/// Work shorter than this shows no spinner.
+/// Work shorter than this shows no spinner (unless `SIGNORINI_PROGRESS_DELAY_MS` says else).
 const DELAY: Duration = Duration::from_millis(1000);
+
+fn delay() -> Duration {
+    std::env::var("SIGNORINI_PROGRESS_DELAY_MS")
+        .ok()
+        .and_then(|v| v.trim().parse().ok())
+        .map_or(DELAY, Duration::from_millis)
+}
 /// Redraw period of a visible spinner.
 const TICK: Duration = Duration::from_millis(100);
 
@@ -44,13 +53,13 @@ impl Spinner {
             return Spinner { current: None, stop, ticker: None };
         }
         let current: Shared = Arc::new(Mutex::new(None));
-        let (shared, halt) = (current.clone(), stop.clone());
+        let (shared, halt, delay) = (current.clone(), stop.clone(), delay());
         let ticker = std::thread::spawn(move || {
             while !halt.load(Ordering::Relaxed) {
                 std::thread::sleep(TICK);
                 let mut guard = shared.lock().unwrap_or_else(PoisonError::into_inner);
                 if let Some(c) = guard.as_mut() {
-                    if !c.shown && c.since.elapsed() >= DELAY {
+                    if !c.shown && c.since.elapsed() >= delay {
                         c.bar.set_draw_target(ProgressDrawTarget::stderr());
                         c.shown = true;
                     }

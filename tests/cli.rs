@@ -979,3 +979,38 @@ fn contact_runs_write_the_curve_as_csv_and_pictures() {
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
     assert!(left.is_empty(), "stale results after a failed run: {left:?}");
 }
+
+/// On a terminal (a pseudo-terminal made by `script`) the progress spinner is drawn on stderr,
+/// with the contact Newton steps; `--quiet` draws nothing. Skipped without `script`.
+#[test]
+fn progress_is_drawn_on_a_terminal_only() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: no `script` to make a terminal");
+        return;
+    }
+    let dir = scratch("tty");
+    let run = |extra: &str| {
+        let log = dir.join(format!("typescript{}", extra.trim()));
+        let inner = format!(
+            "{} run {} --out {} {extra} >/dev/null",
+            env!("CARGO_BIN_EXE_signorini"),
+            scene("examples/scenes/hertz.toml").display(),
+            dir.join("out").display()
+        );
+        let out = Command::new("script")
+            .args(["-qec", &inner])
+            .arg(&log)
+            .env("SIGNORINI_PROGRESS_DELAY_MS", "0")
+            .env("PMIX_MCA_gds", "hash")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&std::fs::read(&log).unwrap()).to_string();
+        // `script` adds a header line and a footer line of its own.
+        text.lines().filter(|l| !l.starts_with("Script ")).collect::<Vec<_>>().join("\n")
+    };
+    let shown = run("");
+    assert!(shown.contains('\u{1b}') && shown.contains("contact iteration"), "{shown}");
+    let quiet = run("--quiet");
+    assert!(!quiet.contains('\u{1b}') && !quiet.contains("contact iteration"), "{quiet}");
+}
