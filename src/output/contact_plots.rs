@@ -41,8 +41,16 @@ fn write_svg(
 }
 
 /// `contact.svg`: pressure and tangential traction (force per unit length) against arc length
-/// `s`, one point per contact point.
-pub fn write_contact_svg(path: &Path, title: &str, s: &[f64], pressure: &[f64], traction: &[f64]) -> Result<()> {
+/// `s`, one point per contact point; `zoomed` says the points are a window of the part (the
+/// axis label says so).
+pub fn write_contact_svg(
+    path: &Path,
+    title: &str,
+    s: &[f64],
+    pressure: &[f64],
+    traction: &[f64],
+    zoomed: bool,
+) -> Result<()> {
     let (x0, x1) =
         padded(s.iter().copied().fold(f64::INFINITY, f64::min), s.iter().copied().fold(f64::NEG_INFINITY, f64::max));
     let values = pressure.iter().chain(traction).copied().filter(|v| v.is_finite());
@@ -58,9 +66,13 @@ pub fn write_contact_svg(path: &Path, title: &str, s: &[f64], pressure: &[f64], 
             .map_err(e)?;
         chart
             .configure_mesh()
-            .x_desc("arc length s along the contact part")
+            .x_desc(if zoomed {
+                "arc length s along the contact part (around the closed zones)"
+            } else {
+                "arc length s along the contact part"
+            })
             .y_desc("traction (force per unit length)")
-            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .y_label_formatter(&|v| format!("{v:.2e}"))
             .x_label_formatter(&|v| format!("{v:.3e}"))
             .draw()
             .map_err(e)?;
@@ -95,18 +107,18 @@ pub fn write_convergence_svg(path: &Path, title: &str, residuals: &[f64]) -> Res
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(85)
-            .build_cartesian_2d(0.5..(n as f64 + 0.5), (lo..hi).log_scale())
+            .build_cartesian_2d(0..(n as i64 + 1), (lo..hi).log_scale())
             .map_err(e)?;
         chart
             .configure_mesh()
             .x_desc("iteration")
             .y_desc("relative residual (log scale)")
             .y_label_formatter(&|v| format!("{v:.0e}"))
-            .x_label_formatter(&|v| format!("{v:.0}"))
+            .x_labels((n + 2).min(12))
             .draw()
             .map_err(e)?;
-        let points: Vec<(f64, f64)> =
-            residuals.iter().enumerate().map(|(k, r)| ((k + 1) as f64, if *r > 0.0 { *r } else { floor })).collect();
+        let points: Vec<(i64, f64)> =
+            residuals.iter().enumerate().map(|(k, r)| (k as i64 + 1, if *r > 0.0 { *r } else { floor })).collect();
         chart
             .draw_series(LineSeries::new(points.clone(), BLUE.stroke_width(2)))
             .map_err(e)?

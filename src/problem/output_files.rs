@@ -89,12 +89,25 @@ impl ElasticityProblem<'_> {
         contact_curve::write_contact_csv(&path, &points)?;
         written.push(path);
         let r = &outcome.report;
-        let s: Vec<f64> = points.iter().map(|p| p.s).collect();
-        let pressure: Vec<f64> = points.iter().map(|p| p.pressure).collect();
-        let traction: Vec<f64> = points.iter().map(|p| p.tangential_traction).collect();
+        // The picture shows the closed zones and a quarter of their span on either side (the
+        // whole part when it is mostly closed, or open everywhere); the CSV has every point.
+        let (first, last) = (points.first().map_or(0.0, |p| p.s), points.last().map_or(0.0, |p| p.s));
+        let closed = r.zones.iter().map(|z| z.extent[0]).fold(f64::INFINITY, f64::min);
+        let closed_end = r.zones.iter().map(|z| z.extent[1]).fold(f64::NEG_INFINITY, f64::max);
+        let margin = (0.25 * (closed_end - closed)).max(0.02 * (last - first));
+        let window = if closed.is_finite() {
+            [(closed - margin).max(first), (closed_end + margin).min(last)]
+        } else {
+            [first, last]
+        };
+        let shown: Vec<&ContactCurvePoint> = points.iter().filter(|p| p.s >= window[0] && p.s <= window[1]).collect();
+        let s: Vec<f64> = shown.iter().map(|p| p.s).collect();
+        let pressure: Vec<f64> = shown.iter().map(|p| p.pressure).collect();
+        let traction: Vec<f64> = shown.iter().map(|p| p.tangential_traction).collect();
         let path = dir.join("contact.svg");
         let title = format!("Contact tractions on '{}' (friction {})", r.part, r.friction);
-        output::contact_plots::write_contact_svg(&path, &title, &s, &pressure, &traction)?;
+        let zoomed = window != [first, last];
+        output::contact_plots::write_contact_svg(&path, &title, &s, &pressure, &traction, zoomed)?;
         written.push(path);
         let path = dir.join("convergence.svg");
         let title = format!("Contact solver convergence ({} iterations)", r.residual_history.len());
