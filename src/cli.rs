@@ -36,7 +36,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Solve a scene and write DIR/solution.vtu and DIR/report.json.
+    /// Solve a scene and write DIR/solution.vtu and DIR/report.json (with contact also
+    /// DIR/contact.csv, DIR/contact.svg and DIR/convergence.svg); the summary goes to stdout.
     #[command(after_help = PETSC_HELP)]
     Run(RunOptions),
     /// Benchmarks: tables (markdown) and plots (SVG) of times, iterations and memory.
@@ -55,7 +56,7 @@ pub struct RunOptions {
     /// Output directory (default: the scene's [output] dir, else ./out).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Print nothing but errors.
+    /// Print nothing but errors (no summary, no progress spinner).
     #[arg(long, short)]
     pub quiet: bool,
     /// Override the scene's [contact] solver.

@@ -2,12 +2,15 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod bench_runner;
 mod cli;
+mod summary;
+mod terminal_progress;
 
 use clap::Parser as _;
 use cli::{Bench, Cli, Command};
 use signorini::petsc::Session;
-use signorini::problem::{ElasticityProblem, Report};
+use signorini::problem::ElasticityProblem;
 use signorini::scene::Scene;
 use signorini::{bench, Error};
 
@@ -65,16 +68,20 @@ fn main() -> ExitCode {
         }
         Command::Bench { which } => match which {
             Bench::Elasticity(o) => {
-                bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
+                bench_runner::bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
             }
-            Bench::Contact(o) => bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::Contact(o) => {
+                bench_runner::bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
             Bench::ElasticityCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_elasticity_case)
             }
             Bench::ContactCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_contact_case)
             }
-            Bench::Dual(o) => bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None)),
+            Bench::Dual(o) => {
+                bench_runner::bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
             Bench::DualCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
             }
@@ -110,11 +117,6 @@ fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Re
 }
 
 fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let say = |s: &str| {
-        if session.rank() == 0 && !args.quiet {
-            eprintln!("{s}");
-        }
-    };
     // Nothing stale after a failure: the previous results go before anything is read or solved
     // (with --out known now; else once the scene says where its results go).
     let clear = |out: &std::path::Path| -> Result<(), Error> {
@@ -138,22 +140,9 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
     if args.out.is_none() {
         clear(&out)?;
     }
-    say(&format!(
-        "signorini {} — {} ({})",
-        env!("CARGO_PKG_VERSION"),
-        scene.title.as_deref().unwrap_or("untitled scene"),
-        scene.source.display()
-    ));
-    let mut problem = ElasticityProblem::setup_system(session, scene)?;
-    say(&format!(
-        "  mesh      {} nodes, {} {:?} triangles, {} dofs on {} rank(s) [{:.2} s]",
-        problem.mesh.num_nodes(),
-        problem.mesh.num_cells(),
-        problem.mesh.order,
-        problem.num_dofs(),
-        session.size(),
-        problem.timings.get("mesh").unwrap_or(0.0)
-    ));
+    let show_progress = session.rank() == 0 && terminal_progress::wanted(args.quiet);
+    let progress = Box::new(terminal_progress::TerminalProgress::new(show_progress));
+    let mut problem = ElasticityProblem::setup_system_with_progress(session, scene, progress)?;
     let dual = match args.formulation.as_deref() {
         Some("dual") => true,
         Some(_) => false,
@@ -167,7 +156,6 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
     }
     if !dual || estimate {
         problem.assemble()?;
-        say(&format!("  assemble  [{:.2} s]", problem.timings.get("assemble").unwrap_or(0.0)));
         problem.solve()?;
         problem.postprocess()?;
     }
@@ -178,8 +166,15 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         problem.estimate()?;
     }
     let (report, written) = problem.write_output(&out)?;
+    drop(problem); // clears the spinner
     if session.rank() == 0 && !args.quiet {
-        print_summary(&report, &written);
+        // The summary on stdout, warnings on stderr.
+        for line in summary::summary_lines(&report, &written) {
+            println!("{line}");
+        }
+        for line in summary::warning_lines(&report) {
+            eprintln!("{line}");
+        }
     }
     Ok(())
 }
@@ -220,180 +215,6 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
     }
 }
 
-fn print_summary(r: &Report, written: &[PathBuf]) {
-    let s = &r.solver.stats;
-    let pkg = s.factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default();
-    eprintln!(
-        "  solve     {} + {}{pkg}: {} iteration(s), {}, true residual {:.1e} [{:.2} s]",
-        s.ksp_type, s.pc_type, s.iterations, s.converged_reason, s.relative_residual, s.seconds
-    );
-    if let Some(res) = &r.results {
-        eprintln!("  result    max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises);
-        let reactions: Vec<String> =
-            res.reactions.iter().map(|(k, v)| format!("{k} ({:.4e}, {:.4e})", v[0], v[1])).collect();
-        eprintln!(
-            "  check     applied force ({:.4e}, {:.4e}), reactions {}, equilibrium residual {:.1e}",
-            res.applied_force[0],
-            res.applied_force[1],
-            reactions.join(", "),
-            res.equilibrium_residual
-        );
-    }
-    if let Some(d) = &r.dual {
-        eprintln!(
-            "  dual      HCT, {} unknowns: max von Mises = {:.4e}, complementary energy {:.6e} [{:.2} s]",
-            d.unknowns, d.max_von_mises, d.check.complementary_energy, d.solver.seconds
-        );
-        eprintln!(
-            "            independent check: traction {:.1e}, equilibrium {:.1e}, stress jumps {:.1e}",
-            d.check.traction_residual, d.check.interior_equilibrium, d.check.stress_jump
-        );
-        for note in &d.notes {
-            eprintln!("            note: {note}");
-        }
-    }
-    if let Some(e) = &r.estimate {
-        eprintln!(
-            "  estimate  error {:.4e} = {:.3} % of the energy norm ({}), in {:.2} s of {:.2} s run time",
-            e.estimate.error,
-            e.estimate.relative_percent,
-            if e.estimate.kind == signorini::estimate::EstimateKind::GuaranteedBound {
-                "a guaranteed bound"
-            } else {
-                "an estimator"
-            },
-            e.estimate_seconds,
-            r.timings.total()
-        );
-    }
-    if let Some(c) = &r.contact {
-        let worst = [
-            c.residuals.max_penetration,
-            c.residuals.max_wrong_sign_pressure,
-            c.residuals.max_cone_violation,
-            c.residuals.normal_complementarity,
-            c.residuals.tangential_complementarity,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max);
-        eprintln!(
-            "  contact   {} on '{}' (friction {}): {} iteration(s), status changes {:?}",
-            c.solver, c.part, c.friction, c.iterations, c.status_changes
-        );
-        eprintln!(
-            "            {} points: {} open, {} stick, {} slip; contact force ({:.4e}, {:.4e}); zone {}",
-            c.points,
-            c.open,
-            c.stick,
-            c.slip,
-            c.resultant[0],
-            c.resultant[1],
-            c.zone.map(|z| format!("[{:.4e}, {:.4e}]", z[0], z[1])).unwrap_or_else(|| "none".into())
-        );
-        if let Some(p) = &c.peak_pressure {
-            eprintln!(
-                "            peak pressure {:.4e} at ({:.4e}, {:.4e}); closed zones (arc length): {}",
-                p.pressure,
-                p.position[0],
-                p.position[1],
-                if c.zones.is_empty() {
-                    "none".to_string()
-                } else {
-                    c.zones
-                        .iter()
-                        .map(|z| format!("[{:.4e}, {:.4e}]", z.extent[0], z.extent[1]))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                }
-            );
-        }
-        eprintln!(
-            "            independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity {:.1e} / {:.1e} (worst {worst:.1e})",
-            c.residuals.max_penetration,
-            c.residuals.max_wrong_sign_pressure,
-            c.residuals.max_cone_violation,
-            c.residuals.normal_complementarity,
-            c.residuals.tangential_complementarity
-        );
-        if c.stabilisation_iterations > 0 {
-            eprintln!(
-                "            held by contact: {} proximal iteration(s), residual spring force ({:.1e}, {:.1e})",
-                c.stabilisation_iterations, c.stabilisation_force[0], c.stabilisation_force[1]
-            );
-        }
-    }
-    let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3}")).collect();
-    eprintln!(
-        "  time      {} s; total {:.3} s; peak memory {}",
-        phases.join(", "),
-        r.timings.total(),
-        r.memory.peak_bytes.map(|b| format!("{:.1} MB", b as f64 / 1e6)).unwrap_or_else(|| "n/a".into())
-    );
-    for w in &r.warnings {
-        eprintln!("  warning   {}: {}", w.kind, w.message);
-    }
-    for u in &r.solver.unused_options {
-        eprintln!("  warning   PETSc option {u} was never used (a typo?)");
-    }
-    let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-    eprintln!("  wrote     {}", files.join(", "));
-}
-
-/// `bench elasticity`: runs every (size, solver) case in a child process of its own (so that
-/// each reports its own memory) and collects their rows.
-fn bench_elasticity(parsed: RunArgs) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}", std::process::id()));
-    let exe = match std::env::current_exe() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let mut rows: Vec<bench::BenchRow> = Vec::new();
-    let cases = bench::elasticity_cases(parsed.max_dofs);
-    for (k, (dofs, solver)) in cases.iter().enumerate() {
-        let index = bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0);
-        eprint!("[{}/{}] {dofs} dofs, {:<26} ", k + 1, cases.len(), solver.name);
-        let child = std::process::Command::new(&exe)
-            .args(["bench", "elasticity-case", "--case", &format!("{dofs},{index}"), "--out"])
-            .arg(&scratch)
-            .args(&parsed.petsc)
-            .output();
-        match child {
-            Ok(o) if o.status.success() => match serde_json::from_slice::<bench::BenchRow>(&o.stdout) {
-                Ok(row) => {
-                    eprintln!(
-                        "{:>8.3} s, {:>5} iterations, {:>6.0} MB",
-                        row.solve_seconds, row.iterations, row.solve_memory_mb
-                    );
-                    rows.push(row);
-                }
-                Err(e) => eprintln!("unreadable result: {e}"),
-            },
-            Ok(o) => eprintln!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()),
-            Err(e) => eprintln!("could not start: {e}"),
-        }
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
-    if rows.is_empty() {
-        eprintln!("error: no benchmark case succeeded");
-        return ExitCode::FAILURE;
-    }
-    match bench::write_elasticity_outputs(&rows, &out) {
-        Ok((md, svg)) => {
-            println!("{}", bench::elasticity_table(&rows));
-            eprintln!("wrote {}, {}", md.display(), svg.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
 /// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.
 fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
@@ -407,111 +228,6 @@ fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> 
     Ok(())
 }
 
-/// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row.
-fn run_case<T: serde::de::DeserializeOwned>(
-    exe: &std::path::Path,
-    kind: &str,
-    dofs: usize,
-    index: usize,
-    out: &std::path::Path,
-    petsc: &[String],
-) -> Result<T, String> {
-    let o = std::process::Command::new(exe)
-        .args(["bench", &format!("{kind}-case"), "--case", &format!("{dofs},{index}"), "--out"])
-        .arg(out)
-        .args(petsc)
-        .output()
-        .map_err(|e| format!("could not start: {e}"))?;
-    if !o.status.success() {
-        return Err(format!("failed: {}", String::from_utf8_lossy(&o.stderr).trim()));
-    }
-    serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
-}
-
-/// Writes a benchmark's table and plot into a directory; their paths.
-type Writer<T> = fn(&[T], &std::path::Path) -> Result<(PathBuf, PathBuf), Error>;
-
-/// The parts of a benchmark run in child processes, one per (size, solver) case.
-struct CaseRunner<T> {
-    /// The child's subcommand is `bench {kind}-case`.
-    kind: &'static str,
-    /// `(dofs, solver index, solver name)` of each case.
-    cases: Vec<(usize, usize, String)>,
-    /// The progress line of a finished case.
-    describe: fn(&T) -> String,
-    table: fn(&[T]) -> String,
-    write: Writer<T>,
-}
-
-/// Run every case in a child process (each reports its own memory), print progress, write the
-/// table and the plot.
-fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunner<T>) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
-    let exe = match std::env::current_exe() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()));
-    let mut rows: Vec<T> = Vec::new();
-    for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
-        eprint!("[{}/{}] ~{dofs} dofs, {name:<26} ", k + 1, runner.cases.len());
-        match run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, &parsed.petsc) {
-            Ok(row) => {
-                eprintln!("{}", (runner.describe)(&row));
-                rows.push(row);
-            }
-            Err(e) => eprintln!("{e}"),
-        }
-    }
-    let _ = std::fs::remove_dir_all(&scratch);
-    if rows.is_empty() {
-        eprintln!("error: no benchmark case succeeded");
-        return ExitCode::FAILURE;
-    }
-    match (runner.write)(&rows, &out) {
-        Ok((md, svg)) => {
-            println!("{}", (runner.table)(&rows));
-            eprintln!("wrote {}, {}", md.display(), svg.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-/// `bench contact`: each (size, solver) case in a child process.
-fn bench_contact(parsed: RunArgs) -> ExitCode {
-    let cases = bench::contact_cases(parsed.max_dofs)
-        .into_iter()
-        .map(|(dofs, solver)| {
-            (dofs, bench::CONTACT_SOLVERS.iter().position(|s| *s == solver).unwrap_or(0), solver.to_string())
-        })
-        .collect();
-    run_bench(
-        &parsed,
-        CaseRunner::<bench::ContactBenchRow> {
-            kind: "contact",
-            cases,
-            describe: |row| {
-                format!(
-                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
-                    row.contact_seconds,
-                    row.iterations,
-                    row.contact_seconds / row.linear_seconds,
-                    row.worst_residual
-                )
-            },
-            table: bench::contact_table,
-            write: bench::write_contact_outputs,
-        },
-    )
-}
-
 fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
         args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
@@ -521,26 +237,6 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }
     Ok(())
-}
-
-/// `bench dual`: each (size, solver) case in a child process.
-fn bench_dual(parsed: RunArgs) -> ExitCode {
-    let cases = bench::dual::dual_cases(parsed.max_dofs);
-    run_bench(
-        &parsed,
-        CaseRunner::<bench::dual::DualBenchRow> {
-            kind: "dual",
-            cases,
-            describe: |row| {
-                format!(
-                    "setup {:.3} s, solve {:.3} s ({} its), estimate {:.3} s; primal P2 {:.3} s",
-                    row.setup_seconds, row.solve_seconds, row.iterations, row.estimate_seconds, row.primal_seconds
-                )
-            },
-            table: bench::dual::dual_table,
-            write: bench::write_dual_outputs,
-        },
-    )
 }
 
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {

@@ -71,8 +71,9 @@ fn relative_difference(a: &Path, b: &Path) -> f64 {
 fn default_scene_writes_report_and_solution() {
     let dir = scratch("default");
     let out = run_ok(bin().args(["run", "--out"]).arg(&dir));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("wrote") && stderr.contains("equilibrium residual"), "{stderr}");
+    // The summary is the program's answer: on stdout.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("wrote") && stdout.contains("equilibrium residual"), "{stdout}");
     let r = report(&dir);
     for key in ["nodes", "elements", "dofs", "formulation", "timings", "solver", "memory", "results"] {
         assert!(r.get(key).is_some(), "report.json lacks {key}: {r}");
@@ -99,7 +100,7 @@ fn default_scene_writes_report_and_solution() {
     ] {
         assert!(c["residuals"][k].as_f64().unwrap() < 1e-7, "contact residual {k}: {c}");
     }
-    assert!(stderr.contains("independent check"), "{stderr}");
+    assert!(stdout.contains("independent check"), "{stdout}");
     assert!(r["solver"]["relative_residual"].as_f64().unwrap() < 1e-8);
     for phase in ["mesh", "assemble", "solve", "output", "total"] {
         assert!(r["timings"][phase].as_f64().unwrap() >= 0.0, "timings.{phase}");
@@ -109,7 +110,7 @@ fn default_scene_writes_report_and_solution() {
     // No temporary files left next to the outputs.
     let names: Vec<String> =
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
-    assert_eq!(names.len(), 2, "{names:?}");
+    assert_eq!(names.len(), 5, "solution.vtu, report.json and the three contact files: {names:?}");
 }
 
 /// The plane-elasticity block (no contact): its linear solver is the main KSP.
@@ -333,14 +334,43 @@ print(err_u / abs({k:e}), err_s / {p:e}, sorted(ids))
     }
 }
 
+/// The data rows of the first Markdown table of a benchmark file (after its header and
+/// separator lines).
+fn table_rows(md: &str) -> Vec<&str> {
+    md.lines().skip_while(|l| !l.starts_with('|')).skip(2).take_while(|l| l.starts_with('|')).collect()
+}
+
+/// The rows of the failed-cases table (`| dofs | solver | failed: reason |`).
+fn failed_rows(md: &str) -> Vec<&str> {
+    md.lines()
+        .skip_while(|l| !l.starts_with("| dofs | solver | failed: reason |"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .collect()
+}
+
+/// Every benchmark file says when, by what and how it was run.
+fn assert_provenance(md: &str, command: &str) {
+    assert!(md.starts_with("# Benchmark"), "{md}");
+    let date = md.lines().find_map(|l| l.strip_prefix("- date: ")).expect("a date line");
+    assert!(date.len() == 23 && date.ends_with(" UTC") && date.starts_with("20"), "date {date}");
+    let program = md.lines().find_map(|l| l.strip_prefix("- program: ")).expect("a program line");
+    assert!(program.starts_with(&format!("signorini {} (commit ", env!("CARGO_PKG_VERSION"))), "{program}");
+    let commit = program.rsplit("commit ").next().unwrap().trim_end_matches(')');
+    assert!(commit == "unknown" || commit.chars().take(7).all(|c| c.is_ascii_hexdigit()), "commit {commit}");
+    assert!(md.contains(&format!("- command: `signorini {command}")), "{md}");
+}
+
 #[test]
 fn bench_elasticity_small_writes_table_and_plot() {
     let dir = scratch("bench");
     let out = run_ok(bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir));
     let table = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("SYMMLQ + SSOR") && table.contains("BoomerAMG"), "{table}");
+    assert_provenance(&table, "bench elasticity --max-dofs 3000 --out");
+    assert!(failed_rows(&table).is_empty() && !table.contains("Failed cases"), "{table}");
     // Each row its own solver, iterative ones iterating.
-    let rows: Vec<&str> = table.lines().skip(2).collect();
+    let rows = table_rows(&table);
     assert_eq!(rows.len(), 5, "{table}");
     let iterations: Vec<u64> = rows.iter().map(|r| r.split('|').nth(4).unwrap().trim().parse().unwrap()).collect();
     assert!(iterations[0] == 1 && iterations[1..].iter().all(|&i| i > 1), "{table}");
@@ -354,7 +384,8 @@ fn bench_contact_small_writes_table_and_plot() {
     let dir = scratch("bench-contact");
     run_ok(bin().args(["bench", "contact", "--max-dofs", "1000", "--out"]).arg(&dir));
     let table = std::fs::read_to_string(dir.join("bench_contact.md")).unwrap();
-    let rows: Vec<&str> = table.lines().skip(2).collect();
+    assert_provenance(&table, "bench contact --max-dofs 1000");
+    let rows = table_rows(&table);
     assert_eq!(rows.len(), 6, "one row per contact solver: {table}");
     for solver in ["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"] {
         assert!(rows.iter().any(|r| r.contains(&format!("| {solver} |"))), "{solver} missing: {table}");
@@ -794,5 +825,192 @@ fn bench_dual_writes_its_table_and_plot() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
     assert!(table.contains("MUMPS") && table.contains("primal P2"), "{table}");
+    assert_provenance(&table, "bench dual --max-dofs 2000");
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
+}
+
+/// A case that fails is a row of the file with its reason, never dropped; when every case
+/// fails the file is still written (with no plot) and the run fails.
+#[test]
+fn bench_failed_cases_are_rows_with_their_reason() {
+    let dir = scratch("bench-failed");
+    let out = run_ok(
+        bin().args(["bench", "elasticity", "--max-dofs", "3000", "--out"]).arg(&dir).args(["-b_ssor_ksp_max_it", "2"]),
+    );
+    let md = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
+    assert_provenance(&md, "bench elasticity --max-dofs 3000 --out");
+    assert!(md.contains("-b_ssor_ksp_max_it 2`"), "the whole command line: {md}");
+    assert_eq!(table_rows(&md).len(), 4, "{md}");
+    let failed = failed_rows(&md);
+    assert_eq!(failed.len(), 1, "{md}");
+    assert!(
+        failed[0].starts_with("| 3000 | SYMMLQ + SSOR | exit 1: error: ") && failed[0].contains("DIVERGED_ITS"),
+        "{md}"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("SYMMLQ + SSOR | exit 1"));
+    assert!(dir.join("bench_elasticity.svg").exists());
+
+    let out = bin()
+        .args(["bench", "elasticity", "--max-dofs", "3000", "--out"])
+        .arg(&dir)
+        .args(["-b_mumps_pc_type", "bogus", "-b_icc0_ksp_max_it", "1", "-b_icc2_ksp_max_it", "1"])
+        .args(["-b_amg_ksp_max_it", "1", "-b_ssor_ksp_max_it", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no benchmark case succeeded"));
+    let md = std::fs::read_to_string(dir.join("bench_elasticity.md")).unwrap();
+    assert_eq!(failed_rows(&md).len(), 5, "every case a row: {md}");
+    assert!(table_rows(&md).is_empty() && md.contains("Failed cases (5)"), "{md}");
+    assert!(!dir.join("bench_elasticity.svg").exists(), "no plot of nothing (and no stale one)");
+}
+
+/// The terminal summary of a contact run: within 100 columns, the solver said once, every
+/// quantity an engineer looks for; piped output holds no progress escape codes.
+#[test]
+fn the_summary_fits_100_columns_and_says_each_thing_once() {
+    for (name, scene_file) in [("summary-default", None), ("summary-hertz", Some("examples/scenes/hertz.toml"))] {
+        let dir = scratch(name);
+        let mut cmd = bin();
+        cmd.arg("run");
+        if let Some(f) = scene_file {
+            cmd.arg(scene(f));
+        }
+        let out = run_ok(cmd.arg("--out").arg(&dir));
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        for line in stdout.lines().chain(stderr.lines()) {
+            assert!(line.chars().count() <= 100, "{name}: a line of {} characters: {line}", line.chars().count());
+        }
+        // Output that is not a terminal: no escape codes, no carriage returns.
+        assert!(!stdout.contains('\u{1b}') && !stderr.contains('\u{1b}'), "{name}: escape codes");
+        assert!(!stdout.contains('\r') && !stderr.contains('\r'), "{name}: carriage returns");
+        let r = report(&dir);
+        let solver = r["contact"]["solver"].as_str().unwrap();
+        // The solver description is wrapped like any text: compare without line breaks.
+        let flat = stdout.lines().map(|l| l.get(10..).unwrap_or("").trim()).collect::<Vec<_>>().join(" ");
+        assert_eq!(flat.matches(solver).count(), 1, "{name}: the solver once: {stdout}");
+        for label in ["problem", "solver", "time", "contact", "wrote"] {
+            let n = stdout.lines().filter(|l| l.starts_with(&format!("{label:<10}"))).count();
+            assert_eq!(n, 1, "{name}: one '{label}' line: {stdout}");
+        }
+        for what in
+            ["peak pressure", "closed zone 1: s in [", "stick", "slip", "open", "resultant", "independent check"]
+        {
+            assert!(flat.contains(what), "{name}: no '{what}': {stdout}");
+        }
+        for phase in ["mesh", "assemble", "solve", "output", "total"] {
+            assert!(flat.contains(&format!("{phase} ")), "{name}: time of {phase}: {stdout}");
+        }
+        let peak = r["contact"]["peak_pressure"]["pressure"].as_f64().unwrap();
+        assert!(flat.contains(&format!("peak pressure {peak:.4e}")), "{name}: {stdout}");
+        assert!(r["contact"]["zones"].as_array().is_some_and(|z| !z.is_empty()), "{name}");
+    }
+}
+
+/// Is `path` well-formed XML with an `<svg>` root? (Python's parser, which the tests need anyway.)
+fn svg_is_well_formed(path: &Path) -> bool {
+    let out = python(&format!(
+        "import xml.etree.ElementTree as E\nr = E.parse({:?}).getroot()\nprint(r.tag.endswith('svg'), len(r.findall('.//{{http://www.w3.org/2000/svg}}text')) > 0)",
+        path.display().to_string()
+    ));
+    out.trim() == "True True"
+}
+
+/// Every contact run writes contact.csv (one row per contact point, in order of arc length,
+/// the report's peak among its pressures), contact.svg and convergence.svg (well-formed SVG
+/// with text); a run without contact removes them; a failed run leaves none.
+#[test]
+fn contact_runs_write_the_curve_as_csv_and_pictures() {
+    let dir = scratch("contact-files");
+    let stdout = String::from_utf8_lossy(
+        &run_ok(bin().arg("run").arg(scene("examples/scenes/hertz.toml")).arg("--out").arg(&dir)).stdout,
+    )
+    .to_string();
+    let r = report(&dir);
+    let c = &r["contact"];
+    let text = std::fs::read_to_string(dir.join("contact.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "s,x,y,pressure,tangential_traction,gap,normal_displacement,tangential_slip,status"
+    );
+    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_string).collect()).collect();
+    assert_eq!(rows.len() as u64, c["points"].as_u64().unwrap(), "one row per contact point");
+    let num = |row: &[String], k: usize| row[k].parse::<f64>().unwrap();
+    let s: Vec<f64> = rows.iter().map(|r| num(r, 0)).collect();
+    assert!(s.windows(2).all(|w| w[1] >= w[0]), "rows in order of arc length");
+    let peak = rows.iter().map(|r| num(r, 3)).fold(f64::NEG_INFINITY, f64::max);
+    let reported = c["peak_pressure"]["pressure"].as_f64().unwrap();
+    assert!((peak - reported).abs() <= 1e-12 * reported.abs(), "csv peak {peak} against report {reported}");
+    let peak_row = rows.iter().find(|r| num(r, 3) == peak).unwrap();
+    assert!((num(peak_row, 0) - c["peak_pressure"]["s"].as_f64().unwrap()).abs() < 1e-12);
+    for (status, key) in [("open", "open"), ("stick", "stick"), ("slip", "slip")] {
+        let n = rows.iter().filter(|r| r[8] == status).count() as u64;
+        assert_eq!(n, c[key].as_u64().unwrap(), "{status} rows");
+    }
+    for row in &rows {
+        if row[8] == "open" {
+            assert!(num(row, 3).abs() <= 1e-12 * reported, "an open point carries no pressure: {row:?}");
+            assert!(num(row, 5) >= -1e-12, "an open point has a gap: {row:?}");
+        } else {
+            assert!(num(row, 5).abs() < 1e-9, "a closed point has no gap: {row:?}");
+        }
+    }
+    assert_eq!(c["residual_history"].as_array().unwrap().len() as u64, c["iterations"].as_u64().unwrap());
+    for f in ["contact.svg", "convergence.svg"] {
+        assert!(svg_is_well_formed(&dir.join(f)), "{f} is not well-formed SVG with text");
+        assert!(stdout.contains(f), "the summary names {f}");
+    }
+    // The next run rewrites them; a run without contact removes them.
+    let before = std::fs::metadata(dir.join("contact.csv")).unwrap().modified().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    assert!(std::fs::metadata(dir.join("contact.csv")).unwrap().modified().unwrap() > before, "rewritten");
+    let rows = std::fs::read_to_string(dir.join("contact.csv")).unwrap().lines().count() - 1;
+    assert_eq!(rows as u64, report(&dir)["contact"]["points"].as_u64().unwrap());
+    run_ok(bin().arg("run").arg(block()).args(["--quiet", "--out"]).arg(&dir));
+    for f in ["contact.csv", "contact.svg", "convergence.svg"] {
+        assert!(!dir.join(f).exists(), "{f} left from the previous contact run");
+    }
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    run_err(bin().args(["run", "/nonexistent/scene.toml", "--quiet", "--out"]).arg(&dir), 1);
+    let left: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
+    assert!(left.is_empty(), "stale results after a failed run: {left:?}");
+}
+
+/// On a terminal (a pseudo-terminal made by `script`) the progress spinner is drawn on stderr,
+/// with the contact Newton steps; `--quiet` draws nothing. Skipped without `script`.
+#[test]
+fn progress_is_drawn_on_a_terminal_only() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: no `script` to make a terminal");
+        return;
+    }
+    let dir = scratch("tty");
+    let run = |extra: &str| {
+        let log = dir.join(format!("typescript{}", extra.trim()));
+        let inner = format!(
+            "{} run {} --out {} {extra} >/dev/null",
+            env!("CARGO_BIN_EXE_signorini"),
+            scene("examples/scenes/hertz.toml").display(),
+            dir.join("out").display()
+        );
+        let out = Command::new("script")
+            .args(["-qec", &inner])
+            .arg(&log)
+            .env("SIGNORINI_PROGRESS_DELAY_MS", "0")
+            .env("PMIX_MCA_gds", "hash")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&std::fs::read(&log).unwrap()).to_string();
+        // `script` adds a header line and a footer line of its own.
+        text.lines().filter(|l| !l.starts_with("Script ")).collect::<Vec<_>>().join("\n")
+    };
+    let shown = run("");
+    assert!(shown.contains('\u{1b}') && shown.contains("contact iteration"), "{shown}");
+    let quiet = run("--quiet");
+    assert!(!quiet.contains('\u{1b}') && !quiet.contains("contact iteration"), "{quiet}");
 }

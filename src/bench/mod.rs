@@ -8,6 +8,9 @@
 //! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
 pub mod dual;
+pub mod provenance;
+
+pub use provenance::{BenchRecord, FailedCase};
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -212,7 +215,7 @@ pub fn elasticity_table(rows: &[BenchRow]) -> String {
 
 /// Write `bench_elasticity.md` (table) and `bench_elasticity.svg` (solve time against dofs, one
 /// line per solver, plus assembly) into `dir`.
-pub fn write_elasticity_outputs(rows: &[BenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
+pub fn write_elasticity_outputs(rows: &[BenchRow], record: &BenchRecord, dir: &Path) -> Result<Vec<PathBuf>> {
     let solvers = SOLVERS
         .iter()
         .map(|solver| {
@@ -224,7 +227,8 @@ pub fn write_elasticity_outputs(rows: &[BenchRow], dir: &Path) -> Result<(PathBu
     write_table_and_plot(
         dir,
         "bench_elasticity",
-        &elasticity_table(rows),
+        record,
+        ("Benchmark: plane elasticity, P1", &elasticity_table(rows)),
         "Plane elasticity, P1: wall time against size",
         solvers,
         plot::Series { label: "assembly".into(), points: assembly },
@@ -357,7 +361,7 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
 }
 
 /// `bench_contact.md` and `bench_contact.svg` (contact solve time against dofs, per solver).
-pub fn write_contact_outputs(rows: &[ContactBenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
+pub fn write_contact_outputs(rows: &[ContactBenchRow], record: &BenchRecord, dir: &Path) -> Result<Vec<PathBuf>> {
     let solvers = CONTACT_SOLVERS
         .iter()
         .map(|solver| {
@@ -369,7 +373,8 @@ pub fn write_contact_outputs(rows: &[ContactBenchRow], dir: &Path) -> Result<(Pa
     write_table_and_plot(
         dir,
         "bench_contact",
-        &contact_table(rows),
+        record,
+        ("Benchmark: frictional contact (square block, Coulomb)", &contact_table(rows)),
         "Square block, Coulomb friction: wall time against size",
         solvers,
         plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
@@ -389,7 +394,7 @@ fn once_per_size(points: impl Iterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
 
 /// Write `bench_dual.md` and `bench_dual.svg` (dual solve per solver and the primal P2 solve
 /// against the dual dofs) into `dir`.
-pub fn write_dual_outputs(rows: &[dual::DualBenchRow], dir: &Path) -> Result<(PathBuf, PathBuf)> {
+pub fn write_dual_outputs(rows: &[dual::DualBenchRow], record: &BenchRecord, dir: &Path) -> Result<Vec<PathBuf>> {
     let solvers = SOLVERS
         .iter()
         .map(|solver| {
@@ -404,25 +409,35 @@ pub fn write_dual_outputs(rows: &[dual::DualBenchRow], dir: &Path) -> Result<(Pa
     write_table_and_plot(
         dir,
         "bench_dual",
-        &dual::dual_table(rows),
+        record,
+        ("Benchmark: dual (Airy/HCT) against primal P2", &dual::dual_table(rows)),
         "Dual (Airy/HCT) solve against the primal P2 solve of the same mesh",
         solvers,
         plot::Series { label: "primal P2 (MUMPS)".into(), points: primal },
     )
 }
 
-/// Write `<stem>.md` (the table) and `<stem>.svg` (time against dofs: one line per solver that
-/// has points, then the reference line) into `dir`.
+/// Write `<stem>.md` (provenance, the table and the failed cases) and, when a case succeeded,
+/// `<stem>.svg` (time against dofs: one line per solver that has points, then the reference
+/// line) into `dir`. Their paths.
 fn write_table_and_plot(
     dir: &Path,
     stem: &str,
-    table: &str,
+    record: &BenchRecord,
+    (heading, table): (&str, &str),
     title: &str,
     solvers: Vec<(String, Vec<(f64, f64)>)>,
     reference: plot::Series,
-) -> Result<(PathBuf, PathBuf)> {
+) -> Result<Vec<PathBuf>> {
     let md = dir.join(format!("{stem}.md"));
-    output::write_atomically(&md, |w| w.write_all(table.as_bytes()))?;
+    let text = record.markdown(heading, table);
+    output::write_atomically(&md, |w| w.write_all(text.as_bytes()))?;
+    if reference.points.is_empty() {
+        // No case succeeded: nothing to draw.
+        let svg = dir.join(format!("{stem}.svg"));
+        let _ = std::fs::remove_file(&svg);
+        return Ok(vec![md]);
+    }
     let mut series: Vec<plot::Series> = solvers
         .into_iter()
         .filter(|(_, points)| !points.is_empty())
@@ -431,5 +446,5 @@ fn write_table_and_plot(
     series.push(reference);
     let svg = dir.join(format!("{stem}.svg"));
     plot::write_loglog_svg(&svg, title, "degrees of freedom", "seconds", &series)?;
-    Ok((md, svg))
+    Ok(vec![md, svg])
 }

@@ -15,6 +15,7 @@
 //!
 //! The temporary name is hidden (leading dot) and unique per process (pid) and per call (a
 //! process-wide counter), so concurrent writers of the same target never share a temporary.
+pub mod contact_plots;
 pub mod plot;
 pub mod vtu;
 
@@ -100,8 +101,8 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     Ok(())
 }
 
-/// The result files of a run in its output directory.
-pub const RUN_FILES: [&str; 2] = ["solution.vtu", "report.json"];
+/// The result files of a run in its output directory (the last three for contact runs).
+pub const RUN_FILES: [&str; 5] = ["solution.vtu", "report.json", "contact.csv", "contact.svg", "convergence.svg"];
 
 /// Remove the previous run's result files from `dir`, and the temporary files that a writer
 /// killed before its rename left there (`.solution.vtu.PID.N.tmp`, by a signal or a file-size

@@ -77,6 +77,9 @@ pub struct ContactReport {
     pub iterations: usize,
     /// Status changes (open/stick/slip) per iteration of the contact solver.
     pub status_changes: Vec<usize>,
+    /// The contact solver's residual after each iteration (relative; what `convergence.svg`
+    /// plots).
+    pub residual_history: Vec<f64>,
     pub notes: Vec<String>,
     pub points: usize,
     pub open: usize,
@@ -446,7 +449,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, Option<SolveStats>)> {
         let b = &self.boundary;
         let m = b.points();
@@ -504,7 +507,7 @@ impl ContactSetup {
                 w[(i, j)] = *v;
             }
             if count % 50 == 49 {
-                progress(&format!("  condensing: {} / {} flexibility columns", count + 1, columns.len()));
+                progress.note(&format!("condensing: {} / {} flexibility columns", count + 1, columns.len()));
             }
         }
         if !frictional {
@@ -531,7 +534,7 @@ impl ContactSetup {
         let mut solves = columns.len();
         let mut history: Vec<f64> = Vec::new();
         let mut initial_force: Option<Vec<f64>> = None;
-        let (mut total_iterations, mut all_changes) = (0usize, Vec::new());
+        let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::new());
         loop {
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             e.set_owned(&rk)?;
@@ -547,7 +550,7 @@ impl ContactSetup {
             )?;
             settings.initial_force = initial_force.clone();
             let solution = if self.spec.solver == ContactSolverSpec::Tao {
-                progress(&format!("  contact: {m} points, solver PETSc TAO (box-constrained QP)"));
+                progress.note(&format!("contact: {m} points, solver PETSc TAO (box-constrained QP)"));
                 self.solve_with_tao(session, &problem)?
             } else {
                 self.solve_condensed(&problem, &settings, progress)?
@@ -556,6 +559,8 @@ impl ContactSetup {
                 self.recover_and_verify(mesh, matrix, &rk, &mut linear, &problem, solution, &settings, solves)?;
             total_iterations += outcome.report.iterations;
             all_changes.extend(outcome.report.status_changes.iter().copied());
+            all_residuals.extend(outcome.report.residual_history.iter().copied());
+            outcome.report.residual_history = all_residuals.clone();
             outcome.report.iterations = total_iterations;
             outcome.report.status_changes = all_changes.clone();
             let Some(k) = self.spring else { return Ok((u, outcome, linear.stats())) };
@@ -587,7 +592,7 @@ impl ContactSetup {
         &self,
         problem: &CondensedProblem,
         settings: &SolverSettings,
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<contact::ContactSolution> {
         let m = problem.points();
         let solver = condensed_solver(&self.spec.solver).ok_or_else(|| {
@@ -596,8 +601,12 @@ impl ContactSetup {
                 self.spec.solver
             ))
         })?;
-        progress(&format!("  contact: {m} points, solver {}", solver.name()));
-        contact::solve(problem, &solver, settings)
+        progress.note(&format!("contact: {m} points, solver {}", solver.name()));
+        let solution = contact::solve(problem, &solver, settings)?;
+        for (k, h) in solution.history.iter().enumerate() {
+            progress.iteration(super::Phase::Solve, k + 1, h.residual);
+        }
+        Ok(solution)
     }
 
     /// K u = f + Bᵀ r by one more solve, then the independent check of (r, B u).
@@ -703,6 +712,7 @@ impl ContactSetup {
             solver: solution.solver.clone(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
+            residual_history: solution.history.iter().map(|h| h.residual).collect(),
             notes: solution.notes.clone(),
             points: m,
             open,

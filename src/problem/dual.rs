@@ -83,6 +83,14 @@ pub struct EstimateReport {
 impl<'s> ElasticityProblem<'s> {
     /// Solve the dual (stress) formulation on the problem's mesh.
     pub fn solve_dual(&mut self) -> Result<()> {
+        self.progress().phase_started(super::Phase::Dual);
+        let start = std::time::Instant::now();
+        self.solve_dual_unobserved()?;
+        self.progress().phase_finished(super::Phase::Dual, start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    fn solve_dual_unobserved(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
         let side = self.dual_contact_side()?;
         if side.is_some() && self.scene.dual_constraints == DualConstraints::Multipliers {
@@ -184,6 +192,14 @@ impl<'s> ElasticityProblem<'s> {
 
     /// The error in the constitutive relation of the primal and dual solutions (both solved).
     pub fn estimate(&mut self) -> Result<()> {
+        self.progress().phase_started(super::Phase::Estimate);
+        let start = std::time::Instant::now();
+        self.estimate_unobserved()?;
+        self.progress().phase_finished(super::Phase::Estimate, start.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    fn estimate_unobserved(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
         let (Some(u), Some(dual)) = (&self.displacement, &self.dual) else {
             return Err(Error::PetscUsage("estimate() needs solve() and solve_dual() first".into()));

@@ -183,6 +183,7 @@ impl ElasticityProblem<'_> {
             solver: solution.solver.clone(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
+            residual_history: solution.history.iter().map(|h| h.residual).collect(),
             notes,
             points: points.len(),
             open: count(PointStatus::Open),

@@ -386,8 +386,10 @@ struct Floating {
 }
 
 /// The mixed system of this rank, for the SNES wrapper.
-struct MixedSystem<'s> {
+struct MixedSystem<'s, 'p> {
     comm: Comm,
+    /// Told each Newton step and its residual.
+    progress: &'p dyn super::Progress,
     /// Exact Jacobian solves by block elimination with one factor of K, when they apply.
     elimination: Option<BlockElimination<'s>>,
     law: Law,
@@ -439,7 +441,7 @@ struct MixedSystem<'s> {
     best_at: usize,
 }
 
-impl MixedSystem<'_> {
+impl MixedSystem<'_, '_> {
     /// The contact displacements `B u` of the owned points in their frames: read from `u` in
     /// the unknowns `(u, λ)`, or `B v + W λ` in the block elimination's `(v, λ)`
     /// (`block_elimination.rs`). Linear in `x`.
@@ -527,7 +529,7 @@ impl MixedSystem<'_> {
     }
 }
 
-impl NonlinearSystem for MixedSystem<'_> {
+impl NonlinearSystem for MixedSystem<'_, '_> {
     fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()> {
         for (r, fr) in f.iter_mut().enumerate().take(self.num_u) {
             let span = self.indptr[r]..self.indptr[r + 1];
@@ -687,6 +689,7 @@ impl NonlinearSystem for MixedSystem<'_> {
         self.contact_residual = contact_residual;
         if iteration > 0 {
             self.history.push(IterationRecord { residual: equilibrium.max(contact_residual), status_changes: changes });
+            self.progress.iteration(super::Phase::Solve, iteration, equilibrium.max(contact_residual));
         }
         self.previous = Some(states.clone());
         let exact_step = iteration > 0 && !self.regularized && self.last_step_scale == 1.0 && off_piece == 0;
@@ -828,7 +831,7 @@ impl ContactSetup {
         constraints: &Constraints,
         system: &LinearSystem,
         dof_ranges: &[Range<usize>],
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
         let start = std::time::Instant::now();
         let comm = session.world();
@@ -968,7 +971,7 @@ impl ContactSetup {
         // (block_elimination.rs); otherwise SNES's KSP solves the mixed Jacobian.
         let user_inner = solver.inner_solver_from_options()? || session.has_option(FULL_SPACE_LU_OPTION)?;
         let elimination = if session.size() == 1 && self.free_motions.is_none() && !user_inner && m > 0 {
-            progress("  contact: factorising K with the Schur complement on the contact dofs");
+            progress.note("contact: factorising K with the Schur complement on the contact dofs");
             let matrix =
                 Matrix::from_csr_rows(session, comm, n, k.first_row, &k.indptr, &k.indices, &k.values, 2, true)?;
             Some(BlockElimination::new(session, &matrix, b, per_point)?)
@@ -976,6 +979,7 @@ impl ContactSetup {
             None
         };
         let mut mixed = MixedSystem {
+            progress,
             comm,
             elimination,
             law: law.clone(),
@@ -1018,7 +1022,7 @@ impl ContactSetup {
             best_merit: f64::INFINITY,
             best_at: 0,
         };
-        progress(&format!(
+        progress.note(&format!(
             "  contact: {m} points, full-space semi-smooth Newton on {} unknowns ({} friction)",
             layout.global_size(),
             law.name()
@@ -1168,9 +1172,9 @@ impl ContactSetup {
         failure: String,
         notes: Vec<String>,
         start: std::time::Instant,
-        progress: &mut dyn FnMut(&str),
+        progress: &dyn super::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
-        progress(&format!("  contact: {failure}; falling back to the condensed semi-smooth Newton"));
+        progress.note(&format!("contact: {failure}; falling back to the condensed semi-smooth Newton"));
         let k = &system.matrix;
         let mut values = k.values.clone();
         if let Some(spring) = self.spring {

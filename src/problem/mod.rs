@@ -10,7 +10,8 @@
 //!                                   on (u, λ) through SNES by default (full_space.rs), or the
 //!                                   condensed solvers / SNESVI / TAO (contact.rs)
 //!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
-//!                   ::write_output  solution.vtu + report.json (rank 0, atomic)
+//!                   ::write_output  solution.vtu + report.json, and for contact contact.csv,
+//!                                   contact.svg, convergence.svg (rank 0, atomic; output_files.rs)
 //! ```
 //!
 //! Parallel runs (`mpirun -n N`): every rank holds the whole mesh (2D meshes are small next to
@@ -18,19 +19,24 @@
 //! node numbers, so PETSc's row layout is our node layout. The solution is gathered on every
 //! rank for post-processing; rank 0 writes the files.
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 mod block_elimination;
 mod contact;
+mod contact_curve;
 mod contact_zones;
 mod dual;
 mod dual_contact;
 mod full_space;
+mod output_files;
+mod progress;
 mod warnings;
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
 pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
+pub use progress::{NoProgress, Phase, Progress};
 pub use warnings::Warning;
 
 use crate::error::{Error, Result};
@@ -38,7 +44,6 @@ use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{Material, PlaneModel};
 use crate::fem::mixed_pressure;
 use crate::mesh::{self, Mesh, Order};
-use crate::output::{self, vtu};
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::resources::{self, Timings};
 use crate::scene::{self, ContactSolverSpec, Scene};
@@ -141,6 +146,8 @@ pub struct ElasticityProblem<'s> {
     pub estimate: Option<EstimateReport>,
     /// Physics warnings so far.
     pub warnings: Vec<Warning>,
+    /// Who is told the progress of the run ([`NoProgress`] unless set).
+    progress: Box<dyn Progress>,
 }
 
 /// Post-processed fields.
@@ -156,10 +163,17 @@ impl<'s> ElasticityProblem<'s> {
     /// Mesh, material, constraints, partition. Scene PETSc options enter the options database
     /// as defaults (the command line wins).
     pub fn setup_system(session: &'s Session, scene: Scene) -> Result<Self> {
+        Self::setup_system_with_progress(session, scene, Box::new(NoProgress))
+    }
+
+    /// [`ElasticityProblem::setup_system`], telling `progress` about this and every later
+    /// phase of the run.
+    pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
         let mut timings = Timings::default();
-        let (mesh, file_order) = timings.time("mesh", || build_mesh(&scene))?;
+        let (mesh, file_order) =
+            progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
@@ -219,7 +233,18 @@ impl<'s> ElasticityProblem<'s> {
             dual: None,
             estimate: None,
             warnings: initial_warnings,
+            progress,
         })
+    }
+
+    /// Tell `progress` about the following phases of the run (replaces the observer).
+    pub fn set_progress(&mut self, progress: Box<dyn Progress>) {
+        self.progress = progress;
+    }
+
+    /// The observer of the run's progress.
+    pub fn progress(&self) -> &dyn Progress {
+        &*self.progress
     }
 
     pub fn num_dofs(&self) -> usize {
@@ -254,6 +279,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// Assemble this rank's rows of the stiffness matrix and load vector into PETSc objects.
     pub fn assemble(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Assemble);
         let start = std::time::Instant::now();
         let mut system = self.with_loads(|loads| {
             let element = self.scene.element;
@@ -268,6 +294,7 @@ impl<'s> ElasticityProblem<'s> {
             contact.set_stabilisation(self.session.world().max(&[max_diag])?[0]);
             self.full_space_system = Some(system);
             self.timings.add("assemble", start.elapsed().as_secs_f64());
+            self.progress.phase_finished(Phase::Assemble, start.elapsed().as_secs_f64());
             return Ok(());
         }
         if let Some(contact) = &mut self.contact {
@@ -280,11 +307,13 @@ impl<'s> ElasticityProblem<'s> {
         }
         self.system = Some(self.to_petsc(&system)?);
         self.timings.add("assemble", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Assemble, start.elapsed().as_secs_f64());
         Ok(())
     }
 
     /// Solve the linear system with the KSP configured by the options database.
     pub fn solve(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Solve);
         let start = std::time::Instant::now();
         if let (Some(contact), Some(system)) = (&self.contact, &self.full_space_system) {
             let ranges = dof_ranges(self.mesh.num_nodes(), self.session.size());
@@ -295,7 +324,7 @@ impl<'s> ElasticityProblem<'s> {
                 &self.constraints,
                 system,
                 &ranges,
-                &mut |_| {},
+                &*self.progress,
             )?;
             stats.seconds = start.elapsed().as_secs_f64();
             self.stats = Some(stats);
@@ -303,6 +332,7 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
             self.timings.add("solve", start.elapsed().as_secs_f64());
+            self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
             return Ok(());
         }
         let (matrix, rhs) =
@@ -324,7 +354,8 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {
-            let (u, outcome, stats) = contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &mut |_| {})?;
+            let (u, outcome, stats) =
+                contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &*self.progress)?;
             self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
             self.check_contact_equilibrium(&outcome)?;
             self.displacement = Some(u);
@@ -336,6 +367,7 @@ impl<'s> ElasticityProblem<'s> {
             self.stats = Some(stats);
         }
         self.timings.add("solve", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -409,6 +441,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// Stresses, von Mises, reactions per Dirichlet part, global equilibrium.
     pub fn postprocess(&mut self) -> Result<()> {
+        self.progress.phase_started(Phase::Postprocess);
         let start = std::time::Instant::now();
         let u = self
             .displacement
@@ -519,6 +552,7 @@ impl<'s> ElasticityProblem<'s> {
             report: ResultsReport { max_displacement, max_von_mises, applied_force, reactions, equilibrium_residual },
         });
         self.timings.add("postprocess", start.elapsed().as_secs_f64());
+        self.progress.phase_finished(Phase::Postprocess, start.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -573,114 +607,6 @@ impl<'s> ElasticityProblem<'s> {
             estimate: self.estimate.clone(),
             warnings: self.warnings.clone(),
         })
-    }
-
-    /// `solution.vtu`: the primal fields (displacement, stress, von Mises, contact), the dual
-    /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
-    /// the estimate per cell (`error`), whichever were computed.
-    fn write_vtu(&self, path: &Path) -> Result<()> {
-        let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
-        let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
-        let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
-        if let (Some(u), Some(results)) = (&self.displacement, &self.results) {
-            point.push(("displacement".into(), 3, u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect()));
-            // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
-            let stress6 =
-                results.nodal_stress.iter().zip(&results.sigma_zz).flat_map(|(s, zz)| tensor(s, *zz)).collect();
-            point.push(("stress".into(), 6, stress6));
-            point.push(("von_mises".into(), 1, results.von_mises.clone()));
-            let n = self.mesh.num_nodes();
-            if let (Some(c), Some(o)) = (&self.contact, &self.contact_outcome) {
-                let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
-                let (p, t) = c.boundary.tractions(&o.force);
-                for (i, &node) in c.boundary.nodes.iter().enumerate() {
-                    pressure[node] = p[i];
-                    friction[node] = t[i];
-                    status[node] = match o.status[i] {
-                        crate::contact::PointStatus::Open => 0.0,
-                        crate::contact::PointStatus::Stick => 1.0,
-                        crate::contact::PointStatus::Slip => 2.0,
-                    };
-                }
-                point.push(("contact_pressure".into(), 1, pressure));
-                point.push(("friction_traction".into(), 1, friction));
-                point.push(("contact_status".into(), 1, status));
-            }
-        }
-        let mut with_edges = true;
-        if let Some(d) = &self.dual {
-            let prefix = if self.displacement.is_some() { "dual_" } else { "" };
-            let stress6 =
-                d.nodal_stress.iter().flat_map(|s| tensor(s, self.material.sigma_zz(*s))).collect::<Vec<f64>>();
-            point.push((format!("{prefix}stress"), 6, stress6));
-            point.push((format!("{prefix}von_mises"), 1, d.von_mises.clone()));
-            point.push(("airy_stress".into(), 1, d.airy.clone()));
-            // Per cell: the stress at the centroid (the field is linear on each third of a cell).
-            let field = d.system.field(&self.mesh, &d.phi);
-            let mut cell_stress = Vec::with_capacity(6 * self.mesh.num_cells());
-            let mut cell_vm = Vec::with_capacity(self.mesh.num_cells());
-            for c in 0..self.mesh.num_cells() {
-                let v = self.mesh.cell(c);
-                let x: Vec<[f64; 2]> = v[..3].iter().map(|&k| self.mesh.nodes[k]).collect();
-                let g = [(x[0][0] + x[1][0] + x[2][0]) / 3.0, (x[0][1] + x[1][1] + x[2][1]) / 3.0];
-                let s = field.stress_at(c, g);
-                cell_stress.extend(tensor(&s, self.material.sigma_zz(s)));
-                cell_vm.push(self.material.von_mises(s));
-            }
-            cell.push((format!("{prefix}cell_stress"), 6, cell_stress));
-            cell.push((format!("{prefix}cell_von_mises"), 1, cell_vm));
-            if let Some(c) = &d.contact {
-                let (pressure, friction, status) = dual_contact::nodal_contact_fields(self.mesh.num_nodes(), c);
-                point.push((format!("{prefix}contact_pressure"), 1, pressure));
-                point.push((format!("{prefix}friction_traction"), 1, friction));
-                point.push((format!("{prefix}contact_status"), 1, status));
-            }
-            with_edges = false;
-        }
-        if let Some(e) = &self.estimate {
-            cell.push(("error".into(), 1, e.estimate.element_error()));
-            if self.scene.contact.is_some() {
-                let contact: Vec<f64> = e.estimate.element_contact.iter().map(|v| v.max(0.0).sqrt()).collect();
-                cell.push(("error_contact".into(), 1, contact));
-            }
-        }
-        let points: Vec<vtu::Field> =
-            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        let cells: Vec<vtu::Field> =
-            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
-    }
-
-    /// Write `solution.vtu` and `report.json` into `dir` (rank 0 only; both atomically).
-    /// Returns the report and the paths written.
-    pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
-        let start = std::time::Instant::now();
-        let mut written = Vec::new();
-        if self.session.rank() == 0 {
-            let path = dir.join("solution.vtu");
-            self.write_vtu(&path)?;
-            written.push(path);
-        }
-        self.timings.add("output", start.elapsed().as_secs_f64());
-        // All or nothing: a failure after solution.vtu removes it again.
-        let finish = |written: &mut Vec<PathBuf>| -> Result<Report> {
-            let report = self.report()?;
-            if self.session.rank() == 0 {
-                let path = dir.join("report.json");
-                output::write_json(&path, &report)?;
-                written.push(path);
-            }
-            Ok(report)
-        };
-        match finish(&mut written) {
-            Ok(report) => Ok((report, written)),
-            Err(e) => {
-                for path in &written {
-                    let _ = std::fs::remove_file(path);
-                }
-                Err(e)
-            }
-        }
     }
 }
 

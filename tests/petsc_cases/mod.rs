@@ -15,6 +15,7 @@ mod contact;
 mod dual;
 mod dual_contact;
 mod locking;
+mod progress;
 
 type Case = fn(&Session) -> Result<(), String>;
 
@@ -67,6 +68,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("full_space_square_block_raous", contact::full_space_square_block_raous),
     ("full_space_iterations_mesh_independent", contact::full_space_iterations_mesh_independent),
     ("full_space_hertz_cylinder", contact::full_space_hertz_cylinder),
+    ("progress_events_in_order", progress::progress_events_in_order),
     ("full_space_is_the_default_and_reports", contact::full_space_is_the_default_and_reports),
     ("full_space_failure_falls_back_and_says_so", contact::full_space_failure_falls_back_and_says_so),
     ("nonlinear_solver_newton_and_callback_errors", nonlinear_solver_newton_and_callback_errors),

@@ -1,0 +1,203 @@
+//! The parent side of the benchmarks: each (size, solver) case runs in a child process of its
+//! own (`signorini bench KIND-case`, so that each reports its own memory); its JSON row is
+//! collected, or its failure with the reason. The Markdown file carries the date, the program
+//! version and commit, the command line and every failed case as a row.
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use signorini::bench::{self, BenchRecord, FailedCase};
+use signorini::Error;
+
+use crate::terminal_progress::{self, Spinner};
+use crate::RunArgs;
+
+/// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row; else the reason.
+fn run_case<T: serde::de::DeserializeOwned>(
+    exe: &Path,
+    kind: &str,
+    dofs: usize,
+    index: usize,
+    out: &Path,
+    petsc: &[String],
+) -> Result<T, String> {
+    let o = std::process::Command::new(exe)
+        .args(["bench", &format!("{kind}-case"), "--case", &format!("{dofs},{index}"), "--out"])
+        .arg(out)
+        .args(petsc)
+        .output()
+        .map_err(|e| format!("could not start: {e}"))?;
+    if !o.status.success() {
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let reason = stderr.trim();
+        return Err(match o.status.code() {
+            Some(code) if !reason.is_empty() => format!("exit {code}: {reason}"),
+            Some(code) => format!("exit {code} without a message"),
+            None => format!("killed by a signal {}", if reason.is_empty() { "" } else { reason }).trim().to_string(),
+        });
+    }
+    serde_json::from_slice(&o.stdout).map_err(|e| format!("unreadable result: {e}"))
+}
+
+/// Writes a benchmark's files (table, then the plot when a case succeeded) into a directory.
+type Writer<T> = fn(&[T], &BenchRecord, &Path) -> Result<Vec<PathBuf>, Error>;
+
+/// The parts of a benchmark run in child processes, one per (size, solver) case.
+struct CaseRunner<T> {
+    /// The child's subcommand is `bench {kind}-case`.
+    kind: &'static str,
+    /// `(dofs, solver index, solver name)` of each case.
+    cases: Vec<(usize, usize, String)>,
+    /// The progress line of a finished case.
+    describe: fn(&T) -> String,
+    table: fn(&[T]) -> String,
+    write: Writer<T>,
+}
+
+/// The command line as typed (the program by its file name), for the benchmark files.
+fn command_line() -> String {
+    std::env::args()
+        .enumerate()
+        .map(|(k, a)| {
+            let a = if k == 0 {
+                Path::new(&a).file_name().map_or(a.clone(), |f| f.to_string_lossy().to_string())
+            } else {
+                a
+            };
+            if a.is_empty() || a.contains(char::is_whitespace) {
+                format!("'{a}'")
+            } else {
+                a
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Run every case, print a line per case (a spinner while it runs, on a terminal), write the
+/// files. Fails when no case succeeded (the table of failures is written all the same).
+fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunner<T>) -> ExitCode {
+    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+    let exe = match std::env::current_exe() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: cannot find the signorini executable to run the cases: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut record = BenchRecord::new(command_line());
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()));
+    let spinner = Spinner::new(terminal_progress::wanted(parsed.quiet));
+    let mut rows: Vec<T> = Vec::new();
+    for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
+        let head = format!("[{}/{}] ~{dofs} dofs, {name:<26}", k + 1, runner.cases.len());
+        spinner.start(head.clone());
+        let result = run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, &parsed.petsc);
+        spinner.finish();
+        match result {
+            Ok(row) => {
+                eprintln!("{head} {}", (runner.describe)(&row));
+                rows.push(row);
+            }
+            Err(reason) => {
+                eprintln!("{head} failed: {reason}");
+                record.failures.push(FailedCase { dofs: *dofs, solver: name.clone(), reason });
+            }
+        }
+    }
+    drop(spinner);
+    let _ = std::fs::remove_dir_all(&scratch);
+    match (runner.write)(&rows, &record, &out) {
+        Ok(paths) => {
+            if !rows.is_empty() {
+                println!("{}", (runner.table)(&rows));
+            }
+            if !record.failures.is_empty() {
+                println!("Failed cases ({}):\n\n{}", record.failures.len(), record.failures_table());
+            }
+            let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+            eprintln!("wrote {}", names.join(", "));
+            if rows.is_empty() {
+                eprintln!("error: no benchmark case succeeded (each failure is a row of {})", names[0]);
+                return ExitCode::FAILURE;
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `bench elasticity`: each (size, solver) case in a child process.
+pub fn bench_elasticity(parsed: RunArgs) -> ExitCode {
+    let cases = bench::elasticity_cases(parsed.max_dofs)
+        .into_iter()
+        .map(|(dofs, solver)| {
+            (dofs, bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0), solver.name.to_string())
+        })
+        .collect();
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::BenchRow> {
+            kind: "elasticity",
+            cases,
+            describe: |row| {
+                format!(
+                    "{:>8.3} s, {:>5} iterations, {:>6.0} MB",
+                    row.solve_seconds, row.iterations, row.solve_memory_mb
+                )
+            },
+            table: bench::elasticity_table,
+            write: bench::write_elasticity_outputs,
+        },
+    )
+}
+
+/// `bench contact`: each (size, solver) case in a child process.
+pub fn bench_contact(parsed: RunArgs) -> ExitCode {
+    let cases = bench::contact_cases(parsed.max_dofs)
+        .into_iter()
+        .map(|(dofs, solver)| {
+            (dofs, bench::CONTACT_SOLVERS.iter().position(|s| *s == solver).unwrap_or(0), solver.to_string())
+        })
+        .collect();
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::ContactBenchRow> {
+            kind: "contact",
+            cases,
+            describe: |row| {
+                format!(
+                    "{:>8.3} s, {:>4} iterations, {:>6.1} x one linear solve, residual {:.1e}",
+                    row.contact_seconds,
+                    row.iterations,
+                    row.contact_seconds / row.linear_seconds,
+                    row.worst_residual
+                )
+            },
+            table: bench::contact_table,
+            write: bench::write_contact_outputs,
+        },
+    )
+}
+
+/// `bench dual`: each (size, solver) case in a child process.
+pub fn bench_dual(parsed: RunArgs) -> ExitCode {
+    let cases = bench::dual::dual_cases(parsed.max_dofs);
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::dual::DualBenchRow> {
+            kind: "dual",
+            cases,
+            describe: |row| {
+                format!(
+                    "setup {:.3} s, solve {:.3} s ({} its), estimate {:.3} s; primal P2 {:.3} s",
+                    row.setup_seconds, row.solve_seconds, row.iterations, row.estimate_seconds, row.primal_seconds
+                )
+            },
+            table: bench::dual::dual_table,
+            write: bench::write_dual_outputs,
+        },
+    )
+}

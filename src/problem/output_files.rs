@@ -1,0 +1,175 @@
+//! The result files of a run: `solution.vtu` and `report.json`, and for contact
+//! `contact.csv`, `contact.svg` and `convergence.svg` (rank 0, each atomically, all or none).
+use std::path::{Path, PathBuf};
+
+use super::{contact_curve, ContactCurvePoint, ElasticityProblem, Phase, Report};
+use crate::error::Result;
+use crate::output::{self, vtu};
+
+impl ElasticityProblem<'_> {
+    /// `solution.vtu`: the primal fields (displacement, stress, von Mises, contact), the dual
+    /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
+    /// the estimate per cell (`error`), whichever were computed.
+    fn write_vtu(&self, path: &Path) -> Result<()> {
+        let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
+        let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
+        let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
+        if let (Some(u), Some(results)) = (&self.displacement, &self.results) {
+            point.push(("displacement".into(), 3, u.chunks(2).flat_map(|d| [d[0], d[1], 0.0]).collect()));
+            // VTK symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ.
+            let stress6 =
+                results.nodal_stress.iter().zip(&results.sigma_zz).flat_map(|(s, zz)| tensor(s, *zz)).collect();
+            point.push(("stress".into(), 6, stress6));
+            point.push(("von_mises".into(), 1, results.von_mises.clone()));
+            let n = self.mesh.num_nodes();
+            if let (Some(c), Some(o)) = (&self.contact, &self.contact_outcome) {
+                let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
+                let (p, t) = c.boundary.tractions(&o.force);
+                for (i, &node) in c.boundary.nodes.iter().enumerate() {
+                    pressure[node] = p[i];
+                    friction[node] = t[i];
+                    status[node] = match o.status[i] {
+                        crate::contact::PointStatus::Open => 0.0,
+                        crate::contact::PointStatus::Stick => 1.0,
+                        crate::contact::PointStatus::Slip => 2.0,
+                    };
+                }
+                point.push(("contact_pressure".into(), 1, pressure));
+                point.push(("friction_traction".into(), 1, friction));
+                point.push(("contact_status".into(), 1, status));
+            }
+        }
+        let mut with_edges = true;
+        if let Some(d) = &self.dual {
+            let prefix = if self.displacement.is_some() { "dual_" } else { "" };
+            let stress6 =
+                d.nodal_stress.iter().flat_map(|s| tensor(s, self.material.sigma_zz(*s))).collect::<Vec<f64>>();
+            point.push((format!("{prefix}stress"), 6, stress6));
+            point.push((format!("{prefix}von_mises"), 1, d.von_mises.clone()));
+            point.push(("airy_stress".into(), 1, d.airy.clone()));
+            // Per cell: the stress at the centroid (the field is linear on each third of a cell).
+            let field = d.system.field(&self.mesh, &d.phi);
+            let mut cell_stress = Vec::with_capacity(6 * self.mesh.num_cells());
+            let mut cell_vm = Vec::with_capacity(self.mesh.num_cells());
+            for c in 0..self.mesh.num_cells() {
+                let v = self.mesh.cell(c);
+                let x: Vec<[f64; 2]> = v[..3].iter().map(|&k| self.mesh.nodes[k]).collect();
+                let g = [(x[0][0] + x[1][0] + x[2][0]) / 3.0, (x[0][1] + x[1][1] + x[2][1]) / 3.0];
+                let s = field.stress_at(c, g);
+                cell_stress.extend(tensor(&s, self.material.sigma_zz(s)));
+                cell_vm.push(self.material.von_mises(s));
+            }
+            cell.push((format!("{prefix}cell_stress"), 6, cell_stress));
+            cell.push((format!("{prefix}cell_von_mises"), 1, cell_vm));
+            if let Some(c) = &d.contact {
+                let (pressure, friction, status) = super::dual_contact::nodal_contact_fields(self.mesh.num_nodes(), c);
+                point.push((format!("{prefix}contact_pressure"), 1, pressure));
+                point.push((format!("{prefix}friction_traction"), 1, friction));
+                point.push((format!("{prefix}contact_status"), 1, status));
+            }
+            with_edges = false;
+        }
+        if let Some(e) = &self.estimate {
+            cell.push(("error".into(), 1, e.estimate.element_error()));
+            if self.scene.contact.is_some() {
+                let contact: Vec<f64> = e.estimate.element_contact.iter().map(|v| v.max(0.0).sqrt()).collect();
+                cell.push(("error_contact".into(), 1, contact));
+            }
+        }
+        let points: Vec<vtu::Field> =
+            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        let cells: Vec<vtu::Field> =
+            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
+    }
+
+    /// The contact answer point by point in order along the contact part (after
+    /// [`ElasticityProblem::solve`]); `None` without contact.
+    pub fn contact_curve(&self) -> Option<Vec<ContactCurvePoint>> {
+        let (c, o, u) = (self.contact.as_ref()?, self.contact_outcome.as_ref()?, self.displacement.as_ref()?);
+        Some(contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
+    }
+
+    /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`.
+    fn write_contact_files(&self, dir: &Path, written: &mut Vec<PathBuf>) -> Result<()> {
+        let (Some(points), Some(outcome)) = (self.contact_curve(), &self.contact_outcome) else {
+            return Ok(());
+        };
+        let path = dir.join("contact.csv");
+        contact_curve::write_contact_csv(&path, &points)?;
+        written.push(path);
+        let r = &outcome.report;
+        // The picture shows the closed zones and a quarter of their span on either side (the
+        // whole part when it is mostly closed, or open everywhere); the CSV has every point.
+        let (first, last) = (points.first().map_or(0.0, |p| p.s), points.last().map_or(0.0, |p| p.s));
+        let closed = r.zones.iter().map(|z| z.extent[0]).fold(f64::INFINITY, f64::min);
+        let closed_end = r.zones.iter().map(|z| z.extent[1]).fold(f64::NEG_INFINITY, f64::max);
+        let margin = (0.25 * (closed_end - closed)).max(0.02 * (last - first));
+        let window = if closed.is_finite() {
+            [(closed - margin).max(first), (closed_end + margin).min(last)]
+        } else {
+            [first, last]
+        };
+        let shown: Vec<&ContactCurvePoint> = points.iter().filter(|p| p.s >= window[0] && p.s <= window[1]).collect();
+        let s: Vec<f64> = shown.iter().map(|p| p.s).collect();
+        let pressure: Vec<f64> = shown.iter().map(|p| p.pressure).collect();
+        let traction: Vec<f64> = shown.iter().map(|p| p.tangential_traction).collect();
+        let path = dir.join("contact.svg");
+        let title = format!("Contact tractions on '{}' (friction {})", r.part, r.friction);
+        let zoomed = window != [first, last];
+        output::contact_plots::write_contact_svg(&path, &title, &s, &pressure, &traction, zoomed)?;
+        written.push(path);
+        let path = dir.join("convergence.svg");
+        let title = format!("Contact solver convergence ({} iterations)", r.residual_history.len());
+        output::contact_plots::write_convergence_svg(&path, &title, &r.residual_history)?;
+        written.push(path);
+        Ok(())
+    }
+
+    /// Write `solution.vtu`, `report.json` and, with contact, `contact.csv`, `contact.svg` and
+    /// `convergence.svg` into `dir` (rank 0 only; each atomically, and all or none of them).
+    /// Returns the report and the paths written.
+    pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
+        self.progress.phase_started(Phase::Output);
+        let start = std::time::Instant::now();
+        let mut written = Vec::new();
+        let files = |written: &mut Vec<PathBuf>| -> Result<()> {
+            if self.session.rank() == 0 {
+                let path = dir.join("solution.vtu");
+                self.write_vtu(&path)?;
+                written.push(path);
+                self.write_contact_files(dir, written)?;
+            }
+            Ok(())
+        };
+        if let Err(e) = files(&mut written) {
+            for path in &written {
+                let _ = std::fs::remove_file(path);
+            }
+            return Err(e);
+        }
+        self.timings.add("output", start.elapsed().as_secs_f64());
+        let finish = |written: &mut Vec<PathBuf>| -> Result<Report> {
+            let report = self.report()?;
+            if self.session.rank() == 0 {
+                let path = dir.join("report.json");
+                output::write_json(&path, &report)?;
+                written.push(path);
+            }
+            Ok(report)
+        };
+        // All or nothing: a failure after some files were written removes them again.
+        match finish(&mut written) {
+            Ok(report) => {
+                self.progress.phase_finished(Phase::Output, start.elapsed().as_secs_f64());
+                Ok((report, written))
+            }
+            Err(e) => {
+                for path in &written {
+                    let _ = std::fs::remove_file(path);
+                }
+                Err(e)
+            }
+        }
+    }
+}

@@ -1,0 +1,269 @@
+//! The terminal summary of a run (stdout): each quantity once, no line longer than
+//! [`WIDTH`] columns. A label in the first [`INDENT`] columns, then the text, wrapped at spaces
+//! with continuation lines indented under the text. Warnings go to stderr.
+use std::path::PathBuf;
+
+use signorini::problem::Report;
+
+/// The widest line of the summary, in characters.
+pub const WIDTH: usize = 100;
+/// Where the text after a label starts.
+const INDENT: usize = 10;
+
+/// Lines of at most [`WIDTH`] characters.
+#[derive(Default)]
+struct Lines(Vec<String>);
+
+impl Lines {
+    /// `label` then `text`, wrapped at spaces (a word longer than a line is cut).
+    fn add(&mut self, label: &str, text: &str) {
+        let room = WIDTH - INDENT;
+        let mut current = String::new();
+        let mut first = true;
+        let mut flush = |current: &mut String, first: &mut bool| {
+            let lead = if *first { format!("{label:<INDENT$}") } else { " ".repeat(INDENT) };
+            self.0.push(format!("{lead}{current}").trim_end().to_string());
+            current.clear();
+            *first = false;
+        };
+        for word in text.split(' ') {
+            let mut word: Vec<char> = word.chars().collect();
+            loop {
+                let used = current.chars().count();
+                let needed = if used == 0 { word.len() } else { used + 1 + word.len() };
+                if needed <= room {
+                    if used > 0 {
+                        current.push(' ');
+                    }
+                    current.extend(word.iter());
+                    break;
+                }
+                if used > 0 {
+                    flush(&mut current, &mut first);
+                    continue;
+                }
+                // A word longer than a line: cut it.
+                let rest = word.split_off(room);
+                current.extend(word.iter());
+                flush(&mut current, &mut first);
+                word = rest;
+            }
+        }
+        if !current.is_empty() || first {
+            flush(&mut current, &mut first);
+        }
+    }
+}
+
+/// `(x, y)` with 4 significant digits.
+fn point(p: [f64; 2]) -> String {
+    format!("({:.4e}, {:.4e})", p[0], p[1])
+}
+
+/// How the linear systems were solved, e.g. `preonly + cholesky (mumps)`: said once.
+/// With contact, the contact solver, and the linear solver unless the contact solver's name
+/// says it already.
+pub fn solver_description(r: &Report) -> String {
+    let s = &r.solver.stats;
+    let pkg = s.factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default();
+    let linear = format!("{} + {}{pkg}", s.ksp_type, s.pc_type);
+    match &r.contact {
+        Some(c) if c.solver.contains(&s.pc_type) => c.solver.clone(),
+        Some(c) => format!("{}; linear solves {linear}", c.solver),
+        None => linear,
+    }
+}
+
+/// The summary's lines.
+pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
+    let mut out = Lines::default();
+    out.add("run", &format!("{} — {} ({})", r.program, r.title.as_deref().unwrap_or("untitled scene"), r.scene));
+    out.add(
+        "problem",
+        &format!(
+            "{} element, plane {}, {} formulation: {} nodes, {} triangles, {} dofs ({} fixed), {} rank(s)",
+            r.element, r.plane, r.formulation, r.nodes, r.elements, r.dofs, r.fixed_dofs, r.mpi_ranks
+        ),
+    );
+    let s = &r.solver.stats;
+    let iterations = match &r.contact {
+        Some(c) => format!("{} contact iteration(s), status changes {:?}", c.iterations, c.status_changes),
+        None => format!("{} iteration(s)", s.iterations),
+    };
+    out.add(
+        "solver",
+        &format!(
+            "{}: {iterations}, {}, residual {:.1e}",
+            solver_description(r),
+            s.converged_reason,
+            s.relative_residual
+        ),
+    );
+    let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3} s")).collect();
+    out.add(
+        "time",
+        &format!(
+            "{}; total {:.3} s; peak memory {}",
+            phases.join(", "),
+            r.timings.total(),
+            r.memory.peak_bytes.map(|b| format!("{:.1} MB", b as f64 / 1e6)).unwrap_or_else(|| "n/a".into())
+        ),
+    );
+    if let Some(res) = &r.results {
+        out.add(
+            "result",
+            &format!("max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises),
+        );
+        let reactions: Vec<String> = res.reactions.iter().map(|(k, v)| format!("{k} {}", point(*v))).collect();
+        out.add(
+            "balance",
+            &format!(
+                "applied force {}, reactions {}; equilibrium residual {:.1e}",
+                point(res.applied_force),
+                if reactions.is_empty() { "none".into() } else { reactions.join(", ") },
+                res.equilibrium_residual
+            ),
+        );
+    }
+    if let Some(c) = &r.contact {
+        out.add(
+            "contact",
+            &format!(
+                "part '{}', friction {}: {} points: {} stick, {} slip, {} open; resultant {} (normal {:.4e}, tangential {:.4e})",
+                c.part,
+                c.friction,
+                c.points,
+                c.stick,
+                c.slip,
+                c.open,
+                point(c.resultant),
+                c.normal_resultant,
+                c.tangential_resultant
+            ),
+        );
+        match &c.peak_pressure {
+            Some(p) => out.add(
+                "",
+                &format!("peak pressure {:.4e} at s = {:.4e}, (x, y) = {}", p.pressure, p.s, point(p.position)),
+            ),
+            None => out.add("", "peak pressure: no contact point"),
+        }
+        if c.zones.is_empty() {
+            out.add("", "closed zones: none (every point is open)");
+        }
+        for (k, z) in c.zones.iter().enumerate() {
+            out.add(
+                "",
+                &format!(
+                    "closed zone {}: s in [{:.4e}, {:.4e}], from {} to {}, {} points",
+                    k + 1,
+                    z.extent[0],
+                    z.extent[1],
+                    point(z.start),
+                    point(z.end),
+                    z.points
+                ),
+            );
+        }
+        let worst = [
+            c.residuals.max_penetration,
+            c.residuals.max_wrong_sign_pressure,
+            c.residuals.max_cone_violation,
+            c.residuals.normal_complementarity,
+            c.residuals.tangential_complementarity,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+        out.add(
+            "",
+            &format!(
+                "independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity \
+                 {:.1e} / {:.1e} (worst {worst:.1e})",
+                c.residuals.max_penetration,
+                c.residuals.max_wrong_sign_pressure,
+                c.residuals.max_cone_violation,
+                c.residuals.normal_complementarity,
+                c.residuals.tangential_complementarity
+            ),
+        );
+        if c.stabilisation_iterations > 0 {
+            out.add(
+                "",
+                &format!(
+                    "held by contact: {} proximal iteration(s), residual spring force {}",
+                    c.stabilisation_iterations,
+                    point(c.stabilisation_force)
+                ),
+            );
+        }
+    }
+    if let Some(d) = &r.dual {
+        out.add(
+            "dual",
+            &format!(
+                "HCT, {} unknowns: max von Mises = {:.4e}, complementary energy {:.6e} [{:.2} s]",
+                d.unknowns, d.max_von_mises, d.check.complementary_energy, d.solver.seconds
+            ),
+        );
+        out.add(
+            "",
+            &format!(
+                "independent check: traction {:.1e}, equilibrium {:.1e}, stress jumps {:.1e}",
+                d.check.traction_residual, d.check.interior_equilibrium, d.check.stress_jump
+            ),
+        );
+        for note in &d.notes {
+            out.add("", &format!("note: {note}"));
+        }
+    }
+    if let Some(e) = &r.estimate {
+        out.add(
+            "estimate",
+            &format!(
+                "error {:.4e} = {:.3} % of the energy norm ({}), in {:.2} s of {:.2} s run time",
+                e.estimate.error,
+                e.estimate.relative_percent,
+                if e.estimate.kind == signorini::estimate::EstimateKind::GuaranteedBound {
+                    "a guaranteed bound"
+                } else {
+                    "an estimator"
+                },
+                e.estimate_seconds,
+                r.timings.total()
+            ),
+        );
+    }
+    for (k, path) in written.iter().enumerate() {
+        out.add(if k == 0 { "wrote" } else { "" }, &path.display().to_string());
+    }
+    out.0
+}
+
+/// Warning lines (for stderr), wrapped like the summary.
+pub fn warning_lines(r: &Report) -> Vec<String> {
+    let mut out = Lines::default();
+    for w in &r.warnings {
+        out.add("warning", &format!("{}: {}", w.kind, w.message));
+    }
+    for u in &r.solver.unused_options {
+        out.add("warning", &format!("PETSc option {u} was never used (a typo?)"));
+    }
+    out.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_text_wraps_within_the_width() {
+        let mut l = Lines::default();
+        let long = format!("{} {}", "word ".repeat(60), "x".repeat(250));
+        l.add("label", &long);
+        assert!(l.0.len() > 3);
+        assert!(l.0.iter().all(|s| s.chars().count() <= WIDTH), "{:#?}", l.0);
+        assert!(l.0[0].starts_with("label     word"));
+        let joined: String = l.0.iter().map(|s| s[INDENT..].to_string()).collect::<Vec<_>>().join(" ");
+        assert_eq!(joined.matches('x').count(), 250);
+    }
+}
