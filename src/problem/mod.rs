@@ -159,6 +159,24 @@ impl<'s> ElasticityProblem<'s> {
         let scene = scene.validated()?;
         let mut timings = Timings::default();
         let (mesh, file_order) = timings.time("mesh", || build_mesh(&scene))?;
+        Self::setup_on_mesh(session, scene, mesh, file_order, timings)
+    }
+
+    /// [`ElasticityProblem::setup_system`] on a mesh made elsewhere (a remeshed one, in mesh
+    /// adaptation, or a level of a convergence study): the mesh must carry the scene's
+    /// boundary parts and be of the scene's order.
+    pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
+        let scene = scene.validated()?;
+        Self::setup_on_mesh(session, scene, mesh, None, Timings::default())
+    }
+
+    fn setup_on_mesh(
+        session: &'s Session,
+        scene: Scene,
+        mesh: Mesh,
+        file_order: Option<Order>,
+        mut timings: Timings,
+    ) -> Result<Self> {
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
@@ -573,6 +591,13 @@ impl<'s> ElasticityProblem<'s> {
     /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
     /// the estimate per cell (`error`), whichever were computed.
     fn write_vtu(&self, path: &Path) -> Result<()> {
+        self.write_solution_vtu(path, &[])
+    }
+
+    /// `solution.vtu` as [`ElasticityProblem::write_output`] writes it, with extra scalar cell
+    /// data (one value per cell each; e.g. the size map `target_size` of mesh adaptation).
+    /// Atomic; call it on one rank.
+    pub fn write_solution_vtu(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<()> {
         let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
@@ -627,6 +652,19 @@ impl<'s> ElasticityProblem<'s> {
         }
         if let Some(e) = &self.estimate {
             cell.push(("error".into(), 1, e.estimate.element_error()));
+        }
+        for (name, values) in extra_cells {
+            if values.len() != self.mesh.num_cells() {
+                return Err(Error::Output {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "cell data '{name}' has {} values for {} cells",
+                        values.len(),
+                        self.mesh.num_cells()
+                    ),
+                });
+            }
+            cell.push((name.to_string(), 1, values.to_vec()));
         }
         let points: Vec<vtu::Field> =
             point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
