@@ -289,7 +289,7 @@ fn print_summary(r: &Report, written: &[PathBuf]) {
                 "an estimator"
             },
             e.estimate_seconds,
-            r.timings.total()
+            e.run_seconds
         );
     }
     if let Some(c) = &r.contact {

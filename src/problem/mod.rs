@@ -582,7 +582,11 @@ impl<'s> ElasticityProblem<'s> {
             parts,
             contact: self.contact_outcome.as_ref().map(|o| o.report.clone()),
             dual: self.dual.as_ref().map(|d| d.report.clone()),
-            estimate: self.estimate.clone(),
+            // The error next to the whole run's time (output included, as far as it went).
+            estimate: self.estimate.clone().map(|mut e| {
+                e.run_seconds = self.timings.total();
+                e
+            }),
             warnings: self.warnings.clone(),
         })
     }
