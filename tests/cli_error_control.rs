@@ -238,3 +238,14 @@ fn adapt_on_a_contact_scene_says_the_dual_has_no_contact_yet() {
     assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("[contact]") && stderr.contains("dual"), "{stderr}");
 }
+
+#[test]
+fn help_for_adapt_and_study() {
+    for sub in ["adapt", "study"] {
+        let out = bin().args([sub, "--help"]).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains(&format!("Usage: signorini {sub}")), "{text}");
+        assert!(text.contains(if sub == "adapt" { "--target" } else { "--levels" }), "{text}");
+    }
+}
