@@ -16,9 +16,10 @@
 //!            view (super::remesh): refines and coarsens, boundary nodes on the true curves.
 //! ```
 //!
-//! The a priori rates are an input ([`RateModel`]): `p = 1` in the volume for elasticity (primal
-//! P1 and dual HCT alike), and a rate per boundary part for the cells that touch it — for the
-//! contact part, `2/3` (primal, Coulomb) or `1/2` (dual, Tresca), the talk's values. The loop
+//! The a priori rates are an input ([`RateModel`]): `p = 1` in the volume for elasticity
+//! (primal P1 and dual HCT alike; `p = 2` for P2), and a rate per boundary part for the cells
+//! that touch it — for the contact part, `2/3` (primal, Coulomb) or `1/2` (dual, Tresca), the
+//! talk's values. The loop
 //! consumes only the per-cell errors of the [`crate::estimate::Estimate`]; when the dual
 //! formulation gains contact, its contact terms reach the size map through those errors unchanged.
 //!
@@ -69,11 +70,13 @@ impl RateModel {
         RateModel { volume: p, parts: Vec::new() }
     }
 
-    /// The rates for a scene: 1 in the volume and, with a `[contact]` section, `1/2` on the
-    /// cells of the contact part (the dual Tresca rate, which the talk found the better choice
-    /// for frictional contact: fewer steps to the target).
+    /// The rates for a scene: the element degree in the volume (1 for P1, the talk's value;
+    /// 2 for P2, whose primal and HCT dual errors both fall as h² where the solution is
+    /// smooth) and, with a `[contact]` section, `1/2` on the cells of the contact part (the
+    /// dual Tresca rate, which the talk found the better choice for frictional contact: fewer
+    /// steps to the target).
     pub fn for_scene(scene: &Scene) -> Self {
-        let mut model = RateModel::uniform(1.0);
+        let mut model = RateModel::uniform(scene.order.degree() as f64);
         if let Some(c) = &scene.contact {
             model.parts.push((c.part.clone(), 0.5));
         }
