@@ -151,3 +151,15 @@ fn mesh_request_follows_the_scene_geometry_and_refuses_mesh_files() {
     assert!(m.contains("signorini study") && m.contains("m.msh") && m.contains("hint:"), "{m}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The default rates of a scene: its element degree in the volume, 1/2 on its contact part.
+#[test]
+fn default_rates_follow_the_element_degree_and_the_contact_part() {
+    use signorini::adapt::RateModel;
+    use signorini::scene::Scene;
+    let read = |rel: &str| Scene::from_file(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)).unwrap();
+    assert_eq!(RateModel::for_scene(&read("examples/scenes/clamped_block.toml")), RateModel::uniform(1.0));
+    assert_eq!(RateModel::for_scene(&read("examples/scenes/block.toml")), RateModel::uniform(2.0));
+    let hertz = RateModel::for_scene(&read("examples/scenes/hertz.toml"));
+    assert_eq!(hertz, RateModel { volume: 2.0, parts: vec![("arc".into(), 0.5)] });
+}

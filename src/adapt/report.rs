@@ -209,3 +209,92 @@ pub fn write_study_outputs(outcome: &StudyOutcome, dir: &Path) -> Result<Vec<Pat
     )?;
     Ok(vec![json, md, svg])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::adapt::driver::{AdaptOptions, AdaptStep, RateModel, SizeMapSummary, StepSeconds};
+    use crate::adapt::SizeMapLimits;
+    use crate::estimate::EstimateKind;
+
+    fn step(k: usize, elements: usize, error: f64, grew: bool) -> AdaptStep {
+        AdaptStep {
+            step: k,
+            elements,
+            nodes: elements / 2,
+            dofs: elements,
+            error: error / 100.0,
+            error_percent: error,
+            reference_norm: 1.0,
+            kind: EstimateKind::GuaranteedBound,
+            seconds: StepSeconds { mesh: 0.1, solve: 0.2, dual: 0.3, estimate: 0.01, remesh: 0.4, output: 0.0 },
+            cumulative_seconds: k as f64,
+            error_grew: grew,
+            size_map: SizeMapSummary {
+                aim_percent: 5.0,
+                target_error: 0.05,
+                predicted_error: 0.05,
+                predicted_elements: 1000.0,
+                refined: 1,
+                coarsened: 2,
+                min_ratio: 0.1,
+                max_ratio: 4.0,
+                target_unreachable: false,
+            },
+            dir: PathBuf::from(format!("step_{k}")),
+        }
+    }
+
+    fn outcome(status: AdaptStatus, steps: Vec<AdaptStep>) -> AdaptOutcome {
+        AdaptOutcome {
+            program: "signorini test".into(),
+            scene: "s.toml".into(),
+            title: None,
+            options: AdaptOptions {
+                target_percent: 5.0,
+                max_steps: 3,
+                limits: SizeMapLimits::default(),
+                rates: RateModel { volume: 1.0, parts: vec![("bottom".into(), 0.5)] },
+                max_elements: 10,
+            },
+            status,
+            reached: status == AdaptStatus::Reached,
+            final_error_percent: steps.last().unwrap().error_percent,
+            warnings: vec!["step 2: the error grew".into()],
+            steps,
+        }
+    }
+
+    #[test]
+    fn table_rows_status_and_warnings_are_plain() {
+        let o = outcome(
+            AdaptStatus::MaxSteps,
+            vec![step(0, 100, 20.0, false), step(1, 900, 6.0, false), step(2, 950, 6.5, true)],
+        );
+        let t = adapt_table(&o);
+        assert_eq!(t.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| step")).count(), 3, "{t}");
+        assert!(t.contains("| 2 | 950 | 475 | 950 | 6.500 (grew) |"), "{t}");
+        assert!(t.contains("0.5 on 'bottom'"), "{t}");
+        assert!(t.contains("NOT reached in 3 step(s)") && t.contains("warning: step 2: the error grew"), "{t}");
+        let reached = outcome(AdaptStatus::Reached, vec![step(0, 100, 4.0, false)]);
+        assert!(status_line(&reached).starts_with("target 5.000 % reached: 4.000 %"));
+        let limit = outcome(AdaptStatus::ElementLimit, vec![step(0, 100, 40.0, false)]);
+        assert!(status_line(&limit).contains("element limit"));
+    }
+
+    #[test]
+    fn summary_files_are_written_and_the_plot_has_two_panels() {
+        let dir = std::env::temp_dir().join(format!("signorini-adapt-report-{}", std::process::id()));
+        let o = outcome(AdaptStatus::Reached, vec![step(0, 100, 20.0, false), step(1, 900, 4.0, false)]);
+        let written = write_adapt_outputs(&o, &dir).unwrap();
+        assert_eq!(written.len(), 3);
+        let svg = std::fs::read_to_string(dir.join("adapt.svg")).unwrap();
+        assert_eq!(svg.matches("<svg ").count(), 3, "outer + two panels");
+        assert!(svg.contains("x=\"800\""));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("adapt.json")).unwrap()).unwrap();
+        assert_eq!(json["status"], "reached");
+        assert_eq!(json["options"]["limits"]["max_ratio"], 4.0);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
