@@ -40,6 +40,19 @@ pub enum Command {
     /// DIR/contact.csv, DIR/contact.svg and DIR/convergence.svg); the summary goes to stdout.
     #[command(after_help = PETSC_HELP)]
     Run(RunOptions),
+    /// Adapt the mesh to a target error: solve primal and dual, estimate the error in the
+    /// constitutive relation, remesh the scene's geometry with the optimal size map (refines
+    /// and coarsens), repeat until the relative error is at most --target. Writes
+    /// DIR/step_K/solution.vtu (cell data error, target_size), DIR/adapt.json, adapt.md and
+    /// adapt.svg. A target not reached within --max-steps is a warning (exit status 0; the
+    /// status is in adapt.json).
+    #[command(after_help = PETSC_HELP)]
+    Adapt(AdaptArgs),
+    /// Convergence study: uniform refinements (the scene's cell size halved per level) against
+    /// a P2 reference on a finer mesh: true errors of the primal and the dual, the estimate,
+    /// effectivity and observed rates; writes DIR/study.json, study.md and study.svg.
+    #[command(after_help = PETSC_HELP)]
+    Study(StudyArgs),
     /// Benchmarks: tables (markdown) and plots (SVG) of times, iterations and memory.
     #[command(arg_required_else_help = false, subcommand_required = true)]
     Bench {
@@ -76,6 +89,52 @@ pub struct RunOptions {
     /// relation, per element and in total (as [estimate] in a scene).
     #[arg(long)]
     pub estimate: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct AdaptArgs {
+    /// The scene (a TOML file with a geometry: shape rectangle, disc or half_disc).
+    pub scene: PathBuf,
+    /// The target relative error, percent of the energy norm (0 < PERCENT < 100).
+    #[arg(long, value_name = "PERCENT", value_parser = parse_percent, allow_hyphen_values = true)]
+    pub target: f64,
+    /// The most meshes solved, the scene's own mesh included.
+    #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub max_steps: u32,
+    /// Stop rather than remesh to more elements than this (predicted by the size map).
+    #[arg(long, value_name = "N", default_value = "2e6", value_parser = parse_dofs)]
+    pub max_elements: usize,
+    /// Output directory (default: the scene's [output] dir, else ./out).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// The scene (a TOML file with a geometry: shape rectangle, disc or half_disc).
+    pub scene: PathBuf,
+    /// Number of levels: cell sizes h, h/2, ..., h/2^(N-1) (h the scene's).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10))]
+    pub levels: u32,
+    /// The P2 reference is this many halvings (1 or 2) finer than the last level.
+    #[arg(long, value_name = "M", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=2))]
+    pub reference_halvings: u32,
+    /// Output directory (default: the scene's [output] dir, else ./out).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn parse_percent(v: &str) -> Result<f64, String> {
+    v.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x > 0.0 && *x < 100.0)
+        .ok_or_else(|| format!("expects a percentage between 0 and 100 (exclusive), such as 5, got {v:?}"))
 }
 
 #[derive(Debug, Subcommand)]
@@ -133,8 +192,19 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 6] =
-    ["--out", "--max-dofs", "--case", "--contact-solver", "--formulation", "--dual-constraints"];
+const VALUE_FLAGS: [&str; 11] = [
+    "--out",
+    "--max-dofs",
+    "--case",
+    "--contact-solver",
+    "--formulation",
+    "--dual-constraints",
+    "--target",
+    "--max-steps",
+    "--max-elements",
+    "--levels",
+    "--reference-halvings",
+];
 
 /// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never
 /// `-h` alone (ours) nor a negative number (a value).
@@ -191,6 +261,31 @@ mod tests {
         let (ours, petsc) = split("run -mat_mumps_icntl_14 -1 --out=d -h");
         assert_eq!(ours, ["run", "--out=d", "-h"]);
         assert_eq!(petsc, ["-mat_mumps_icntl_14", "-1"]);
+    }
+
+    #[test]
+    fn adapt_and_study_flags_take_their_values_even_negative_ones() {
+        let (ours, petsc) = split("adapt s.toml --target -5 --max-steps 3 -ksp_type cg");
+        assert_eq!(ours, ["adapt", "s.toml", "--target", "-5", "--max-steps", "3"]);
+        assert_eq!(petsc, ["-ksp_type", "cg"]);
+        let parse = |line: &str| {
+            let (ours, _) = split(line);
+            Cli::try_parse_from(std::iter::once("signorini".to_string()).chain(ours))
+        };
+        assert!(parse("adapt s.toml --target -5").is_err());
+        assert!(parse("adapt s.toml --target 0").is_err());
+        assert!(parse("adapt s.toml --target 100").is_err());
+        assert!(parse("adapt s.toml --target 5 --max-steps 0").is_err());
+        assert!(parse("study s.toml --levels 0").is_err());
+        assert!(parse("study s.toml --levels 2 --reference-halvings 3").is_err());
+        match parse("adapt s.toml --target 2.5").unwrap().command {
+            Command::Adapt(a) => assert_eq!((a.target, a.max_steps), (2.5, 8)),
+            other => panic!("{other:?}"),
+        }
+        match parse("study s.toml --levels 3 --out d").unwrap().command {
+            Command::Study(a) => assert_eq!((a.levels, a.reference_halvings), (3, 1)),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

@@ -80,6 +80,17 @@ pub enum Error {
     #[error("{0}")]
     Usage(String),
 
+    /// Mesh adaptation or a convergence study needs to remesh the scene's geometry, and the
+    /// scene reads its mesh from a file (whose geometry the program does not know).
+    #[error(
+        "{}: `signorini {command}` remeshes the scene's geometry, but this scene reads its mesh from the file {} \
+         (shape = \"file\"), whose geometry is unknown\n  hint: describe the body with shape = \"rectangle\", \
+         \"disc\" or \"half_disc\" and a cell_size in [mesh], or run `signorini run --estimate` on the file's mesh",
+        scene.display(),
+        file.display()
+    )]
+    NeedsGeometry { scene: PathBuf, file: PathBuf, command: &'static str },
+
     /// A scene that cannot be solved as posed: the chosen formulation cannot represent it (the
     /// dual formulation on a domain with holes), or its geometry contradicts it (a body that
     /// starts inside its obstacle). What and why, and what to do.

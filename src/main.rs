@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 mod bench_runner;
 mod cli;
+mod error_control;
 mod summary;
 mod terminal_progress;
 
@@ -31,6 +32,13 @@ struct RunArgs {
     estimate: bool,
     /// run: `--dual-constraints`.
     dual_constraints: Option<String>,
+    /// adapt: `--target`, `--max-steps`, `--max-elements`; study: `--levels`,
+    /// `--reference-halvings`.
+    target: f64,
+    max_steps: usize,
+    max_elements: usize,
+    levels: usize,
+    reference_halvings: usize,
     petsc: Vec<String>,
 }
 
@@ -56,6 +64,11 @@ fn main() -> ExitCode {
         formulation: None,
         estimate: false,
         dual_constraints: None,
+        target: 0.0,
+        max_steps: 0,
+        max_elements: 0,
+        levels: 0,
+        reference_halvings: 0,
         petsc: petsc.clone(),
     };
     match parsed.command {
@@ -65,6 +78,19 @@ fn main() -> ExitCode {
             a.estimate = r.estimate;
             a.dual_constraints = r.dual_constraints;
             with_session(&program, a, run)
+        }
+        Command::Adapt(a) => {
+            let mut r = args(Some(a.scene), a.out, a.quiet, None, 0, None);
+            r.target = a.target;
+            r.max_steps = a.max_steps as usize;
+            r.max_elements = a.max_elements;
+            with_session(&program, r, error_control::adapt_command)
+        }
+        Command::Study(a) => {
+            let mut r = args(Some(a.scene), a.out, a.quiet, None, 0, None);
+            r.levels = a.levels as usize;
+            r.reference_halvings = a.reference_halvings as usize;
+            with_session(&program, r, error_control::study_command)
         }
         Command::Bench { which } => match which {
             Bench::Elasticity(o) => {

@@ -229,7 +229,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
                     "an estimator"
                 },
                 e.estimate_seconds,
-                r.timings.total()
+                e.run_seconds
             ),
         );
     }

@@ -92,3 +92,74 @@ fn bad_size_maps_are_refused() {
     let message = remesh(&mesh, &request, &tiny).unwrap_err().to_string();
     assert!(message.contains("triangles"), "{message}");
 }
+
+/// The a priori rates per cell: the volume rate everywhere, a part's rate on exactly the cells
+/// with an edge on that part (the hook for contact edges: 1/2 or 2/3 there).
+#[test]
+fn rate_model_gives_a_part_its_rate_on_the_cells_that_touch_it() {
+    use signorini::adapt::RateModel;
+    use signorini::mesh::structured;
+    let mesh = structured::rectangle([0.0, 0.0], [2.0, 1.0], 8, 4, Order::P1).unwrap();
+    assert_eq!(RateModel::uniform(1.0).cell_rates(&mesh).unwrap(), vec![1.0; mesh.num_cells()]);
+    let model = RateModel { volume: 1.0, parts: vec![("bottom".into(), 0.5), ("left".into(), 2.0 / 3.0)] };
+    let rates = model.cell_rates(&mesh).unwrap();
+    let on = |c: usize, test: &dyn Fn([f64; 2]) -> bool| {
+        let v = mesh.cell(c);
+        (0..3).any(|k| test(mesh.nodes[v[k]]) && test(mesh.nodes[v[(k + 1) % 3]]))
+    };
+    for (c, &r) in rates.iter().enumerate() {
+        let bottom = on(c, &|x| x[1].abs() < 1e-12);
+        let left = on(c, &|x| x[0].abs() < 1e-12);
+        let expected = if bottom {
+            0.5
+        } else if left {
+            2.0 / 3.0
+        } else {
+            1.0
+        };
+        assert_eq!(r, expected, "cell {c}");
+    }
+    assert_eq!(rates.iter().filter(|&&r| r == 0.5).count(), 8, "one cell per bottom edge");
+    // An unknown part and a non-positive rate are errors.
+    assert!(RateModel { volume: 1.0, parts: vec![("nowhere".into(), 0.5)] }.cell_rates(&mesh).is_err());
+    assert!(RateModel::uniform(0.0).cell_rates(&mesh).is_err());
+}
+
+/// The Gmsh request of a scene is its geometry; a mesh file has none, and says so (typed).
+#[test]
+fn mesh_request_follows_the_scene_geometry_and_refuses_mesh_files() {
+    use signorini::adapt::driver::mesh_request;
+    use signorini::mesh::gmsh::Shape;
+    use signorini::scene::Scene;
+    use signorini::Error;
+    let text = "[mesh]\nshape = \"half_disc\"\ncenter = [0.0, 1.0]\nradius = 1.0\ncell_size = 0.1\n\
+                refine = { point = [0.0, 0.0], cell_size = 0.01, radius = 0.1 }\n\n[discretization]\norder = 2\n\n\
+                [material]\nyoung = 1e9\npoisson = 0.3\n";
+    let scene = Scene::from_str(text, std::path::Path::new("inline.toml")).unwrap();
+    let r = mesh_request(&scene, "adapt").unwrap();
+    assert_eq!(r.shape, Shape::HalfDisc { center: [0.0, 1.0], radius: 1.0 });
+    assert_eq!((r.cell_size, r.order), (0.1, Order::P2));
+    assert_eq!(r.refinement.unwrap().cell_size, 0.01);
+    let dir = std::env::temp_dir().join(format!("signorini-adapt-file-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("m.msh"), "not read here").unwrap();
+    let text = "[mesh]\nshape = \"file\"\nfile = \"m.msh\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n";
+    let scene = Scene::from_str(text, &dir.join("s.toml")).unwrap();
+    let e = mesh_request(&scene, "study").unwrap_err();
+    assert!(matches!(&e, Error::NeedsGeometry { command: "study", file, .. } if file.ends_with("m.msh")), "{e:?}");
+    let m = e.to_string();
+    assert!(m.contains("signorini study") && m.contains("m.msh") && m.contains("hint:"), "{m}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The default rates of a scene: its element degree in the volume, 1/2 on its contact part.
+#[test]
+fn default_rates_follow_the_element_degree_and_the_contact_part() {
+    use signorini::adapt::RateModel;
+    use signorini::scene::Scene;
+    let read = |rel: &str| Scene::from_file(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)).unwrap();
+    assert_eq!(RateModel::for_scene(&read("examples/scenes/clamped_block.toml")), RateModel::uniform(1.0));
+    assert_eq!(RateModel::for_scene(&read("examples/scenes/block.toml")), RateModel::uniform(2.0));
+    let hertz = RateModel::for_scene(&read("examples/scenes/hertz.toml"));
+    assert_eq!(hertz, RateModel { volume: 2.0, parts: vec![("arc".into(), 0.5)] });
+}

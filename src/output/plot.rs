@@ -447,6 +447,35 @@ impl LinearAxis {
     }
 }
 
+/// One log-log plot of a multi-panel figure ([`write_loglog_panels_svg`]).
+pub struct Panel<'a> {
+    pub title: &'a str,
+    pub x_label: &'a str,
+    pub y_label: &'a str,
+    pub series: &'a [Series],
+}
+
+/// Write log-log plots side by side in one SVG file (each 800×560, as
+/// [`write_loglog_svg`] draws it), atomically.
+pub fn write_loglog_panels_svg(path: &Path, panels: &[Panel]) -> Result<()> {
+    let mut svg = String::new();
+    let width = WIDTH * panels.len().max(1) as f64;
+    let _ = writeln!(
+        svg,
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{HEIGHT}" viewBox="0 0 {width} {HEIGHT}">"#
+    );
+    for (k, p) in panels.iter().enumerate() {
+        let one = render(p.title, p.x_label, p.y_label, p.series);
+        // Drop the XML declaration and place the panel's own <svg> at its offset.
+        let body = one.split_once("?>").map_or(one.as_str(), |(_, rest)| rest).trim_start();
+        let placed = body.replacen("<svg ", &format!("<svg x=\"{}\" y=\"0\" ", k as f64 * WIDTH), 1);
+        svg.push_str(&placed);
+    }
+    svg.push_str("</svg>\n");
+    write_atomically(path, |w| w.write_all(svg.as_bytes()))
+}
+
 /// Write a plot with linear axes. `lines[i]` says whether series `i` is drawn as a line (true)
 /// or as markers only (false: measured or computed samples).
 pub fn write_linear_svg(

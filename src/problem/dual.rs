@@ -78,6 +78,8 @@ pub struct EstimateReport {
     pub primal_seconds: f64,
     pub dual_seconds: f64,
     pub estimate_seconds: f64,
+    /// The run time of every phase so far (mesh to output), next to the error it bought.
+    pub run_seconds: f64,
 }
 
 impl<'s> ElasticityProblem<'s> {
@@ -259,6 +261,7 @@ impl<'s> ElasticityProblem<'s> {
             primal_seconds: self.timings.get("solve").unwrap_or(0.0),
             dual_seconds: self.timings.get("dual").unwrap_or(0.0),
             estimate_seconds,
+            run_seconds: self.timings.total(),
         });
         Ok(())
     }

@@ -174,6 +174,25 @@ impl<'s> ElasticityProblem<'s> {
         let mut timings = Timings::default();
         let (mesh, file_order) =
             progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
+        Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)
+    }
+
+    /// [`ElasticityProblem::setup_system`] on a mesh made elsewhere (a remeshed one, in mesh
+    /// adaptation, or a level of a convergence study): the mesh must carry the scene's
+    /// boundary parts and be of the scene's order.
+    pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
+        let scene = scene.validated()?;
+        Self::setup_on_mesh(session, scene, mesh, None, Timings::default(), Box::new(NoProgress))
+    }
+
+    fn setup_on_mesh(
+        session: &'s Session,
+        scene: Scene,
+        mesh: Mesh,
+        file_order: Option<Order>,
+        mut timings: Timings,
+        progress: Box<dyn Progress>,
+    ) -> Result<Self> {
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
@@ -604,7 +623,11 @@ impl<'s> ElasticityProblem<'s> {
                 .map(|o| o.report.clone())
                 .or_else(|| self.dual.as_ref().and_then(|d| d.contact.as_ref()).map(|c| c.report.clone())),
             dual: self.dual.as_ref().map(|d| d.report.clone()),
-            estimate: self.estimate.clone(),
+            // The error next to the whole run's time (output included, as far as it went).
+            estimate: self.estimate.clone().map(|mut e| {
+                e.run_seconds = self.timings.total();
+                e
+            }),
             warnings: self.warnings.clone(),
         })
     }

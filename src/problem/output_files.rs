@@ -11,6 +11,13 @@ impl ElasticityProblem<'_> {
     /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
     /// the estimate per cell (`error`), whichever were computed.
     fn write_vtu(&self, path: &Path) -> Result<()> {
+        self.write_solution_vtu(path, &[])
+    }
+
+    /// `solution.vtu` as [`ElasticityProblem::write_output`] writes it, with extra scalar cell
+    /// data (one value per cell each; e.g. the size map `target_size` of mesh adaptation).
+    /// Atomic; call it on one rank.
+    pub fn write_solution_vtu(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<()> {
         let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
@@ -75,6 +82,19 @@ impl ElasticityProblem<'_> {
                 let contact: Vec<f64> = e.estimate.element_contact.iter().map(|v| v.max(0.0).sqrt()).collect();
                 cell.push(("error_contact".into(), 1, contact));
             }
+        }
+        for (name, values) in extra_cells {
+            if values.len() != self.mesh.num_cells() {
+                return Err(crate::error::Error::Output {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "cell data '{name}' has {} values for {} cells",
+                        values.len(),
+                        self.mesh.num_cells()
+                    ),
+                });
+            }
+            cell.push((name.to_string(), 1, values.to_vec()));
         }
         let points: Vec<vtu::Field> =
             point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();

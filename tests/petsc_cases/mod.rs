@@ -11,6 +11,7 @@ use signorini::problem::ElasticityProblem;
 use signorini::scene::Scene;
 use signorini::Error;
 
+mod adapt;
 mod contact;
 mod dual;
 mod dual_contact;
@@ -72,6 +73,11 @@ pub const TESTS: &[(&str, Case)] = &[
     ("full_space_is_the_default_and_reports", contact::full_space_is_the_default_and_reports),
     ("full_space_failure_falls_back_and_says_so", contact::full_space_failure_falls_back_and_says_so),
     ("nonlinear_solver_newton_and_callback_errors", nonlinear_solver_newton_and_callback_errors),
+    ("adapt_coarsens_where_the_error_is_small", adapt::adapt_coarsens_where_the_error_is_small),
+    ("adapt_error_decreases_at_corner_singularities", adapt::adapt_error_decreases_at_corner_singularities),
+    ("adapt_target_not_reached_is_reported", adapt::adapt_target_not_reached_is_reported),
+    ("study_p1_rate_is_one_on_a_smooth_problem", adapt::study_p1_rate_is_one_on_a_smooth_problem),
+    ("adapt_and_study_refuse_mesh_files", adapt::adapt_and_study_refuse_mesh_files),
     ("hertz_near_incompressible_p2p0_is_locking_free", locking::hertz_near_incompressible_p2p0_is_locking_free),
     ("contact_patch_near_incompressible_p2p0_exact", locking::contact_patch_near_incompressible_p2p0_exact),
 ];

@@ -1,0 +1,251 @@
+//! `signorini adapt`, `signorini study` and `run --estimate` end to end (each test spawns the
+//! program): exit codes, terminal lines, the files written, and one test per usage mistake.
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_signorini"));
+    c.env("OMP_NUM_THREADS", "1").env("OPENBLAS_NUM_THREADS", "1");
+    c
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("signorini-cli-ec-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn scene(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+fn run(cmd: &mut Command) -> (Option<i32>, String) {
+    let out: Output = cmd.output().expect("spawn signorini");
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).to_string())
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A well-formed SVG: parsed by Python's XML parser, with `count` plot panels.
+fn assert_svg(path: &Path) {
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(format!("import xml.dom.minidom as m; m.parse(r'{}'); print('ok')", path.display()))
+        .output()
+        .expect("python3");
+    assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn adapt_reaches_the_target_and_writes_steps_table_and_plot() {
+    let out = scratch("adapt");
+    let (code, stderr) = run(bin()
+        .arg("adapt")
+        .arg(scene("examples/scenes/clamped_block.toml"))
+        .args(["--target", "8", "--out"])
+        .arg(&out));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("step 0") && stderr.contains("target 8.000 % reached"), "{stderr}");
+    let a = json(&out.join("adapt.json"));
+    assert_eq!(a["status"], "reached");
+    assert_eq!(a["reached"], true);
+    let steps = a["steps"].as_array().unwrap();
+    assert!(steps.len() >= 2, "{a}");
+    let errors: Vec<f64> = steps.iter().map(|s| s["error_percent"].as_f64().unwrap()).collect();
+    assert!(errors[0] > 8.0 && *errors.last().unwrap() <= 8.0, "{errors:?}");
+    for (k, s) in steps.iter().enumerate() {
+        for phase in ["mesh", "solve", "dual", "estimate", "remesh"] {
+            assert!(s["seconds"][phase].as_f64().unwrap() >= 0.0, "{s}");
+        }
+        let dir = out.join(format!("step_{k}"));
+        assert!(dir.join("solution.vtu").is_file() && dir.join("report.json").is_file());
+    }
+    // The last step's solution carries the error and the size map per cell.
+    let vtu = std::fs::read_to_string(out.join(format!("step_{}/solution.vtu", steps.len() - 1))).unwrap();
+    assert!(vtu.contains("Name=\"error\"") && vtu.contains("Name=\"target_size\""));
+    let md = std::fs::read_to_string(out.join("adapt.md")).unwrap();
+    assert!(md.contains("| step | elements | nodes | dofs | error (%) | mesh (s) | solve (s) | dual (s)"), "{md}");
+    assert_eq!(md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| step")).count(), steps.len());
+    assert_svg(&out.join("adapt.svg"));
+    let svg = std::fs::read_to_string(out.join("adapt.svg")).unwrap();
+    assert!(svg.contains("elements") && svg.contains("cumulative run time"));
+    // A second run into the same directory leaves no stale step directory behind.
+    let (code, stderr) = run(bin()
+        .arg("adapt")
+        .arg(scene("examples/scenes/clamped_block.toml"))
+        .args(["--target", "50", "--quiet", "--out"])
+        .arg(&out));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(!out.join("step_1").exists(), "stale step_1");
+    assert_eq!(json(&out.join("adapt.json"))["steps"].as_array().unwrap().len(), 1);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn adapt_target_not_reached_warns_and_exits_0() {
+    let out = scratch("unreached");
+    let (code, stderr) = run(bin()
+        .arg("adapt")
+        .arg(scene("examples/scenes/clamped_block.toml"))
+        .args(["--target", "1", "--max-steps", "2", "--quiet", "--out"])
+        .arg(&out));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("NOT reached in 2 step(s)") && stderr.contains("warning"), "{stderr}");
+    let a = json(&out.join("adapt.json"));
+    assert_eq!(a["status"], "max_steps");
+    assert_eq!(a["reached"], false);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn study_writes_table_json_and_plot_with_rates() {
+    let out = scratch("study");
+    let (code, stderr) = run(bin()
+        .arg("study")
+        .arg(scene("examples/scenes/smooth_square.toml"))
+        .args(["--levels", "2", "--out"])
+        .arg(&out));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("level 1") && stderr.contains("rates"), "{stderr}");
+    let s = json(&out.join("study.json"));
+    let levels = s["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 2);
+    for l in levels {
+        for key in ["error_displacement", "error_stress", "true_percent", "estimate_percent", "effectivity"] {
+            assert!(l[key].as_f64().unwrap() > 0.0, "{key}: {l}");
+        }
+    }
+    assert_eq!(levels[1]["elements"].as_u64().unwrap(), 4 * levels[0]["elements"].as_u64().unwrap());
+    assert_eq!(s["reference"]["order"], 2);
+    assert!(s["rates"]["displacement"].as_f64().unwrap() > 0.5);
+    let md = std::fs::read_to_string(out.join("study.md")).unwrap();
+    assert!(md.contains("‖Δu‖ref") && md.contains("effectivity") && md.contains("Observed rates"), "{md}");
+    assert_svg(&out.join("study.svg"));
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn estimate_run_reports_the_error_next_to_the_run_time() {
+    let out = scratch("estimate");
+    let (code, stderr) =
+        run(bin().arg("run").arg(scene("examples/scenes/clamped_block.toml")).args(["--estimate", "--out"]).arg(&out));
+    assert_eq!(code, Some(0), "{stderr}");
+    let line = stderr.lines().find(|l| l.trim_start().starts_with("estimate")).unwrap_or_else(|| panic!("{stderr}"));
+    assert!(line.contains(" % of the energy norm") && line.contains("s run time"), "{line}");
+    let r = json(&out.join("report.json"));
+    let e = &r["estimate"];
+    assert!(e["relative_percent"].as_f64().unwrap() > 0.0);
+    let run_seconds = e["run_seconds"].as_f64().unwrap();
+    assert!(run_seconds > 0.0 && run_seconds >= e["estimate_seconds"].as_f64().unwrap(), "{e}");
+    assert!((run_seconds - r["timings"]["total"].as_f64().unwrap()).abs() < 1e-9, "{r}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+// ---- usage mistakes: one test each ----
+
+fn usage_error(args: &[&str]) -> String {
+    let (code, stderr) = run(bin().args(args));
+    assert_eq!(code, Some(2), "{args:?}: {stderr}");
+    stderr
+}
+
+#[test]
+fn adapt_target_zero_is_refused() {
+    let msg = usage_error(&["adapt", "s.toml", "--target", "0"]);
+    assert!(msg.contains("--target") && msg.contains("between 0 and 100"), "{msg}");
+}
+
+#[test]
+fn adapt_negative_target_is_refused() {
+    let msg = usage_error(&["adapt", "s.toml", "--target", "-3"]);
+    assert!(msg.contains("--target") && msg.contains("between 0 and 100"), "{msg}");
+}
+
+#[test]
+fn adapt_without_target_is_refused() {
+    let msg = usage_error(&["adapt", "s.toml"]);
+    assert!(msg.contains("--target"), "{msg}");
+}
+
+#[test]
+fn adapt_zero_max_steps_is_refused() {
+    let msg = usage_error(&["adapt", "s.toml", "--target", "5", "--max-steps", "0"]);
+    assert!(msg.contains("--max-steps"), "{msg}");
+}
+
+#[test]
+fn study_zero_levels_is_refused() {
+    let msg = usage_error(&["study", "s.toml", "--levels", "0"]);
+    assert!(msg.contains("--levels"), "{msg}");
+}
+
+#[test]
+fn study_three_reference_halvings_are_refused() {
+    let msg = usage_error(&["study", "s.toml", "--levels", "2", "--reference-halvings", "3"]);
+    assert!(msg.contains("--reference-halvings"), "{msg}");
+}
+
+/// A scene whose mesh is a file: adapt and study say they need a geometry (exit 1), and
+/// nothing is written.
+#[test]
+fn mesh_file_scenes_are_refused_by_adapt_and_study() {
+    let dir = scratch("file");
+    std::fs::write(
+        dir.join("square.geo"),
+        "Point(1) = {0, 0, 0, 0.5};\nPoint(2) = {1, 0, 0, 0.5};\nPoint(3) = {1, 1, 0, 0.5};\nPoint(4) = {0, 1, 0, 0.5};\n\
+         Line(1) = {1, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 4};\nLine(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n\
+         Plane Surface(1) = {1};\nPhysical Curve(\"bottom\") = {1};\nPhysical Curve(\"top\") = {3};\n\
+         Physical Surface(\"domain\") = {1};\n",
+    )
+    .unwrap();
+    let ok = Command::new("gmsh")
+        .arg(dir.join("square.geo"))
+        .args(["-2", "-format", "msh41", "-v", "0", "-o"])
+        .arg(dir.join("square.msh"))
+        .status()
+        .unwrap();
+    assert!(ok.success());
+    std::fs::write(
+        dir.join("file.toml"),
+        "[mesh]\nshape = \"file\"\nfile = \"square.msh\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+         [[dirichlet]]\npart = \"bottom\"\nux = 0.0\nuy = 0.0\n\n[[traction]]\npart = \"top\"\npressure = 1e6\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    for args in [vec!["adapt", "--target", "5"], vec!["study", "--levels", "2"]] {
+        let (code, stderr) = run(bin().arg(args[0]).arg(dir.join("file.toml")).args(&args[1..]).arg("--out").arg(&out));
+        assert_eq!(code, Some(1), "{stderr}");
+        assert!(stderr.starts_with("error: ") && stderr.contains("shape = \"file\""), "{stderr}");
+        assert!(stderr.contains(&format!("signorini {}", args[0])) && stderr.contains("hint"), "{stderr}");
+        assert!(!out.exists(), "something was written");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Contact scenes are not adapted yet (the dual formulation has no contact): a typed error
+/// that says so.
+#[test]
+fn adapt_on_a_contact_scene_says_the_dual_has_no_contact_yet() {
+    let out = scratch("contact");
+    let (code, stderr) = run(bin()
+        .arg("adapt")
+        .arg(scene("examples/scenes/contact_patch.toml"))
+        .args(["--target", "5", "--out"])
+        .arg(&out));
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("[contact]") && stderr.contains("dual"), "{stderr}");
+}
+
+#[test]
+fn help_for_adapt_and_study() {
+    for sub in ["adapt", "study"] {
+        let out = bin().args([sub, "--help"]).output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains(&format!("Usage: signorini {sub}")), "{text}");
+        assert!(text.contains(if sub == "adapt" { "--target" } else { "--levels" }), "{text}");
+    }
+}

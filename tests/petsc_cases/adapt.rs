@@ -1,0 +1,192 @@
+//! Mesh adaptation and the convergence study, end to end (PETSc solves, Gmsh remeshing).
+use std::path::{Path, PathBuf};
+
+use signorini::adapt::{adapt, study, AdaptOptions, AdaptStatus, StudyOptions};
+use signorini::petsc::Session;
+use signorini::problem::ElasticityProblem;
+use signorini::scene::Scene;
+use signorini::Error;
+
+use super::{ensure, manifest};
+
+/// The clamped block of examples/scenes/clamped_block.toml at another cell size.
+fn clamped_block(cell_size: f64) -> Scene {
+    let path = manifest("examples/scenes/clamped_block.toml");
+    let text = std::fs::read_to_string(&path).unwrap().replace("cell_size = 0.25", &format!("cell_size = {cell_size}"));
+    Scene::from_str(&text, &path).unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("signorini-petsc-adapt-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// The relative estimate of one solve of `scene` on its own mesh, and its element count.
+fn uniform_estimate(session: &Session, scene: Scene) -> Result<(f64, usize), Error> {
+    let mut p = ElasticityProblem::setup_system(session, scene)?;
+    p.assemble()?;
+    p.solve()?;
+    p.postprocess()?;
+    p.solve_dual()?;
+    p.estimate()?;
+    Ok((p.estimate.as_ref().map_or(f64::NAN, |e| e.estimate.relative_percent), p.mesh.num_cells()))
+}
+
+/// The clamped block meshed finely (cell size 0.015) in a disc in the middle of the body,
+/// where the error is small, and at 0.1 elsewhere: the error is concentrated at the two
+/// singular corners, far from the fine zone. The optimal map coarsens the fine zone (most of
+/// the elements) and refines the corners: the element count drops from step 0 to step 1.
+pub fn adapt_coarsens_where_the_error_is_small(session: &Session) -> Result<(), String> {
+    let path = manifest("examples/scenes/clamped_block.toml");
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "cell_size = 0.25",
+        "cell_size = 0.1\nrefine = { point = [1.0, 0.5], cell_size = 0.015, radius = 0.2 }",
+    );
+    let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
+    let mut options = AdaptOptions::new(&scene, 8.0);
+    options.max_steps = 3;
+    let out = scratch("coarsen");
+    let outcome = adapt(session, &scene, &options, &out, &mut |_| {}).map_err(|e| e.to_string())?;
+    let s = &outcome.steps;
+    if std::env::var_os("SIGNORINI_PRINT_RATES").is_some() {
+        eprintln!("coarsen: {:?}", s.iter().map(|s| (s.elements, s.error_percent)).collect::<Vec<_>>());
+    }
+    ensure(s.len() >= 2, || format!("one step only: {:?}", s.iter().map(|s| s.error_percent).collect::<Vec<_>>()))?;
+    ensure(s[0].size_map.coarsened > s[0].elements / 2, || {
+        format!("map coarsens only {} cells", s[0].size_map.coarsened)
+    })?;
+    ensure(s[1].elements < s[0].elements, || {
+        format!("no coarsening: {} -> {} elements", s[0].elements, s[1].elements)
+    })?;
+    ensure(outcome.status == AdaptStatus::Reached, || format!("{:?}: {:?}", outcome.status, outcome.warnings))?;
+    ensure(out.join("step_1/solution.vtu").is_file() && out.join("step_1/report.json").is_file(), || {
+        "step files missing".into()
+    })?;
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
+
+/// On the block with two corner singularities the adaptive loop's error falls step after step
+/// to the target, and the adapted mesh beats a uniform mesh with more elements.
+pub fn adapt_error_decreases_at_corner_singularities(session: &Session) -> Result<(), String> {
+    let scene = clamped_block(0.25);
+    let mut options = AdaptOptions::new(&scene, 4.0);
+    options.max_steps = 6;
+    let out = scratch("corners");
+    let outcome = adapt(session, &scene, &options, &out, &mut |_| {}).map_err(|e| e.to_string())?;
+    let errors: Vec<f64> = outcome.steps.iter().map(|s| s.error_percent).collect();
+    let elements: Vec<usize> = outcome.steps.iter().map(|s| s.elements).collect();
+    if std::env::var_os("SIGNORINI_PRINT_RATES").is_some() {
+        eprintln!("adapt: errors {errors:?}, elements {elements:?}");
+    }
+    ensure(errors.len() >= 2 && errors[1] < 0.5 * errors[0], || format!("errors {errors:?}"))?;
+    ensure(outcome.reached && *errors.last().unwrap() <= 4.0, || {
+        format!("not reached: {errors:?} {:?}", outcome.warnings)
+    })?;
+    // A uniform mesh with at least as many elements stays well above the adapted error: the
+    // corner singularities slow it down.
+    let last = outcome.steps.last().unwrap();
+    let h = (2.0 / (last.elements as f64 * 3f64.sqrt() / 4.0)).sqrt() * 0.9;
+    let (uniform, n) = uniform_estimate(session, clamped_block(h)).map_err(|e| e.to_string())?;
+    ensure(n >= last.elements && uniform > 1.15 * last.error_percent, || {
+        format!("uniform {uniform:.3} % on {n} elements vs adapted {:.3} % on {}", last.error_percent, last.elements)
+    })?;
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
+
+/// A target the steps cannot reach is reported as such (status, warning), not as an error.
+pub fn adapt_target_not_reached_is_reported(session: &Session) -> Result<(), String> {
+    let scene = clamped_block(0.25);
+    let mut options = AdaptOptions::new(&scene, 0.5);
+    options.max_steps = 2;
+    let out = scratch("unreached");
+    let outcome = adapt(session, &scene, &options, &out, &mut |_| {}).map_err(|e| e.to_string())?;
+    ensure(outcome.status == AdaptStatus::MaxSteps && !outcome.reached, || format!("{:?}", outcome.status))?;
+    ensure(outcome.steps.len() == 2, || format!("{} steps", outcome.steps.len()))?;
+    ensure(outcome.warnings.iter().any(|w| w.contains("not reached")), || format!("{:?}", outcome.warnings))?;
+    // Bad options are refused before anything is solved.
+    for (target, steps) in [(0.0, 3), (-1.0, 3), (f64::NAN, 3), (5.0, 0)] {
+        let mut bad = AdaptOptions::new(&scene, target);
+        bad.max_steps = steps;
+        match adapt(session, &scene, &bad, &out, &mut |_| {}) {
+            Err(Error::Usage(m)) => ensure(!m.is_empty(), String::new)?,
+            other => return Err(format!("target {target}, {steps} steps: {:?}", other.map(|o| o.status))),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
+
+/// P1 on a smooth problem (the clamped square under its weight): the true energy error falls
+/// as h (fitted rate within 0.85–1.15) and the estimate matches it (Prager–Synge).
+pub fn study_p1_rate_is_one_on_a_smooth_problem(session: &Session) -> Result<(), String> {
+    let scene = Scene::from_file(&manifest("examples/scenes/smooth_square.toml")).map_err(|e| e.to_string())?;
+    let options = StudyOptions { levels: 3, reference_halvings: 1 };
+    let outcome = study(session, &scene, options, &mut |_, _| {}).map_err(|e| e.to_string())?;
+    let rate = outcome.rates.displacement.unwrap_or(f64::NAN);
+    ensure((0.85..=1.15).contains(&rate), || format!("P1 energy rate {rate:.3}: {:?}", outcome.levels))?;
+    let rate = outcome.rates.estimate.unwrap_or(f64::NAN);
+    ensure((0.85..=1.15).contains(&rate), || format!("estimate rate {rate:.3}"))?;
+    for l in &outcome.levels {
+        ensure((0.97..1.1).contains(&l.effectivity), || format!("level {}: effectivity {}", l.level, l.effectivity))?;
+        ensure(l.error_stress > 0.0 && l.error_stress < l.error_displacement, || format!("{l:?}"))?;
+    }
+    ensure(outcome.levels[1].elements == 4 * outcome.levels[0].elements, || "not halved".into())?;
+    // Levels 0 and a mesh file are refused.
+    let zero = StudyOptions { levels: 0, reference_halvings: 1 };
+    ensure(matches!(study(session, &scene, zero, &mut |_, _| {}), Err(Error::Usage(_))), || "levels 0".into())?;
+    Ok(())
+}
+
+/// A scene whose mesh is a file has no geometry to remesh: NeedsGeometry, for adapt and study.
+pub fn adapt_and_study_refuse_mesh_files(session: &Session) -> Result<(), String> {
+    let dir = scratch("file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene_path = write_file_scene(&dir);
+    let scene = Scene::from_file(&scene_path).map_err(|e| e.to_string())?;
+    let options = AdaptOptions::new(&scene, 5.0);
+    match adapt(session, &scene, &options, &dir, &mut |_| {}) {
+        Err(e @ Error::NeedsGeometry { command: "adapt", .. }) => {
+            let m = e.to_string();
+            ensure(m.contains("shape = \"file\"") && m.contains("hint"), || m.clone())?;
+        }
+        other => return Err(format!("adapt on a mesh file: {:?}", other.map(|o| o.status))),
+    }
+    let options = StudyOptions { levels: 2, reference_halvings: 1 };
+    ensure(
+        matches!(study(session, &scene, options, &mut |_, _| {}), Err(Error::NeedsGeometry { command: "study", .. })),
+        || "study on a mesh file".into(),
+    )?;
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}
+
+/// A scene reading `square.msh` (a Gmsh unit square) beside it.
+pub(crate) fn write_file_scene(dir: &Path) -> PathBuf {
+    let geo = dir.join("square.geo");
+    std::fs::write(
+        &geo,
+        "Point(1) = {0, 0, 0, 0.5};\nPoint(2) = {1, 0, 0, 0.5};\nPoint(3) = {1, 1, 0, 0.5};\nPoint(4) = {0, 1, 0, 0.5};\n\
+         Line(1) = {1, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 4};\nLine(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n\
+         Plane Surface(1) = {1};\nPhysical Curve(\"bottom\") = {1};\nPhysical Curve(\"top\") = {3};\n\
+         Physical Surface(\"domain\") = {1};\n",
+    )
+    .unwrap();
+    let status = std::process::Command::new("gmsh")
+        .arg(&geo)
+        .args(["-2", "-format", "msh41", "-v", "0", "-o"])
+        .arg(dir.join("square.msh"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let scene = dir.join("file.toml");
+    std::fs::write(
+        &scene,
+        "[mesh]\nshape = \"file\"\nfile = \"square.msh\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+         [[dirichlet]]\npart = \"bottom\"\nux = 0.0\nuy = 0.0\n\n[[traction]]\npart = \"top\"\npressure = 1e6\n",
+    )
+    .unwrap();
+    scene
+}
