@@ -44,18 +44,25 @@
 //! only by the obstacle), global equilibrium is a linear condition on the forces:
 //! `E r = e` (one row per closed component: force x, force y, moment). Its multipliers `ρ`
 //! are rigid displacements, `u = W r + u_free + Eᵀ ρ`. No rigid motion exists in stress space,
-//! so nothing needs stabilising; the conditions are imposed by an augmented Lagrangian around
-//! the unchanged condensed solver: each outer step solves the box-constrained problem with
-//! `W + κ EᵀE` and `u_free + Eᵀ(ρ − κ e)`, then `ρ ← ρ + κ (E r − e)`, with
-//! `κ = 100 / λ_min(E W⁻¹ Eᵀ)` (the multiplier error then shrinks by ~100 per step while the
-//! contact set does not change). Loads the obstacle cannot balance (a body pulled away, or a
-//! tangential load beyond the friction capacity) leave `E r − e` stuck away from zero: a
-//! [`crate::Error::NoEquilibrium`].
+//! so nothing needs stabilising. The conditions are imposed by a Newton iteration on `ρ` around
+//! the unchanged condensed solver: for given `ρ` the solver solves the box-constrained problem
+//! with the free displacement `u_free + Eᵀ ρ`; the map `ρ ↦ E r(ρ) − e` is piecewise linear, with
+//! derivative `−E P (R W P)⁻¹ R Eᵀ` on the current contact set (`P` maps the free parameters —
+//! the normal force of a closed point, the tangential force of a sticking one, a sliding Coulomb
+//! point's tangential force following its normal one — to `r`, `R` selects their rows). The
+//! first `ρ` is that of the bonded model (every point closed and sticking:
+//! `ρ₀ = −(E W⁻¹ Eᵀ)⁻¹ (e + E W⁻¹ (u_free − g))`), each step is backtracked on the equilibrium
+//! residual, and a direction the contact set does not control (no closed point yet, a sliding
+//! direction) is regularised by the bonded model. While the contact set does not change, one
+//! step is exact; Hertz's narrow zone takes a handful. (An augmented Lagrangian with
+//! `W + κ EᵀE` was tried first: its inner Newton solves stalled on the fine Hertz mesh.) Loads the
+//! obstacle cannot balance (a body pulled away, or a tangential load beyond the friction
+//! capacity) leave `E r − e` stuck away from zero: a [`crate::Error::NoEquilibrium`].
 //!
 //! References: F. Lebon, "Modèles d'interface et formulations pour le contact frottant :
 //! résultats et calcul d'erreur" (slides "Formulation en contraintes", "Résolution numérique
-//! duale 1–4"); the augmented Lagrangian: M. Fortin, R. Glowinski, *Augmented Lagrangian
-//! Methods*, North-Holland 1983.
+//! duale 1–4"); the semi-smooth (piecewise linear) Newton step: L. Qi, J. Sun, "A nonsmooth
+//! version of Newton's method", Math. Programming 58 (1993).
 use nalgebra::{DMatrix, DVector};
 
 use super::system::DualSystem;
@@ -153,19 +160,6 @@ impl ContactEquilibrium {
         let (value, scale) = self.residual(r);
         let scale = scale.iter().fold(0.0f64, |m, s| m.max(*s)).max(f64::MIN_POSITIVE);
         value.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale
-    }
-
-    /// The same conditions with each row scaled by `1/√(E W⁻¹ Eᵀ)_ii` (rows of forces and of
-    /// moments become comparable).
-    fn scaled(&self, m: &DMatrix<f64>) -> (ContactEquilibrium, DMatrix<f64>, Vec<f64>) {
-        let d: Vec<f64> = (0..self.rhs.len()).map(|i| 1.0 / m[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
-        let mut matrix = self.matrix.clone();
-        for (i, di) in d.iter().enumerate() {
-            matrix.row_mut(i).scale_mut(*di);
-        }
-        let rhs = self.rhs.iter().zip(&d).map(|(e, di)| e * di).collect();
-        let scaled_m = DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)] * d[i] * d[j]);
-        (ContactEquilibrium { matrix, rhs }, scaled_m, d)
     }
 
     /// `Eᵀ ρ`.
@@ -266,7 +260,7 @@ pub struct DualContactAnswer {
     pub solution: ContactSolution,
     /// The rigid displacements of the equilibrium conditions (one per row of `E`).
     pub rigid: Vec<f64>,
-    /// Outer augmented-Lagrangian steps (1 without equilibrium conditions).
+    /// Outer Newton steps on the rigid displacements (1 without equilibrium conditions).
     pub outer_iterations: usize,
     /// All reduced unknowns `(z, r)` and all HCT dofs.
     pub reduced: Vec<f64>,
@@ -320,13 +314,14 @@ impl CondensedDual<'_> {
     }
 }
 
-/// Outer augmented-Lagrangian steps at most.
-const MAX_OUTER: usize = 60;
-/// Relative residual of `E r = e` accepted.
+/// Outer (Newton) steps on the rigid displacements at most.
+const MAX_OUTER: usize = 50;
+/// Relative residual of `E r = e` accepted when the iteration cannot go further.
 const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
 
 /// Solve `problem` subject to `E r = e` (see the module documentation). `run` solves one
-/// box-constrained problem.
+/// box-constrained problem; it is called with `u_free + Eᵀ ρ` for the current rigid
+/// displacements `ρ`.
 pub fn solve_with_equilibrium(
     problem: &CondensedProblem,
     equilibrium: &ContactEquilibrium,
@@ -338,7 +333,8 @@ pub fn solve_with_equilibrium(
     let original = equilibrium;
     let reduced;
     let mut kept: Vec<usize> = (0..original.rhs.len()).collect();
-    let equilibrium = if matches!(problem.friction(), FrictionLaw::None) {
+    let frictionless = matches!(problem.friction(), FrictionLaw::None);
+    let equilibrium = if frictionless {
         let mut matrix = original.matrix.clone();
         for j in (1..matrix.ncols()).step_by(2) {
             matrix.column_mut(j).fill(0.0);
@@ -348,7 +344,8 @@ pub fn solve_with_equilibrium(
         for i in 0..original.rhs.len() {
             if !kept.contains(&i) && original.rhs[i].abs() > 1e-9 * load {
                 return Err(Error::NoEquilibrium(format!(
-                    "dual formulation: the contact is frictionless, so the contact forces cannot carry the load                      {:.4e} along the obstacle (equilibrium condition {i}): the body slides",
+                    "dual formulation: the contact is frictionless, so the contact forces cannot carry the load \
+                     {:.4e} along the obstacle (equilibrium condition {i}): the body slides",
                     original.rhs[i]
                 )));
             }
@@ -368,92 +365,169 @@ pub fn solve_with_equilibrium(
         .delassus()
         .as_dense()
         .ok_or_else(|| Error::Usage("the dual contact problem needs the dense flexibility".into()))?;
-    // κ from the smallest eigenvalue of E W⁻¹ Eᵀ, rows scaled to a unit diagonal.
+    let e = &equilibrium.matrix;
+    let k = equilibrium.rhs.len();
+    // The bonded model (every component free): M = E W⁻¹ Eᵀ; its ρ balances the loads when
+    // every point is closed and sticks, the starting point of the iteration.
     let chol = w
         .clone()
         .cholesky()
         .ok_or_else(|| Error::Usage("the flexibility of the dual contact forces is not positive definite".into()))?;
-    let unscaled = &equilibrium.matrix * chol.solve(&equilibrium.matrix.transpose());
-    let (scaled, m, row_scale) = equilibrium.scaled(&unscaled);
-    let equilibrium = &scaled;
-    let e = &equilibrium.matrix;
-    let lambda_min = m.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min);
-    if !(lambda_min > 0.0) {
-        return Err(Error::Usage("the equilibrium conditions of the contact forces are dependent".into()));
-    }
-    let kappa = 100.0 / lambda_min;
-    let augmented = w + kappa * e.transpose() * e;
-    let base = CondensedProblem::new(
-        Delassus::Dense(augmented),
-        problem.free_displacement().to_vec(),
-        problem.gap().to_vec(),
-        problem.friction().clone(),
-        Some(problem.weights().to_vec()),
-    )?;
-    let k = equilibrium.rhs.len();
-    let mut rho = vec![0.0; k];
-    // The inner problems are solved 100× tighter than asked: a warm-started solver stops at
-    // once when the shift of one outer step is below its tolerance.
+    let w_inv_et = chol.solve(&e.transpose());
+    let m_bonded = e * &w_inv_et;
+    let shifted: Vec<f64> = problem
+        .free_displacement()
+        .iter()
+        .enumerate()
+        .map(|(j, u)| if j % 2 == 0 { u - problem.gap()[j / 2] } else { *u })
+        .collect();
+    let free_force = chol.solve(&DVector::from_column_slice(&shifted));
+    let target = DVector::from_column_slice(&equilibrium.rhs) + e * free_force;
+    let bonded = m_bonded
+        .clone()
+        .cholesky()
+        .ok_or_else(|| Error::Usage("the equilibrium conditions of the contact forces are dependent".into()))?;
+    let mut rho: Vec<f64> = (-bonded.solve(&target)).iter().copied().collect();
+    // Inner solves 100× tighter than asked: a warm-started solver stops at once when the
+    // change of one outer step is below its tolerance.
     let mut settings = settings.clone();
     settings.tolerance *= 1e-2;
-    // Go on to round-off while the residual still drops; accept down to the tolerance.
-    let target = 1e-14f64.max(0.1 * settings.tolerance);
-    let acceptable = EQUILIBRIUM_TOLERANCE.max(target);
-    let mut history: Vec<f64> = Vec::new();
-    let (mut iterations, mut all_history) = (0usize, Vec::new());
-    for outer in 1..=MAX_OUTER {
-        // u_free + Eᵀ(ρ − κ e)
-        let shift: Vec<f64> = (0..k).map(|i| rho[i] - kappa * equilibrium.rhs[i]).collect();
-        let extra = equilibrium.transpose_times(&shift);
+    let target_residual = 1e-14f64.max(0.1 * settings.tolerance);
+    let acceptable = EQUILIBRIUM_TOLERANCE.max(target_residual);
+    let solve_at = |rho: &[f64], settings: &SolverSettings| -> Result<ContactSolution> {
+        let extra = equilibrium.transpose_times(rho);
         let u: Vec<f64> = problem.free_displacement().iter().zip(&extra).map(|(a, b)| a + b).collect();
-        let step = base.with_free_displacement(u)?;
-        let mut solution = run(&step, &settings)?;
-        iterations += solution.iterations;
-        all_history.extend(solution.history.iter().copied());
-        let (residual, scale) = equilibrium.residual(&solution.force);
-        for i in 0..k {
-            rho[i] += kappa * residual[i];
+        run(&problem.with_free_displacement(u)?, settings)
+    };
+    let mut solution = solve_at(&rho, &settings)?;
+    let mut relative = equilibrium.relative_residual(&solution.force);
+    let (mut iterations, mut all_history) = (solution.iterations, solution.history.clone());
+    for outer in 1..=MAX_OUTER {
+        if relative <= target_residual || (outer == MAX_OUTER && relative <= acceptable) {
+            return Ok(finish(problem, original, &kept, solution, &rho, outer, relative, iterations, all_history));
         }
-        let relative = equilibrium.relative_residual(&solution.force);
-        history.push(relative);
-        let n = history.len();
-        let stalled = n >= 4 && history[n - 1] > 0.5 * history[n - 3];
-        if relative <= target || (relative <= acceptable && (stalled || outer == MAX_OUTER)) {
-            solution.iterations = iterations;
-            solution.history = all_history;
-            solution.notes.push(format!(
-                "equilibrium of the contact forces imposed by {outer} augmented-Lagrangian step(s) (kappa = {kappa:.3e}), \
-                 relative residual {relative:.2e}"
-            ));
-            // The displacement of the original problem: W r + u_free + Eᵀ ρ.
-            let mut u = problem.displacement(&solution.force)?;
-            for (a, b) in u.iter_mut().zip(equilibrium.transpose_times(&rho)) {
-                *a += b;
+        // Newton step: d(E r)/dρ = −E P (R W P)⁻¹ R Eᵀ on the current contact set, P mapping
+        // the free parameters (normal force of a closed point, tangential force of a sticking
+        // one) to r — a slipping Coulomb point's rT follows its rN — and R selecting their rows.
+        let jac = active_set_jacobian(problem, w, e, &solution.force);
+        // Regularised by the bonded model where the contact set does not control a direction
+        // (no closed point, a sliding direction): the step is then the bonded one, shortened.
+        let scale = m_bonded.diagonal().max();
+        let regularised = jac + &m_bonded * 1e-8 + DMatrix::identity(k, k) * (1e-14 * scale);
+        let Some(lu) = regularised.lu().try_inverse() else {
+            return Err(no_equilibrium_detail(equilibrium, &solution));
+        };
+        let (residual, _) = equilibrium.residual(&solution.force);
+        let step = lu * DVector::from_column_slice(&residual);
+        // Backtracking on the equilibrium residual.
+        let mut accepted = None;
+        let mut length = 1.0;
+        for _ in 0..12 {
+            let trial: Vec<f64> = rho.iter().zip(step.iter()).map(|(r, d)| r + length * d).collect();
+            settings.initial_force = Some(solution.force.clone());
+            let candidate = solve_at(&trial, &settings)?;
+            let value = equilibrium.relative_residual(&candidate.force);
+            iterations += candidate.iterations;
+            all_history.extend(candidate.history.iter().copied());
+            if value < relative || value <= target_residual {
+                accepted = Some((trial, candidate, value));
+                break;
             }
-            solution.displacement = u;
-            // The multipliers of the unscaled rows (zero for the rows dropped above).
-            let mut rigid = vec![0.0; original.rhs.len()];
-            for (k, &i) in kept.iter().enumerate() {
-                rigid[i] = rho[k] * row_scale[k];
+            length *= 0.5;
+        }
+        match accepted {
+            Some((trial, candidate, value)) => {
+                rho = trial;
+                solution = candidate;
+                relative = value;
             }
-            return Ok((solution, rigid, outer));
+            None if relative <= acceptable => {
+                return Ok(finish(problem, original, &kept, solution, &rho, outer, relative, iterations, all_history))
+            }
+            None => return Err(no_equilibrium_detail(equilibrium, &solution)),
         }
-        // No progress: the obstacle cannot balance the loads.
-        if n >= 6 && history[n - 1] > 0.5 * history[n - 4] {
-            return Err(no_equilibrium(&residual, &scale, &solution));
-        }
-        settings.initial_force = Some(solution.force);
     }
-    Err(Error::SolverDiverged {
-        solver: "augmented Lagrangian on the equilibrium of the contact forces".into(),
-        reason: format!(
-            "the equilibrium residual is still {:.3e} after {MAX_OUTER} steps",
-            history.last().unwrap_or(&0.0)
-        ),
-        iterations,
-        residual: *history.last().unwrap_or(&0.0),
-        tried: "outer steps with kappa = 100 / lambda_min(E W^-1 E^T)".into(),
-    })
+    Err(no_equilibrium_detail(equilibrium, &solution))
+}
+
+/// `E P (R W P)⁻¹ R Eᵀ` on the contact set of `r` (see [`solve_with_equilibrium`]).
+fn active_set_jacobian(problem: &CondensedProblem, w: &DMatrix<f64>, e: &DMatrix<f64>, r: &[f64]) -> DMatrix<f64> {
+    let m = problem.points();
+    let scale = r.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
+    let tiny = 1e-12 * scale;
+    // Columns of P as (row of R, sparse column): (component, [(index, value)]).
+    let mut columns: Vec<(usize, Vec<(usize, f64)>)> = Vec::new();
+    for i in 0..m {
+        let (rn, rt) = (r[2 * i], r[2 * i + 1]);
+        if rn >= -tiny {
+            continue; // open: rN = 0 at its bound
+        }
+        let threshold = problem.threshold_at(i, rn);
+        let friction = !matches!(problem.friction(), FrictionLaw::None);
+        let sticking = friction && rt.abs() < threshold - tiny;
+        let mut normal = vec![(2 * i, 1.0)];
+        if friction && !sticking {
+            if let FrictionLaw::Coulomb { mu } = problem.friction() {
+                // rT = σ μ (−rN): drT/drN = −σ μ.
+                normal.push((2 * i + 1, -rt.signum() * mu[i]));
+            }
+        }
+        columns.push((2 * i, normal));
+        if sticking {
+            columns.push((2 * i + 1, vec![(2 * i + 1, 1.0)]));
+        }
+    }
+    let nf = columns.len();
+    let k = e.nrows();
+    if nf == 0 {
+        return DMatrix::zeros(k, k);
+    }
+    // R W P and E P.
+    let rwp = DMatrix::from_fn(nf, nf, |a, b| columns[b].1.iter().map(|&(j, v)| w[(columns[a].0, j)] * v).sum::<f64>());
+    let ep = DMatrix::from_fn(k, nf, |row, b| columns[b].1.iter().map(|&(j, v)| e[(row, j)] * v).sum::<f64>());
+    let re_t = DMatrix::from_fn(nf, k, |a, row| e[(row, columns[a].0)]);
+    match rwp.lu().solve(&re_t) {
+        Some(x) => ep * x,
+        None => DMatrix::zeros(k, k),
+    }
+}
+
+/// The answer with its notes, and the rigid displacements of all the original rows.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    problem: &CondensedProblem,
+    original: &ContactEquilibrium,
+    kept: &[usize],
+    mut solution: ContactSolution,
+    rho: &[f64],
+    outer: usize,
+    relative: f64,
+    iterations: usize,
+    history: Vec<crate::contact::IterationRecord>,
+) -> (ContactSolution, Vec<f64>, usize) {
+    let mut rigid = vec![0.0; original.rhs.len()];
+    for (k, &i) in kept.iter().enumerate() {
+        rigid[i] = rho[k];
+    }
+    solution.iterations = iterations;
+    solution.history = history;
+    solution.notes.push(format!(
+        "equilibrium of the contact forces imposed by {outer} Newton step(s) on the rigid displacements, \
+         relative residual {relative:.2e}"
+    ));
+    // The displacement of the original problem: W r + u_free + Eᵀ ρ.
+    if let Ok(mut u) = problem.displacement(&solution.force) {
+        for (a, b) in u.iter_mut().zip(original.transpose_times(&rigid)) {
+            *a += b;
+        }
+        solution.displacement = u;
+    }
+    (solution, rigid, outer)
+}
+
+fn no_equilibrium_detail(equilibrium: &ContactEquilibrium, solution: &ContactSolution) -> Error {
+    let (residual, scale) = equilibrium.residual(&solution.force);
+    no_equilibrium(&residual, &scale, solution)
 }
 
 fn no_equilibrium(residual: &[f64], scale: &[f64], solution: &ContactSolution) -> Error {

@@ -223,3 +223,31 @@ pub fn dual_contact_estimate_tresca_and_coulomb(s: &signorini::petsc::Session) -
     ensure(e.estimate.kind == signorini::estimate::EstimateKind::Estimator, || format!("{:?}", e.estimate.kind))?;
     ensure(e.meaning.contains("estimator"), || e.meaning.to_string())
 }
+
+/// Hertz in the dual (the half cylinder of examples/scenes/hertz.toml on a coarser mesh, cells of
+/// a/10 near the contact): peak pressure and half-width of the closed zone within 2 % of
+/// p0 = 2P/(πa), a = √(4PR/(πE*)). The body is held vertically only by the obstacle, so the
+/// equilibrium conditions of the contact forces are active (the case whose inner solves stalled
+/// before the Newton iteration on the rigid displacements).
+pub fn dual_hertz_cylinder(s: &signorini::petsc::Session) -> Result<(), String> {
+    let (text, path) = example("hertz.toml");
+    let text = text.replace("cell_size = 2.5e-4, radius = 0.015", "cell_size = 5e-4, radius = 0.01");
+    let text = set_line(&text, "cell_size", "cell_size = 0.02");
+    ensure(text.contains("cell_size = 5e-4"), || "the refinement line was not replaced".into())?;
+    let p = solve_dual(s, &text, &path, false).map_err(|e| format!("dual: {e}"))?;
+    let report = p.dual.as_ref().unwrap().report.contact.clone().ok_or("no dual contact report")?;
+    let (r, e_star, force) = (0.1_f64, 210e9 / (1.0 - 0.09), 2.25e8 * 0.2);
+    let a = (4.0 * force * r / (std::f64::consts::PI * e_star)).sqrt();
+    let p0 = 2.0 * force / (std::f64::consts::PI * a);
+    let peak = report.peak_pressure.as_ref().ok_or("no peak pressure")?;
+    ensure((peak.pressure - p0).abs() <= 0.02 * p0, || format!("peak {:.4e} against p0 = {p0:.4e}", peak.pressure))?;
+    ensure(peak.position[0].abs() <= 0.05 * a, || format!("peak at x = {:e}, not under the centre", peak.position[0]))?;
+    ensure(report.zones.len() == 1, || format!("{} closed zones, expected one", report.zones.len()))?;
+    let zone = &report.zones[0];
+    let half_width = 0.5 * (zone.end[0] - zone.start[0]).abs();
+    ensure((half_width - a).abs() <= 0.02 * a, || format!("half-width {half_width:.4e} against a = {a:.4e}"))?;
+    ensure((report.normal_resultant.abs() - force).abs() <= 1e-8 * force, || {
+        format!("normal resultant {:.6e} against P = {force:.6e}", report.normal_resultant)
+    })?;
+    Ok(())
+}

@@ -44,6 +44,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
     ("dual_contact_estimate_tresca_and_coulomb", dual_contact::dual_contact_estimate_tresca_and_coulomb),
+    ("dual_hertz_cylinder", dual_contact::dual_hertz_cylinder),
     ("dual_stick_patch_and_roller_support_exact", dual::dual_stick_patch_and_roller_support_exact),
     ("dual_cubic_airy_and_body_force_exact", dual::dual_cubic_airy_and_body_force_exact),
     ("dual_refuses_unbalanced_loads_and_holes", dual::dual_refuses_unbalanced_loads_and_holes),
