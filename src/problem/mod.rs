@@ -27,6 +27,7 @@ mod contact_curve;
 mod contact_zones;
 mod dual;
 mod dual_contact;
+mod floating_elimination;
 mod full_space;
 mod output_files;
 mod progress;

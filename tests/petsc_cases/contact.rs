@@ -563,3 +563,46 @@ pub fn condensation_by_schur_complement_agrees(s: &Session) -> Result<(), String
     }
     Ok(())
 }
+
+/// Bodies the Dirichlet conditions do not hold (Hertz, pinned in x only; a half disc with a
+/// sheared flat side and no support at all, held sideways by Coulomb friction alone): the
+/// block elimination with springs at pinned contact dofs, removed in every step (the default
+/// on one process), gives the answer of the MUMPS LU of the whole mixed Jacobian.
+pub fn held_by_contact_elimination_matches_lu(s: &Session) -> Result<(), String> {
+    let (hertz, path) = example("hertz.toml");
+    let hertz = hertz.replace("cell_size = 2.5e-4, radius = 0.015", "cell_size = 1e-3, radius = 0.015");
+    let hertz = set_line(&hertz, "cell_size", "cell_size = 0.02");
+    let sheared = hertz
+        .replace("pressure = 2.25e8", "traction = [1.0e7, -2.25e8]")
+        .replace("[[dirichlet]]\npoint = [0.0, 0.1]       # the middle of the flat side\nux = 0.0\n", "")
+        .replace("friction = \"none\"", "friction = \"coulomb\"\nmu = 0.3");
+    ensure(!sheared.contains("[[dirichlet]]") && sheared.contains("mu = 0.3"), || {
+        "the sheared scene was not built".into()
+    })?;
+    for (name, text) in [("hertz", &hertz), ("sheared, coulomb", &sheared)] {
+        let mut runs = Vec::new();
+        for lu in [false, true] {
+            if lu {
+                s.set_option("-contact_full_space_lu", None).unwrap();
+            }
+            let solved = solve_text(s, text, &path);
+            if lu {
+                s.clear_option("-contact_full_space_lu").unwrap();
+            }
+            let p = solved.map_err(|e| format!("{name}, lu = {lu}: {e}"))?;
+            let r = p.contact_outcome.as_ref().unwrap().report.clone();
+            ensure(r.solver.contains("springs at pinned contact dofs") != lu, || {
+                format!("{name}, lu = {lu}: {}", r.solver)
+            })?;
+            ensure(r.solver.starts_with("full-space"), || format!("{name}, lu = {lu}: fell back: {:?}", r.notes))?;
+            runs.push((p.displacement.clone().unwrap(), p.contact_outcome.as_ref().unwrap().force.clone(), r));
+        }
+        let (a, b) = (&runs[0], &runs[1]);
+        let (du, df) = (relative_difference(&a.0, &b.0), relative_difference(&a.1, &b.1));
+        ensure(du < 1e-8 && df < 1e-8, || format!("{name}: displacements differ by {du:e}, forces by {df:e}"))?;
+        ensure(a.2.iterations <= b.2.iterations + 2, || {
+            format!("{name}: {} Newton steps with the elimination, {} with LU", a.2.iterations, b.2.iterations)
+        })?;
+    }
+    Ok(())
+}

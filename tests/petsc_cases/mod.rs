@@ -67,6 +67,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("full_space_stick_patch_exact_held_by_friction", contact::full_space_stick_patch_exact_held_by_friction),
     ("full_space_agrees_with_condensed", contact::full_space_agrees_with_condensed),
     ("full_space_block_elimination_matches_lu", contact::full_space_block_elimination_matches_lu),
+    ("held_by_contact_elimination_matches_lu", contact::held_by_contact_elimination_matches_lu),
     ("full_space_square_block_raous", contact::full_space_square_block_raous),
     ("full_space_iterations_mesh_independent", contact::full_space_iterations_mesh_independent),
     ("full_space_hertz_cylinder", contact::full_space_hertz_cylinder),

@@ -12,9 +12,13 @@
 //! dofs) kept for the whole iteration (`block_elimination.rs`). The SNES then iterates on
 //! `(v, λ)` with `u = v + K⁻¹ Bᵀ λ` — the same Newton iterates, but after the first step a
 //! step costs a small dense system and no solve with the factor; `u` is recovered by one solve
-//! at the end. Otherwise (MPI, bodies held by the contact, or `-contact_ksp_type`,
-//! `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian in
-//! `(u, λ)` (MUMPS LU by default): one sparse LU per step.
+//! at the end. A body its Dirichlet conditions do not hold (held by the contact: Hertz, a body
+//! held sideways by friction alone) has a singular `K`: springs at a few pinned contact dofs
+//! make it definite, it is factorised once the same way, and the springs are removed inside
+//! every Newton step by a low-rank correction of the small system (`floating_elimination.rs`);
+//! the SNES then iterates on `(u, λ)` with one solve with the factor per step. Otherwise (MPI,
+//! or `-contact_ksp_type`, `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves
+//! the mixed Jacobian in `(u, λ)` (MUMPS LU by default): one sparse LU per step.
 //!
 //! ## Unknowns and equations
 //!
@@ -140,12 +144,16 @@
 //! then verified independently, as on the other routes: the contact residuals of `(λ, B u)`
 //! with `u` from the solve, and the equilibrium of the force rows recomputed from the gathered
 //! solution.
+mod layout;
+mod mixed_system;
+
 use std::ops::Range;
 
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::Matrix3;
 
-use super::block_elimination::{BlockElimination, ContactRow};
+use super::block_elimination::BlockElimination;
 use super::contact::{ContactOutcome, ContactSetup};
+use super::floating_elimination::FloatingElimination;
 use crate::contact::{self, ContactSolution, FrictionLaw, IterationRecord, PointState, PointStatus, TangentialState};
 use crate::error::{Error, Result};
 use crate::fem::assembly::{Constraints, LinearSystem};
@@ -153,6 +161,8 @@ use crate::fem::material::Material;
 use crate::mesh::Mesh;
 use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
 use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
+pub use layout::{dof_ranges, MixedLayout};
+use mixed_system::{choose_pins, evaluate, rigid_row, status_of, Floating, Law, MixedSystem, OwnedPoint, RigidCheck};
 
 /// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
 pub const OPTIONS_PREFIX: &str = "contact_";
@@ -163,6 +173,9 @@ const AUGMENTATION: f64 = 2.0;
 const ROUND_OFF: f64 = 1e-13;
 /// The inner solver's name in the reports when the Jacobians are solved by block elimination.
 const ELIMINATION_NAME: &str = "block elimination, MUMPS Cholesky of K with Schur complement on the contact dofs";
+/// The same for a body held by the contact (`floating_elimination.rs`).
+const FLOATING_ELIMINATION_NAME: &str =
+    "block elimination, MUMPS Cholesky of K with springs at pinned contact dofs (removed in every step) and Schur complement on the contact dofs";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
 pub const FULL_SPACE_LU_OPTION: &str = "-contact_full_space_lu";
 /// Newton steps allowed when the scene does not say.
@@ -177,645 +190,6 @@ const ARMIJO: f64 = 1e-4;
 const SMALLEST_STEP: f64 = 1e-6;
 /// Newton steps without halving the merit after which the full-space iteration gives up.
 const STEPS_WITHOUT_PROGRESS: usize = 20;
-
-/// The global numbering of the mixed unknowns (see the module documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MixedLayout {
-    blocks: Vec<RankBlock>,
-    per_point: usize,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-struct RankBlock {
-    dofs: Range<usize>,
-    points: Range<usize>,
-    offset: usize,
-}
-
-impl MixedLayout {
-    /// `dof_ranges[r]`: the displacement dofs rank `r` owns (contiguous, in rank order, each
-    /// a whole number of nodes); `contact_nodes`: the node of each contact point, increasing;
-    /// `per_point`: contact unknowns per point (1 without friction, 2 with).
-    pub fn new(dof_ranges: &[Range<usize>], contact_nodes: &[usize], per_point: usize) -> Self {
-        let mut offset = 0;
-        let blocks = dof_ranges
-            .iter()
-            .map(|d| {
-                let lo = contact_nodes.partition_point(|&k| 2 * k < d.start);
-                let hi = contact_nodes.partition_point(|&k| 2 * k < d.end);
-                let block = RankBlock { dofs: d.clone(), points: lo..hi, offset };
-                offset += d.len() + per_point * (hi - lo);
-                block
-            })
-            .collect();
-        MixedLayout { blocks, per_point }
-    }
-
-    /// Number of unknowns of the mixed system.
-    pub fn global_size(&self) -> usize {
-        self.blocks.last().map_or(0, |b| b.offset + b.dofs.len() + self.per_point * b.points.len())
-    }
-
-    /// The unknowns rank `rank` owns.
-    pub fn owned(&self, rank: usize) -> Range<usize> {
-        let b = &self.blocks[rank];
-        b.offset..b.offset + b.dofs.len() + self.per_point * b.points.len()
-    }
-
-    /// The contact points rank `rank` owns.
-    pub fn points(&self, rank: usize) -> Range<usize> {
-        self.blocks[rank].points.clone()
-    }
-
-    /// Global index of displacement dof `dof`.
-    pub fn u(&self, dof: usize) -> usize {
-        let b = &self.blocks[self.blocks.partition_point(|b| b.dofs.end <= dof)];
-        b.offset + dof - b.dofs.start
-    }
-
-    /// Global index of component `k` (0 normal, 1 tangential) of contact point `i`.
-    pub fn lambda(&self, i: usize, k: usize) -> usize {
-        let b = &self.blocks[self.blocks.partition_point(|b| b.points.end <= i)];
-        b.offset + b.dofs.len() + self.per_point * (i - b.points.start) + k
-    }
-}
-
-/// The owned displacement dofs of every rank, as the driver partitions the nodes.
-pub fn dof_ranges(num_nodes: usize, ranks: usize) -> Vec<Range<usize>> {
-    (0..ranks).map(|r| 2 * (num_nodes * r / ranks)..2 * (num_nodes * (r + 1) / ranks)).collect()
-}
-
-/// The Alart–Curnier quantities of one point at `(u_k, λ)`.
-#[derive(Debug, Clone, Copy)]
-struct PointEval {
-    tau_n: f64,
-    tau_t: f64,
-    threshold: f64,
-    c_n: f64,
-    c_t: f64,
-}
-
-/// The friction law as the mixed system sees it.
-#[derive(Debug, Clone)]
-enum Law {
-    None,
-    Tresca(Vec<f64>),
-    Coulomb(Vec<f64>),
-}
-
-impl Law {
-    fn of(friction: FrictionLaw) -> Self {
-        match friction {
-            FrictionLaw::Tresca { threshold } if threshold.iter().any(|&s| s > 0.0) => Law::Tresca(threshold),
-            FrictionLaw::Coulomb { mu } if mu.iter().any(|&v| v > 0.0) => Law::Coulomb(mu),
-            _ => Law::None,
-        }
-    }
-    fn frictional(&self) -> bool {
-        !matches!(self, Law::None)
-    }
-    /// Threshold of point `i` for the independent check (Coulomb: from the force itself).
-    fn threshold(&self, i: usize, normal_force: f64) -> f64 {
-        match self {
-            Law::None => 0.0,
-            Law::Tresca(s) => s[i],
-            Law::Coulomb(mu) => mu[i] * (-normal_force).max(0.0),
-        }
-    }
-    fn name(&self) -> &'static str {
-        match self {
-            Law::None => "frictionless",
-            Law::Tresca(_) => "Tresca",
-            Law::Coulomb(_) => "Coulomb",
-        }
-    }
-}
-
-/// Evaluate point `i` (augmentation `rho`, gap `gap`) at contact displacements `(uN, uT)` and
-/// forces `(λN, λT)`.
-fn evaluate(law: &Law, i: usize, rho: [f64; 2], gap: f64, u: [f64; 2], lambda: [f64; 2]) -> PointEval {
-    let tau_n = lambda[0] - rho[0] * (u[0] - gap);
-    let c_n = (lambda[0] - tau_n.min(0.0)) / rho[0];
-    let (tau_t, threshold, c_t) = match law {
-        Law::None => (0.0, 0.0, 0.0),
-        _ => {
-            let s = match law {
-                Law::Tresca(s) => s[i],
-                Law::Coulomb(mu) => mu[i] * (-tau_n).max(0.0),
-                Law::None => 0.0,
-            };
-            let tau_t = lambda[1] - rho[1] * u[1];
-            (tau_t, s, (lambda[1] - tau_t.clamp(-s, s)) / rho[1])
-        }
-    };
-    PointEval { tau_n, tau_t, threshold, c_n, c_t }
-}
-
-/// The piece of the generalized Jacobian at a point (see the module documentation).
-fn classify(law: &Law, e: &PointEval, bonded_start: bool) -> PointState {
-    let contact = e.tau_n <= 0.0;
-    let tangential = if !law.frictional() {
-        TangentialState::Free
-    } else if e.threshold > 0.0 {
-        if e.tau_t.abs() < e.threshold {
-            TangentialState::Stick
-        } else {
-            TangentialState::Slip { positive: e.tau_t > 0.0 }
-        }
-    } else if bonded_start && contact && e.tau_t == 0.0 {
-        TangentialState::Stick
-    } else {
-        TangentialState::Free
-    };
-    PointState { contact, tangential }
-}
-
-/// The status reported for a point: open unless it carries a normal force or sits on the
-/// obstacle under compression (`τN < 0`).
-fn status_of(law: &Law, e: &PointEval) -> PointStatus {
-    if e.tau_n >= 0.0 {
-        return PointStatus::Open;
-    }
-    match classify(law, e, false).tangential {
-        TangentialState::Stick => PointStatus::Stick,
-        _ => PointStatus::Slip,
-    }
-}
-
-/// A contact point owned by this rank, with the positions of its unknowns.
-#[derive(Debug, Clone)]
-struct OwnedPoint {
-    index: usize,
-    normal: [f64; 2],
-    tangent: [f64; 2],
-    /// Node coordinates, centred and scaled (rigid-motion check).
-    scaled: [f64; 2],
-    gap: f64,
-    rho: [f64; 2],
-    /// Positions in the ghosted iterate: u_x, u_y of the node, then λN (and λT).
-    ux: usize,
-    lambda: usize,
-    /// Position in the owned residual of the normal row (the tangential row follows).
-    row: usize,
-    /// Pattern position of the first entry of the normal row (each contact row has
-    /// `2 + per_point` entries).
-    start: usize,
-}
-
-/// Rigid motions left free by the Dirichlet conditions: the Gram matrix of their rows.
-#[derive(Debug, Clone)]
-struct RigidCheck {
-    dirichlet: Matrix3<f64>,
-}
-
-fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
-    Vector3::new(direction[0], direction[1], direction[1] * scaled[0] - direction[0] * scaled[1])
-}
-
-fn full_rank(gram: &Matrix3<f64>) -> bool {
-    let eigen = SymmetricEigen::new(*gram);
-    let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
-    largest > 0.0 && eigen.eigenvalues.iter().all(|&l| l > 1e-10 * largest)
-}
-
-/// What the failure of a body that nothing holds looks like.
-#[derive(Debug, Clone, Copy)]
-struct Floating {
-    closed: usize,
-    imbalance: [f64; 2],
-}
-
-/// The mixed system of this rank, for the SNES wrapper.
-struct MixedSystem<'s, 'p> {
-    comm: Comm,
-    /// Told each Newton step and its residual.
-    progress: &'p dyn super::Progress,
-    /// Exact Jacobian solves by block elimination with one factor of K, when they apply.
-    elimination: Option<BlockElimination<'s>>,
-    law: Law,
-    per_point: usize,
-    /// Owned displacement rows (they come first in the owned block) and their first dof.
-    num_u: usize,
-    first_dof: usize,
-    indptr: Vec<usize>,
-    local_columns: Vec<usize>,
-    /// Values of the force rows' entries (K and −Bᵀ); the contact rows' entries are 0 here.
-    base: Vec<f64>,
-    rhs: Vec<f64>,
-    fixed_row: Vec<bool>,
-    points: Vec<OwnedPoint>,
-    /// Spring stiffness and the pattern positions of the contact nodes' diagonal entries.
-    spring: Option<(f64, Vec<usize>)>,
-    rigid: Option<RigidCheck>,
-    gap_scale: f64,
-    tight: f64,
-    tolerance: f64,
-    // ---- iteration state
-    step_states: Option<Vec<PointState>>,
-    previous: Option<Vec<PointState>>,
-    /// Status sets met since the last cycle, with the merit then.
-    seen: Vec<(Vec<PointState>, f64)>,
-    history: Vec<IterationRecord>,
-    notes: Vec<String>,
-    cycles: usize,
-    step_cap: f64,
-    last_step_scale: f64,
-    regularized: bool,
-    regularized_steps: usize,
-    floating_steps: usize,
-    previous_equilibrium: f64,
-    floating: Option<Floating>,
-    equilibrium: f64,
-    contact_residual: f64,
-    /// The force rows' scale `max_r (Σ_c |K_rc x_c| + |f_r|)` at the current iterate.
-    force_terms: f64,
-    /// Scale of the force rows in the merit (the largest diagonal entry of K).
-    force_scale: f64,
-    /// `½ ‖F_u / k_ref‖²` and the whole merit at the current iterate.
-    force_merit: f64,
-    merit: f64,
-    monotone: bool,
-    line_search_failed: bool,
-    shortened_steps: usize,
-    best_merit: f64,
-    best_at: usize,
-}
-
-impl MixedSystem<'_, '_> {
-    /// The contact displacements `B u` of the owned points in their frames: read from `u` in
-    /// the unknowns `(u, λ)`, or `B v + W λ` in the block elimination's `(v, λ)`
-    /// (`block_elimination.rs`). Linear in `x`.
-    fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
-        let frame = |p: &OwnedPoint| {
-            let (ux, uy) = (x[p.ux], x[p.ux + 1]);
-            [p.normal[0] * ux + p.normal[1] * uy, p.tangent[0] * ux + p.tangent[1] * uy]
-        };
-        match &self.elimination {
-            None => self.points.iter().map(frame).collect(),
-            Some(elimination) => {
-                // One process: every point is owned, in boundary order.
-                let response = elimination.flexibility_times(&self.multipliers(x));
-                self.points
-                    .iter()
-                    .map(|p| {
-                        let bv = frame(p);
-                        [bv[0] + response[2 * p.index], bv[1] + response[2 * p.index + 1]]
-                    })
-                    .collect()
-            }
-        }
-    }
-
-    /// The multipliers of the owned points in `W`'s numbering (`2i`: normal, `2i + 1`: tangential).
-    fn multipliers(&self, x: &[f64]) -> Vec<f64> {
-        let mut lambda = vec![0.0; 2 * self.points.len()];
-        for p in &self.points {
-            lambda[2 * p.index] = x[p.lambda];
-            if self.per_point == 2 {
-                lambda[2 * p.index + 1] = x[p.lambda + 1];
-            }
-        }
-        lambda
-    }
-
-    /// Evaluate the points at `x`.
-    fn evaluations(&self, x: &[f64]) -> Vec<PointEval> {
-        self.contact_displacements(x).into_iter().zip(&self.points).map(|(u, p)| self.eval_at(p, u, x)).collect()
-    }
-
-    /// Evaluate a point from its contact displacements (frame) and its multipliers in `x`.
-    fn eval_at(&self, p: &OwnedPoint, u: [f64; 2], x: &[f64]) -> PointEval {
-        let lambda = [x[p.lambda], if self.per_point == 2 { x[p.lambda + 1] } else { 0.0 }];
-        evaluate(&self.law, p.index, p.rho, p.gap, u, lambda)
-    }
-
-    /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
-    /// rows are `K v − f`: their `−Bᵀ` entries drop out.
-    fn in_force_rows(&self, c: usize) -> bool {
-        self.elimination.is_none() || c < self.num_u
-    }
-
-    /// The merit `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` at `x − t d` (every rank; see `step_length`).
-    fn merit_at(&self, x: &[f64], d: &[f64], t: f64) -> Result<f64> {
-        let trial: Vec<f64> = x.iter().zip(d).map(|(a, b)| a - t * b).collect();
-        let mut sum = 0.0;
-        for e in self.evaluations(&trial) {
-            sum += e.c_n * e.c_n + e.c_t * e.c_t;
-        }
-        let contact = self.comm.sum(&[sum])?[0];
-        Ok(0.5 * contact + (1.0 - t) * (1.0 - t) * self.force_merit)
-    }
-
-    fn states(&self, x: &[f64]) -> Vec<PointState> {
-        self.evaluations(x).iter().map(|e| classify(&self.law, e, self.rigid.is_some())).collect()
-    }
-
-    /// Do the Dirichlet rows and the closed/sticking rows of `states` block every rigid motion?
-    fn held(&self, states: &[PointState]) -> Result<bool> {
-        let Some(rigid) = &self.rigid else { return Ok(true) };
-        let mut gram = Matrix3::<f64>::zeros();
-        for (p, s) in self.points.iter().zip(states) {
-            if s.contact {
-                let r = rigid_row(p.normal, p.scaled);
-                gram += r * r.transpose();
-            }
-            if s.tangential == TangentialState::Stick {
-                let r = rigid_row(p.tangent, p.scaled);
-                gram += r * r.transpose();
-            }
-        }
-        let summed = self.comm.sum(gram.as_slice())?;
-        Ok(full_rank(&(rigid.dirichlet + Matrix3::from_column_slice(&summed))))
-    }
-}
-
-impl NonlinearSystem for MixedSystem<'_, '_> {
-    fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()> {
-        for (r, fr) in f.iter_mut().enumerate().take(self.num_u) {
-            let span = self.indptr[r]..self.indptr[r + 1];
-            *fr = self.base[span.clone()]
-                .iter()
-                .zip(&self.local_columns[span])
-                .filter(|(_, &c)| self.in_force_rows(c))
-                .map(|(v, &c)| v * x[c])
-                .sum::<f64>()
-                - self.rhs[r];
-        }
-        for (p, e) in self.points.iter().zip(self.evaluations(x)) {
-            f[p.row] = e.c_n;
-            if self.per_point == 2 {
-                f[p.row + 1] = e.c_t;
-            }
-        }
-        Ok(())
-    }
-
-    fn jacobian(&mut self, x: &[f64], values: &mut [f64]) -> Result<()> {
-        // With the block elimination the assembled Jacobian is never used (its solves take the
-        // pieces below): no copy of K's values, which would cost more than the step itself.
-        if self.elimination.is_none() {
-            values.copy_from_slice(&self.base);
-        }
-        let mut states = self.states(x);
-        // A slip point whose slip direction reverses sticks for this step.
-        if let Some(before) = &self.step_states {
-            contact::stick_reversed_slips(&mut states, before);
-        }
-        let held = self.held(&states)?;
-        self.regularized = !held;
-        if !held && self.elimination.is_none() {
-            if let Some((k, positions)) = &self.spring {
-                for &pos in positions {
-                    values[pos] += k;
-                }
-            }
-        }
-        let coulomb = match &self.law {
-            Law::Coulomb(mu) => Some(mu),
-            _ => None,
-        };
-        let mut rows = Vec::with_capacity(if self.elimination.is_some() { self.per_point * states.len() } else { 0 });
-        for (p, s) in self.points.iter().zip(&states) {
-            let w = 2 + self.per_point;
-            let (n, t) = (p.normal, p.tangent);
-            let row_n = &mut values[p.start..p.start + w];
-            if s.contact {
-                row_n[0] = n[0];
-                row_n[1] = n[1];
-                rows.push(ContactRow::Displacement);
-            } else {
-                row_n[2] = 1.0 / p.rho[0];
-                rows.push(ContactRow::Force { rho: p.rho[0] });
-            }
-            if self.per_point == 2 {
-                let row_t = &mut values[p.start + w..p.start + 2 * w];
-                match (s.tangential, coulomb) {
-                    (TangentialState::Stick, _) => {
-                        row_t[0] = t[0];
-                        row_t[1] = t[1];
-                        rows.push(ContactRow::Displacement);
-                    }
-                    (TangentialState::Slip { positive }, Some(mu)) if s.contact => {
-                        let sigma = if positive { 1.0 } else { -1.0 };
-                        let a = -sigma * mu[p.index] * p.rho[0] / p.rho[1];
-                        row_t[0] = a * n[0];
-                        row_t[1] = a * n[1];
-                        row_t[2] = sigma * mu[p.index] / p.rho[1];
-                        row_t[3] = 1.0 / p.rho[1];
-                        rows.push(ContactRow::CoulombSlip { a, b: row_t[2], c: row_t[3] });
-                    }
-                    _ => {
-                        row_t[3] = 1.0 / p.rho[1];
-                        rows.push(ContactRow::Force { rho: p.rho[1] });
-                    }
-                }
-            }
-        }
-        if let Some(elimination) = &mut self.elimination {
-            elimination.set_rows(rows)?;
-        }
-        self.step_states = Some(states);
-        Ok(())
-    }
-
-    fn converged(&mut self, iteration: usize, x: &[f64], f: &[f64]) -> Result<Convergence> {
-        // Backward error of the force rows, contact rows relative to the displacement scale.
-        let (mut eq_num, mut eq_den, mut umax) = (0.0f64, 0.0f64, 0.0f64);
-        let mut imbalance = [0.0f64; 2];
-        for r in 0..self.num_u {
-            let span = self.indptr[r]..self.indptr[r + 1];
-            let terms: f64 = self.base[span.clone()]
-                .iter()
-                .zip(&self.local_columns[span])
-                .filter(|(_, &c)| self.in_force_rows(c))
-                .map(|(v, &c)| (v * x[c]).abs())
-                .sum();
-            eq_num = eq_num.max(f[r].abs());
-            eq_den = eq_den.max(terms + self.rhs[r].abs());
-            umax = umax.max(x[r].abs());
-            if !self.fixed_row[r] {
-                imbalance[(self.first_dof + r) % 2] += f[r];
-            }
-        }
-        if self.elimination.is_some() {
-            // In (v, λ) the displacement scale also takes the contact displacements B v + W λ.
-            for u in self.contact_displacements(x) {
-                umax = umax.max(u[0].abs()).max(u[1].abs());
-            }
-        }
-        let mut c_max = 0.0f64;
-        let (mut c_sq, mut f_sq) = (0.0f64, 0.0f64);
-        for p in &self.points {
-            c_max = c_max.max(f[p.row].abs());
-            c_sq += f[p.row] * f[p.row];
-            if self.per_point == 2 {
-                c_max = c_max.max(f[p.row + 1].abs());
-                c_sq += f[p.row + 1] * f[p.row + 1];
-            }
-        }
-        for fr in f.iter().take(self.num_u) {
-            f_sq += (fr / self.force_scale).powi(2);
-        }
-        let states = self.states(x);
-        let changes = self.previous.as_ref().map_or(0, |prev| contact::count_changes(prev, &states));
-        let off_piece = self.step_states.as_ref().map_or(states.len(), |s| contact::count_changes(s, &states));
-        let closed = states.iter().filter(|s| s.contact).count();
-        // Cycle detection: the status set equals one met two or more iterations before.
-        let local_equal: Vec<f64> = self
-            .seen
-            .iter()
-            .take(self.seen.len().saturating_sub(1))
-            .map(|(earlier, _)| if *earlier == states { 1.0 } else { 0.0 })
-            .collect();
-        let maxima = self.comm.max(&[eq_num, eq_den, c_max, umax])?;
-        let sums = self.comm.sum(&[
-            changes as f64,
-            off_piece as f64,
-            closed as f64,
-            imbalance[0],
-            imbalance[1],
-            c_sq,
-            f_sq,
-        ])?;
-        self.force_merit = 0.5 * sums[6];
-        self.merit = 0.5 * (sums[5] + sums[6]);
-        let equal = if local_equal.is_empty() { Vec::new() } else { self.comm.min(&local_equal)? };
-        let equilibrium = if maxima[1] > 0.0 { maxima[0] / maxima[1] } else { maxima[0] };
-        self.force_terms = maxima[1];
-        let u_scale = if maxima[3].max(self.gap_scale) > 0.0 { maxima[3].max(self.gap_scale) } else { 1.0 };
-        let contact_residual = maxima[2] / u_scale;
-        let (changes, off_piece, closed) = (sums[0] as usize, sums[1] as usize, sums[2] as usize);
-        self.equilibrium = equilibrium;
-        self.contact_residual = contact_residual;
-        if iteration > 0 {
-            self.history.push(IterationRecord { residual: equilibrium.max(contact_residual), status_changes: changes });
-            self.progress.iteration(super::Phase::Solve, iteration, equilibrium.max(contact_residual));
-        }
-        self.previous = Some(states.clone());
-        let exact_step = iteration > 0 && !self.regularized && self.last_step_scale == 1.0 && off_piece == 0;
-        let within = |tol: f64| equilibrium <= tol && contact_residual <= tol;
-        if within(self.tight) || (exact_step && within(self.tolerance)) {
-            return Ok(Convergence::Converged(format!(
-                "converged after {iteration} Newton steps: equilibrium {equilibrium:.2e}, contact {contact_residual:.2e}"
-            )));
-        }
-        if !(equilibrium.is_finite() && contact_residual.is_finite()) {
-            return Ok(Convergence::Diverged("the iterate became non-finite".into()));
-        }
-        if self.line_search_failed {
-            return Ok(Convergence::Diverged(format!("the line search failed at Newton step {iteration}")));
-        }
-        if self.merit < 0.5 * self.best_merit {
-            self.best_merit = self.merit;
-            self.best_at = iteration;
-        }
-        if !self.regularized && iteration >= self.best_at + STEPS_WITHOUT_PROGRESS {
-            if self.monotone {
-                return Ok(Convergence::Diverged(format!(
-                    "no progress in {STEPS_WITHOUT_PROGRESS} Newton steps (the merit did not halve)"
-                )));
-            }
-            // Wandering without a cycle: damp as after a cycle, give it another round.
-            self.monotone = true;
-            self.best_at = iteration;
-            self.notes.push(format!(
-                "no progress in {STEPS_WITHOUT_PROGRESS} full Newton steps: monotone line search from step {iteration}"
-            ));
-        }
-        if iteration > 0 && changes == 0 {
-            self.step_cap = 1.0;
-        }
-        // A status set met again without the merit having halved since: a cycle (with
-        // shortened steps a set may come back while the iterate progresses).
-        let merit = self.merit;
-        if equal.iter().zip(&self.seen).any(|(&e, (_, then))| e == 1.0 && merit > 0.5 * then) {
-            self.cycles += 1;
-            let what = format!(
-                "active-set cycle at Newton step {iteration}: the status set of {} points repeats an earlier one",
-                closed
-            );
-            if self.cycles >= CYCLES_BEFORE_FALLBACK {
-                self.notes.push(what);
-                return Ok(Convergence::Diverged(format!(
-                    "{CYCLES_BEFORE_FALLBACK} active-set cycles despite damping"
-                )));
-            }
-            self.step_cap = 0.5f64.powi(self.cycles as i32);
-            self.monotone = true;
-            self.notes.push(format!(
-                "{what}; steps capped at {} until the statuses settle, monotone line search",
-                self.step_cap
-            ));
-            self.seen.clear();
-        }
-        self.seen.push((states, self.merit));
-        // A body that nothing holds: regularised steps that do not reduce the imbalance.
-        if iteration > 0 && self.regularized {
-            self.regularized_steps += 1;
-            let stalled = equilibrium > 0.5 * self.previous_equilibrium;
-            self.floating_steps = if stalled { self.floating_steps + 1 } else { 0 };
-            self.floating = Some(Floating { closed, imbalance: [sums[3], sums[4]] });
-            if self.floating_steps >= FLOATING_STEPS {
-                return Ok(Convergence::Diverged(format!(
-                    "the closed contact points do not hold the body ({closed} closed) and the equilibrium residual \
-                     stays at {equilibrium:.2e}"
-                )));
-            }
-        } else {
-            self.floating_steps = 0;
-            self.floating = None;
-        }
-        self.previous_equilibrium = equilibrium;
-        Ok(Convergence::Iterating)
-    }
-
-    fn jacobian_solver(&self) -> Option<String> {
-        self.elimination.as_ref().map(|_| ELIMINATION_NAME.to_string())
-    }
-
-    fn solve_jacobian(&mut self, r: &[f64], d: &mut [f64]) -> Result<()> {
-        match &mut self.elimination {
-            // Force residuals at the round-off of the force rows' terms: no solve (the rows are linear).
-            Some(elimination) => elimination.solve(r, d, ROUND_OFF * self.force_terms),
-            None => Err(Error::PetscUsage("no block elimination set up".into())),
-        }
-    }
-
-    /// Full semi-smooth Newton steps (the primal–dual active set method: on piecewise-linear
-    /// equations they land on the solution of the current piece), capped after active-set
-    /// cycles; once a cycle has been seen, a monotone Armijo backtracking on the merit
-    /// `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` (both parts in displacement units; the force rows are
-    /// linear, so along an exact Newton direction `F_u(x − t d) = (1 − t) F_u(x)`), halving
-    /// from the cap down to 10⁻⁶. (A non-monotone Armijo search from the start, as in the
-    /// condensed method, shortened useful steps and lost the hard cases: μ ≥ 2 on fine P2
-    /// meshes took more steps or failed.) Regularised steps are taken as they are.
-    fn step_length(&mut self, x: &[f64], d: &[f64]) -> Result<f64> {
-        let cap = self.step_cap;
-        if self.regularized || !self.monotone {
-            self.last_step_scale = cap;
-            return Ok(cap);
-        }
-        let reference = self.merit;
-        let mut t = cap;
-        loop {
-            let trial = self.merit_at(x, d, t)?;
-            if trial <= (1.0 - ARMIJO * t) * reference {
-                break;
-            }
-            t *= 0.5;
-            if t < SMALLEST_STEP {
-                self.line_search_failed = true;
-                t = SMALLEST_STEP;
-                break;
-            }
-        }
-        if t < cap {
-            self.shortened_steps += 1;
-        }
-        self.last_step_scale = t;
-        Ok(t)
-    }
-}
 
 impl ContactSetup {
     /// The full-space semi-smooth Newton method (see the module documentation). `system` holds
@@ -978,10 +352,24 @@ impl ContactSetup {
         } else {
             None
         };
+        // A body the Dirichlet conditions do not hold: the same with springs at a few pinned
+        // contact dofs, removed in every step (floating_elimination.rs).
+        let held_by_contact = match (&rigid, elimination.is_none() && session.size() == 1 && !user_inner && m > 0) {
+            (Some(check), true) => match choose_pins(b, mesh, &scaled, &check.dirichlet) {
+                Some(pins) => {
+                    progress.note("contact: factorising K with springs at pinned contact dofs");
+                    let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
+                    Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+                }
+                None => None,
+            },
+            _ => None,
+        };
         let mut mixed = MixedSystem {
             progress,
             comm,
             elimination,
+            held_by_contact,
             law: law.clone(),
             per_point,
             num_u,
@@ -1222,32 +610,5 @@ fn stats_of(run: &NonlinearSolve, equilibrium: f64, seconds: f64) -> SolveStats 
         converged_reason: run.converged_reason.clone(),
         relative_residual: equilibrium,
         seconds,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{dof_ranges, MixedLayout};
-
-    #[test]
-    fn layout_interleaves_rank_blocks() {
-        // 10 nodes on 2 ranks (nodes 0..5 and 5..10); contact nodes 1, 4, 7 with friction.
-        let ranges = dof_ranges(10, 2);
-        assert_eq!(ranges, vec![0..10, 10..20]);
-        let layout = MixedLayout::new(&ranges, &[1, 4, 7], 2);
-        assert_eq!(layout.global_size(), 26);
-        assert_eq!(layout.owned(0), 0..14);
-        assert_eq!(layout.owned(1), 14..26);
-        assert_eq!((layout.u(0), layout.u(9), layout.u(10), layout.u(19)), (0, 9, 14, 23));
-        assert_eq!((layout.lambda(0, 0), layout.lambda(0, 1), layout.lambda(1, 0)), (10, 11, 12));
-        assert_eq!((layout.lambda(2, 0), layout.lambda(2, 1)), (24, 25));
-        assert_eq!((layout.points(0), layout.points(1)), (0..2, 2..3));
-        // Frictionless: one unknown per point; a rank with no contact point.
-        let layout = MixedLayout::new(&ranges, &[7, 8], 1);
-        assert_eq!((layout.owned(0), layout.owned(1)), (0..10, 10..22));
-        assert_eq!((layout.lambda(0, 0), layout.lambda(1, 0)), (20, 21));
-        // One rank: [u | λ].
-        let layout = MixedLayout::new(&dof_ranges(10, 1), &[1, 4, 7], 1);
-        assert_eq!((layout.global_size(), layout.u(19), layout.lambda(2, 0)), (23, 19, 22));
     }
 }
