@@ -201,3 +201,18 @@ pub fn bench_dual(parsed: RunArgs) -> ExitCode {
         },
     )
 }
+
+/// `bench held`: the half disc driven by displacement and by force, each case in a child process.
+pub fn bench_held(parsed: RunArgs) -> ExitCode {
+    let cases = bench::held::held_cases(parsed.max_dofs);
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::held::HeldBenchRow> {
+            kind: "held",
+            cases,
+            describe: |row| format!("{:>8.3} s, {:>3} Newton steps", row.contact_seconds, row.iterations),
+            table: bench::held::held_table,
+            write: bench::write_held_outputs,
+        },
+    )
+}

@@ -148,6 +148,10 @@ pub enum Bench {
     /// The dual formulation (Airy/HCT) per linear solver against the primal P2 solve of the same
     /// mesh, with the estimate, from 1e4 dual dofs up to --max-dofs (default 1e5).
     Dual(BenchOptions),
+    /// A body held by the contact: the P2 half disc (Coulomb) driven by a prescribed
+    /// displacement and by a traction with no support, full-space Newton, the ratio of the two
+    /// solve times, at 1e4, 8.6e4 and 3e5 dofs up to --max-dofs (default 1e5).
+    Held(BenchOptions),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
     ElasticityCase(CaseOptions),
@@ -157,6 +161,9 @@ pub enum Bench {
     /// One dual case (used by `bench dual`).
     #[command(hide = true)]
     DualCase(CaseOptions),
+    /// One held-by-contact case (used by `bench held`).
+    #[command(hide = true)]
+    HeldCase(CaseOptions),
 }
 
 #[derive(Debug, Args)]

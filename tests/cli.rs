@@ -833,6 +833,24 @@ fn bench_dual_writes_its_table_and_plot() {
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
 }
 
+/// `bench held`: both drives of the half disc at 1e4 dofs, the force-driven row with its ratio
+/// to the displacement-driven one, no failed case (the force-driven disc has no supports).
+#[test]
+fn bench_held_writes_both_drives_and_their_ratio() {
+    let dir = scratch("bench-held");
+    let out = bin().args(["bench", "held", "--max-dofs", "20000", "--out"]).arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let table = std::fs::read_to_string(dir.join("bench_held.md")).unwrap();
+    assert_provenance(&table, "bench held --max-dofs 20000");
+    assert!(failed_rows(&table).is_empty(), "{table}");
+    let rows = table_rows(&table);
+    assert_eq!(rows.len(), 2, "{table}");
+    let force = rows.iter().find(|r| r.contains("| force |")).expect("a force-driven row");
+    let ratio: f64 = force.split('|').nth(7).unwrap().trim().parse().expect("a ratio");
+    assert!(ratio > 0.0 && ratio.is_finite(), "{table}");
+    assert!(std::fs::read_to_string(dir.join("bench_held.svg")).unwrap().contains("<svg"));
+}
+
 /// A case that fails is a row of the file with its reason, never dropped; when every case
 /// fails the file is still written (with no plot) and the run fails.
 #[test]

@@ -8,6 +8,7 @@
 //! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
 pub mod dual;
+pub mod held;
 pub mod provenance;
 
 pub use provenance::{BenchRecord, FailedCase};
@@ -377,6 +378,27 @@ pub fn write_contact_outputs(rows: &[ContactBenchRow], record: &BenchRecord, dir
         ("Benchmark: frictional contact (square block, Coulomb)", &contact_table(rows)),
         "Square block, Coulomb friction: wall time against size",
         solvers,
+        plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
+    )
+}
+
+/// `bench_held.md` and `bench_held.svg` (contact solve time against dofs, per drive).
+pub fn write_held_outputs(rows: &[held::HeldBenchRow], record: &BenchRecord, dir: &Path) -> Result<Vec<PathBuf>> {
+    let drives = held::DRIVES
+        .iter()
+        .map(|d| {
+            let points = rows.iter().filter(|r| r.drive == *d).map(|r| (r.dofs as f64, r.contact_seconds));
+            (format!("full-space Newton, {d}-driven"), points.collect())
+        })
+        .collect();
+    let linear = once_per_size(rows.iter().filter_map(|r| r.linear_seconds.map(|t| (r.dofs as f64, t))));
+    write_table_and_plot(
+        dir,
+        "bench_held",
+        record,
+        ("Benchmark: a body held by the contact (half disc, Coulomb)", &held::held_table(rows)),
+        "Half disc, Coulomb: displacement- against force-driven",
+        drives,
         plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
     )
 }
