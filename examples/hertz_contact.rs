@@ -1,6 +1,6 @@
 //! Hertz line contact through the library API: a half cylinder pressed on a rigid plane,
 //! force-driven, frictionless; compares the contact half-width and peak pressure with Hertz's
-//! formulas (SCIENCE.md §7.3): E* = E/(1−ν²), a = √(4PR/(πE*)), p0 = 2P/(πa).
+//! formulas (K. L. Johnson, Contact Mechanics, 1985, §4.2): E* = E/(1−ν²), a = √(4PR/(πE*)), p0 = 2P/(πa).
 //!
 //! ```text
 //! cargo run --release --example hertz_contact             # fine mesh (a/20 at the contact)

@@ -105,7 +105,7 @@ fn assert_uniform_pressure(name: &str, dir: &Path, p: f64, tol: f64) {
 }
 
 /// A block `[0, w] × [0, h]` on the rigid plane y = 0, top pressure `p`, sides loaded by the
-/// plane-strain lateral pressure νp/(1−ν) (the frictionless patch test of SCIENCE.md §7) unless
+/// plane-strain lateral pressure νp/(1−ν) (the frictionless patch test) unless
 /// `extra` says otherwise, and the horizontal translation removed at the top-left corner.
 struct Block<'a> {
     w: f64,
@@ -388,7 +388,7 @@ fn square_block_tresca_huge_threshold() {
 // ---------------------------------------------------------------- held by friction alone
 
 fn held_by_friction(q_over_mu_p: f64) -> String {
-    // The stick patch test of SCIENCE.md §7 with no support in x at all: shear q on the top and
+    // The stick patch test with no support in x at all: shear q on the top and
     // the sides, μ = 0.5, held sideways only by friction.
     let (p, mu, nu) = (1e6, 0.5, 0.2);
     let q = q_over_mu_p * mu * p;

@@ -571,7 +571,7 @@ fn hooke_law_plane_strain_and_plane_stress() {
     let szz = strain.sigma_zz(s);
     let vm = (0.5 * ((s[0] - s[1]).powi(2) + (s[1] - szz).powi(2) + (szz - s[0]).powi(2)) + 3.0 * s[2] * s[2]).sqrt();
     assert!((strain.von_mises(s) - vm).abs() < 1e-12);
-    // Complementary energy from SCIENCE.md §3, written out.
+    // Complementary energy ½ σ : C⁻¹ σ, written out.
     let ws = (1.0 + nu) / (2.0 * e)
         * ((1.0 - nu) * (s[0] * s[0] + s[1] * s[1]) - 2.0 * nu * s[0] * s[1] + 2.0 * s[2] * s[2]);
     assert!((strain.complementary_energy_density(s) - ws).abs() < 1e-14 * ws);

@@ -251,7 +251,7 @@ fn cells_for_size_ignores_round_off() {
     assert_eq!(cells_for_size([0.07, 0.14], 0.01), (7, 14));
     assert_eq!(cells_for_size([0.14, 0.07], 0.02), (7, 4));
     assert_eq!(cells_for_size([0.07, 0.14], 0.00125), (56, 112));
-    // the square block of SCIENCE.md section 7: 32 edges along each side
+    // the square block of Raous–Chabrand–Lebon: 32 edges along each side
     assert_eq!(cells_for_size([0.04, 0.04], 0.04 / 32.0), (32, 32));
     assert_eq!(cells_for_size([0.04, 0.04], 1.25e-3), (32, 32));
     // a genuine excess still adds a cell

@@ -86,7 +86,7 @@
 //! element methods for 3D finite deformation contact", SIAM J. Sci. Comput. 34 (2012)
 //! B421–B446).
 //!
-//! The checkerboard that users of other codes see (SCIENCE.md §8) comes from dividing the
+//! The checkerboard that users of other codes see (a known complaint about quadratic elements with nodal contact) comes from dividing the
 //! consistent nodal forces by the wrong weights, the "tributary lengths" of a P1 chain through
 //! all P2 nodes (`L/4, L/4, L/2` per edge). Under a uniform pressure `p` on edges of length `L`:
 //!

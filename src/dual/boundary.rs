@@ -3,7 +3,7 @@
 //!
 //! Along a boundary edge `a → b` (counter-clockwise, length L, tangent τ, outward normal
 //! `n = (τ_y, −τ_x)`) the traction of `σ(φ)` is the arc-length derivative of `∇φ` turned by a
-//! right angle (SCIENCE.md §3):
+//! right angle (F. Lebon's talk "Modèles d'interface et formulations pour le contact frottant", "Formulation en contraintes"):
 //!
 //! ```text
 //!   t_x = d(φ,y)/ds,    t_y = −d(φ,x)/ds.

@@ -7,7 +7,7 @@
 //! across every edge, and the known tractions are imposed exactly on the boundary
 //! ([`boundary`]): the fields are statically admissible, which is what the error in the
 //! constitutive relation ([`crate::estimate`]) needs. Among them, the dual solution minimises
-//! the complementary energy (SCIENCE.md §2, the talk's "Formulation en contraintes"):
+//! the complementary energy (F. Lebon's talk "Modèles d'interface et formulations pour le contact frottant", "Formulation en contraintes"):
 //!
 //! ```text
 //!   J*(σ) = ½ ∫Ω σ : C⁻¹ σ − ∫ΓD u0 · σ n        over statically admissible σ.

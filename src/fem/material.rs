@@ -23,7 +23,7 @@
 //! `λ* = λ` (plane strain) or `λ* = 2λμ / (λ + 2μ) = Eν / (1 − ν²)` (plane stress).
 //!
 //! Compliance `C⁻¹` and the complementary energy density `w*(σ) = ½ s · C⁻¹ s`
-//! (SCIENCE.md §3):
+//! (the compliance form of Hooke's law, as in the dual formulation of F. Lebon's talk "Modèles d'interface et formulations pour le contact frottant"):
 //!
 //! ```text
 //!   plane strain: w* = (1 + ν)/(2E) [ (1 − ν)(σxx² + σyy²) − 2ν σxx σyy + 2 σxy² ]
@@ -147,7 +147,7 @@ impl Material {
         (0.5 * ((sxx - syy).powi(2) + (syy - szz).powi(2) + (szz - sxx).powi(2)) + 3.0 * sxy * sxy).sqrt()
     }
 
-    /// Complementary (compliance) energy density `w*(σ) = ½ σ : C⁻¹ σ` (SCIENCE.md §3).
+    /// Complementary (compliance) energy density `w*(σ) = ½ σ : C⁻¹ σ` (the complementary energy of the dual formulation).
     pub fn complementary_energy_density(&self, s: [f64; 3]) -> f64 {
         let (e, nu) = (self.young, self.poisson);
         let (sxx, syy, sxy) = (s[0], s[1], s[2]);

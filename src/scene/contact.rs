@@ -3,7 +3,7 @@
 //! # The conditions
 //!
 //! On the contact part Γc, with `n` the outward normal of the body, `uN = u·n`, `σN = n·σn`,
-//! `σT = σn − σN n` and `g0` the initial gap (SCIENCE.md § 1; Kikuchi & Oden, *Contact Problems
+//! `σT = σn − σN n` and `g0` the initial gap (Kikuchi & Oden, *Contact Problems
 //! in Elasticity*, SIAM 1988, ch. 2 and 5):
 //!
 //! ```text

@@ -1,4 +1,4 @@
-//! Contact validation cases (SCIENCE.md §7): patch tests exact to round-off, Hertz, the square
+//! Contact validation cases (the source talk's reference cases): patch tests exact to round-off, Hertz, the square
 //! block of Raous–Chabrand–Lebon, solver agreement, Newton iteration counts, robustness.
 use std::path::Path;
 
@@ -93,7 +93,7 @@ pub fn full_space_patch_frictionless_exact(s: &Session) -> Result<(), String> {
     Ok(())
 }
 
-/// The stick patch test (SCIENCE.md §7.2): uniform shear q on top of the compressed block, no
+/// The stick patch test (the frictional patch test: q ≤ μp sticks everywhere): uniform shear q on top of the compressed block, no
 /// support at all in x: the body is held sideways only by friction.
 fn stick_patch_text(q_over_p: f64, mu: f64, order: u32, solver: &str) -> (String, std::path::PathBuf) {
     let (e, nu, p) = (90e9_f64, 0.2_f64, 1e6_f64);

@@ -175,7 +175,7 @@ const ROUND_OFF: f64 = 1e-13;
 const ELIMINATION_NAME: &str = "block elimination, MUMPS Cholesky of K with Schur complement on the contact dofs";
 /// The same for a body held by the contact (`floating_elimination.rs`).
 const FLOATING_ELIMINATION_NAME: &str =
-    "block elimination, MUMPS Cholesky of K with springs at pinned contact dofs (removed in every step) and Schur complement on the contact dofs";
+    "block elimination, MUMPS Cholesky of K + springs at pinned contact dofs (removed in each step)";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
 pub const FULL_SPACE_LU_OPTION: &str = "-contact_full_space_lu";
 /// Newton steps allowed when the scene does not say.
