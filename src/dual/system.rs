@@ -16,7 +16,7 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use nalgebra::SMatrix;
+use nalgebra::{DMatrix, SMatrix};
 
 use super::boundary::{self, AffineDofs, BoundaryEdge, ContactEdge, DofRole, TractionComponent};
 use super::dofs::HctDofs;
@@ -246,6 +246,9 @@ impl DualSystem {
 
     /// The reduced rows `rows` (every rank computes every element and keeps its rows).
     pub fn assemble(&self, mesh: &Mesh, rows: Range<usize>) -> ReducedRows {
+        /// Elements whose twelve expansions have more terms than this in all take the dense
+        /// product (the plain loop costs their square, with a search per entry).
+        const LONG_EXPANSIONS: usize = 64;
         let l = self.load_functional();
         let nm = self.num_unknowns();
         let mut rhs = vec![0.0; rows.len()];
@@ -266,12 +269,17 @@ impl DualSystem {
         for c in 0..self.elements.len() {
             let start = group_indices.len();
             for d in self.dofs.cell_dofs(mesh, c) {
-                for (k, _) in self.expansion(d).0.iter() {
-                    if !group_indices[start..].contains(&k) {
-                        group_indices.push(k);
-                    }
+                group_indices.extend(self.expansion(d).0.iter().map(|(k, _)| k));
+            }
+            group_indices[start..].sort_unstable();
+            let mut kept = start;
+            for i in start..group_indices.len() {
+                if i == start || group_indices[i] != group_indices[kept - 1] {
+                    group_indices[kept] = group_indices[i];
+                    kept += 1;
                 }
             }
+            group_indices.truncate(kept);
             group_ptr.push(group_indices.len());
         }
         let mut matrix = CsrAssembler::new(rows.clone(), nm, &group_ptr, &group_indices);
@@ -289,6 +297,41 @@ impl DualSystem {
             let mut s_phi0 = [0.0; HCT_DOFS];
             for i in 0..HCT_DOFS {
                 s_phi0[i] = (0..HCT_DOFS).map(|j| s[(i, j)] * exp[j].1).sum();
+            }
+            let long = exp.iter().map(|(t, _)| t.iter().count()).sum::<usize>() > LONG_EXPANSIONS;
+            if long {
+                // Expansions through a contact part (every boundary unknown downstream depends
+                // on all its forces): the element matrix in the union of the unknowns as one
+                // dense product Tᵀ S T, added row by row.
+                let mut group: Vec<usize> = exp.iter().flat_map(|(t, _)| t.iter().map(|(k, _)| k)).collect();
+                group.sort_unstable();
+                group.dedup();
+                let mut t = DMatrix::<f64>::zeros(HCT_DOFS, group.len());
+                for (i, (terms, _)) in exp.iter().enumerate() {
+                    for (k, a) in terms.iter() {
+                        if let Ok(p) = group.binary_search(&k) {
+                            t[(i, p)] += a;
+                        }
+                    }
+                }
+                let s_dyn = DMatrix::from_fn(HCT_DOFS, HCT_DOFS, |i, j| s[(i, j)]);
+                let st = &s_dyn * &t;
+                let mut row_values = vec![0.0; group.len()];
+                for (p, &kp) in group.iter().enumerate() {
+                    if !rows.contains(&kp) {
+                        continue;
+                    }
+                    let mut load = 0.0;
+                    for i in 0..HCT_DOFS {
+                        load += t[(i, p)] * (s_phi0[i] + bp[i]);
+                    }
+                    rhs[kp - rows.start] -= load;
+                    for (q, value) in row_values.iter_mut().enumerate() {
+                        *value = t.column(p).dot(&st.column(q));
+                    }
+                    matrix.add_sorted(kp, &group, &row_values);
+                }
+                continue;
             }
             for i in 0..HCT_DOFS {
                 for (ki, ai) in exp[i].0.iter() {

@@ -92,6 +92,26 @@ impl CsrAssembler {
         }
     }
 
+    /// Add `values[k]` at (`row`, `cols[k]`) for increasing `cols`, walking the row once; rows
+    /// outside the owned range are ignored (positions outside the pattern as in [`Self::add`]).
+    pub fn add_sorted(&mut self, row: usize, cols: &[usize], values: &[f64]) {
+        if !self.rows.contains(&row) {
+            return;
+        }
+        let r = row - self.rows.start;
+        let (mut p, end) = (self.indptr[r], self.indptr[r + 1]);
+        for (&c, &v) in cols.iter().zip(values) {
+            while p < end && self.indices[p] < c {
+                p += 1;
+            }
+            if p < end && self.indices[p] == c {
+                self.values[p] += v;
+            } else {
+                debug_assert!(false, "({row}, {c}) is not in the pattern");
+            }
+        }
+    }
+
     /// `(indptr, indices, values)` of the owned rows, columns global and sorted.
     pub fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         (self.indptr, self.indices, self.values)
