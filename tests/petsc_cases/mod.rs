@@ -45,6 +45,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
     ("dual_contact_estimate_tresca_and_coulomb", dual_contact::dual_contact_estimate_tresca_and_coulomb),
     ("dual_hertz_cylinder", dual_contact::dual_hertz_cylinder),
+    ("dual_contact_effectivity_tresca", dual_contact::dual_contact_effectivity_tresca),
     ("dual_stick_patch_and_roller_support_exact", dual::dual_stick_patch_and_roller_support_exact),
     ("dual_cubic_airy_and_body_force_exact", dual::dual_cubic_airy_and_body_force_exact),
     ("dual_refuses_unbalanced_loads_and_holes", dual::dual_refuses_unbalanced_loads_and_holes),
