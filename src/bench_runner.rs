@@ -216,3 +216,27 @@ pub fn bench_held(parsed: RunArgs) -> ExitCode {
         },
     )
 }
+
+/// `bench dual-contact`: each (size, strategy) case in a child process.
+pub fn bench_dual_contact(parsed: RunArgs) -> ExitCode {
+    let cases = bench::dual_contact::dual_contact_cases(parsed.max_dofs);
+    run_bench(
+        &parsed,
+        CaseRunner::<bench::dual_contact::DualContactBenchRow> {
+            kind: "dual-contact",
+            cases,
+            describe: |row| {
+                format!(
+                    "primal {:.3} s, dual {:.3} s ({:.2} x), estimate {:.3} s, error {:.2} %",
+                    row.primal_seconds,
+                    row.dual_seconds,
+                    row.dual_seconds / row.primal_seconds,
+                    row.estimate_seconds,
+                    row.relative_percent
+                )
+            },
+            table: bench::dual_contact::dual_contact_table,
+            write: bench::write_dual_contact_outputs,
+        },
+    )
+}

@@ -148,6 +148,9 @@ pub enum Bench {
     /// The dual formulation (Airy/HCT) per linear solver against the primal P2 solve of the same
     /// mesh, with the estimate, from 1e4 dual dofs up to --max-dofs (default 1e5).
     Dual(BenchOptions),
+    /// Contact in the dual formulation: the square block without its corner point (Tresca) in
+    /// the dual and in the primal, with the estimate, from 1e3 to --max-dofs (default 1e5).
+    DualContact(BenchOptions),
     /// A body held by the contact: the P2 half disc (Coulomb) driven by a prescribed
     /// displacement and by a traction with no support, full-space Newton, the ratio of the two
     /// solve times, at 1e4, 8.6e4 and 3e5 dofs up to --max-dofs (default 1e5).
@@ -161,6 +164,9 @@ pub enum Bench {
     /// One dual case (used by `bench dual`).
     #[command(hide = true)]
     DualCase(CaseOptions),
+    /// One dual contact case (used by `bench dual-contact`).
+    #[command(hide = true)]
+    DualContactCase(CaseOptions),
     /// One held-by-contact case (used by `bench held`).
     #[command(hide = true)]
     HeldCase(CaseOptions),

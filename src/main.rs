@@ -111,6 +111,12 @@ fn main() -> ExitCode {
             Bench::DualCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
             }
+            Bench::DualContact(o) => {
+                bench_runner::bench_dual_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
+            Bench::DualContactCase(c) => {
+                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_contact_case)
+            }
             Bench::Held(o) => {
                 bench_runner::bench_held(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
             }
@@ -265,6 +271,16 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
     let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no contact solver {index}")))?;
     let row = bench::contact_case(session, dofs, solver)?;
+    if session.rank() == 0 {
+        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
+    }
+    Ok(())
+}
+
+fn bench_dual_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let (dofs, index) =
+        args.case.ok_or_else(|| Error::Usage("bench dual-contact-case needs --case DOFS,STRATEGY_INDEX".into()))?;
+    let row = bench::dual_contact::dual_contact_case(session, dofs, index)?;
     if session.rank() == 0 {
         println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
     }

@@ -851,6 +851,21 @@ fn bench_held_writes_both_drives_and_their_ratio() {
     assert!(std::fs::read_to_string(dir.join("bench_held.svg")).unwrap().contains("<svg"));
 }
 
+/// `bench dual-contact`: the block without its corner in the dual and the primal, with the
+/// estimate, at 1e3 dofs.
+#[test]
+fn bench_dual_contact_writes_its_table() {
+    let dir = scratch("bench-dual-contact");
+    let out = bin().args(["bench", "dual-contact", "--max-dofs", "2000", "--out"]).arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let table = std::fs::read_to_string(dir.join("bench_dual_contact.md")).unwrap();
+    assert_provenance(&table, "bench dual-contact --max-dofs 2000");
+    let rows = table_rows(&table);
+    assert_eq!(rows.len(), 1, "{table}");
+    assert!(rows[0].contains("MUMPS Schur") && failed_rows(&table).is_empty(), "{table}");
+    assert!(std::fs::read_to_string(dir.join("bench_dual_contact.svg")).unwrap().contains("<svg"));
+}
+
 /// A case that fails is a row of the file with its reason, never dropped; when every case
 /// fails the file is still written (with no plot) and the run fails.
 #[test]

@@ -8,6 +8,7 @@
 //! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
 pub mod dual;
+pub mod dual_contact;
 pub mod held;
 pub mod provenance;
 
@@ -379,6 +380,32 @@ pub fn write_contact_outputs(rows: &[ContactBenchRow], record: &BenchRecord, dir
         "Square block, Coulomb friction: wall time against size",
         solvers,
         plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
+    )
+}
+
+/// `bench_dual_contact.md` and `bench_dual_contact.svg` (dual contact solve per strategy and the
+/// primal contact solve against the primal dofs).
+pub fn write_dual_contact_outputs(
+    rows: &[dual_contact::DualContactBenchRow],
+    record: &BenchRecord,
+    dir: &Path,
+) -> Result<Vec<PathBuf>> {
+    let strategies = dual_contact::STRATEGIES
+        .iter()
+        .map(|st| {
+            let points = rows.iter().filter(|r| r.strategy == *st).map(|r| (r.primal_dofs as f64, r.dual_seconds));
+            (format!("dual: {st}"), points.collect())
+        })
+        .collect();
+    let primal = once_per_size(rows.iter().map(|r| (r.primal_dofs as f64, r.primal_seconds)));
+    write_table_and_plot(
+        dir,
+        "bench_dual_contact",
+        record,
+        ("Benchmark: contact in the dual formulation against the primal", &dual_contact::dual_contact_table(rows)),
+        "Square block (Tresca), dual contact against primal contact",
+        strategies,
+        plot::Series { label: "primal, full-space Newton".into(), points: primal },
     )
 }
 

@@ -272,7 +272,10 @@ pub fn dual_contact_effectivity_tresca(s: &signorini::petsc::Session) -> Result<
     ensure(outcome.levels.len() == 5, || format!("{} levels", outcome.levels.len()))?;
     for l in &outcome.levels {
         ensure((1.0..=1.3).contains(&l.effectivity), || {
-            format!("level {}: effectivity {:.4} (estimate {:.4e}, true {:.4e})", l.level, l.effectivity, l.estimate, l.error_true)
+            format!(
+                "level {}: effectivity {:.4} (estimate {:.4e}, true {:.4e})",
+                l.level, l.effectivity, l.estimate, l.error_true
+            )
         })?;
     }
     let rate = outcome.rates.true_error.ok_or("no observed rate")?;

@@ -1,0 +1,121 @@
+//! The dual contact benchmark: the square block of Raous–Chabrand–Lebon without its corner
+//! point (the contact holds it vertically), Tresca friction (threshold 2e7 Pa), P1, solved in
+//! the primal (full-space Newton, the default) and in the dual (the Airy/HCT problem condensed
+//! onto the contact forces by one MUMPS factorisation with the Schur complement, semi-smooth
+//! Newton on the condensed problem), with the error in the constitutive relation of the pair and
+//! its contact terms. Targets: the dual contact solve at most 2× the primal contact solve at
+//! 1e5 dofs and above; the estimate at most 10 % of the two solves.
+use std::path::Path;
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::petsc::Session;
+use crate::resources;
+
+/// The strategies of the dual contact solve (case index).
+pub static STRATEGIES: &[&str] = &["condensed, MUMPS Schur + semi-smooth Newton"];
+
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct DualContactBenchRow {
+    pub primal_dofs: usize,
+    pub dual_unknowns: usize,
+    pub contact_points: usize,
+    pub strategy: String,
+    /// Assembly and full-space Newton of the primal.
+    pub primal_seconds: f64,
+    /// Setup, condensation and contact solve of the dual.
+    pub dual_seconds: f64,
+    pub estimate_seconds: f64,
+    pub relative_percent: f64,
+    pub peak_memory_mb: f64,
+}
+
+/// Sizes (primal P1 dofs): 1e3, 1e4, 1e5, up to `max_dofs`.
+pub fn dual_contact_cases(max_dofs: usize) -> Vec<(usize, usize, String)> {
+    let mut cases = Vec::new();
+    for n in [1_000, 10_000, 100_000].into_iter().filter(|&n| n <= max_dofs) {
+        for (k, s) in STRATEGIES.iter().enumerate() {
+            cases.push((n, k, s.to_string()));
+        }
+    }
+    cases
+}
+
+/// One case: the block at about `target_dofs` primal dofs.
+pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) -> Result<DualContactBenchRow> {
+    let strategy = *STRATEGIES.get(index).ok_or_else(|| Error::Usage(format!("no dual contact strategy {index}")))?;
+    let cells = ((((target_dofs / 2) as f64).sqrt()).round() as usize).max(3) - 1;
+    let corner = "[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n";
+    let text = crate::scene::DEFAULT_SCENE_TOML.replace(corner, "");
+    if text.contains("point = [0.04") {
+        return Err(Error::Usage("bench dual-contact: the default scene's corner point was not found".into()));
+    }
+    let text = text
+        .lines()
+        .map(|l| {
+            let t = l.trim_start();
+            if t.starts_with("cell_size") {
+                format!("cell_size = {:e}", 0.04 / cells as f64)
+            } else if t.starts_with("friction") {
+                "friction = \"tresca\"".to_string()
+            } else if t.starts_with("mu ") {
+                "threshold = 2e7".to_string()
+            } else if t.starts_with("solver") {
+                String::new()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let scene = crate::scene::Scene::from_str(&text, Path::new("bench-dual-contact.toml"))?;
+    let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
+    let t = Instant::now();
+    problem.assemble()?;
+    problem.solve()?;
+    problem.postprocess()?;
+    let primal_seconds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    problem.solve_dual()?;
+    let dual_seconds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    problem.estimate()?;
+    let estimate_seconds = t.elapsed().as_secs_f64();
+    let dual = problem.dual.as_ref().ok_or_else(|| Error::Usage("no dual outcome".into()))?;
+    let estimate = problem.estimate.as_ref().ok_or_else(|| Error::Usage("no estimate".into()))?;
+    Ok(DualContactBenchRow {
+        primal_dofs: problem.num_dofs(),
+        dual_unknowns: dual.report.unknowns,
+        contact_points: dual.report.contact.as_ref().map_or(0, |c| c.points),
+        strategy: strategy.to_string(),
+        primal_seconds,
+        dual_seconds,
+        estimate_seconds,
+        relative_percent: estimate.estimate.relative_percent,
+        peak_memory_mb: resources::peak_memory_bytes().map_or(f64::NAN, |b| b as f64 / 1048576.0),
+    })
+}
+
+pub fn dual_contact_table(rows: &[DualContactBenchRow]) -> String {
+    let mut s = String::from(
+        "| primal dofs | dual unknowns | contact points | strategy | primal contact (s) | dual contact (s) | dual / primal | estimate (s) | estimate / solves | error (%) | peak memory (MB) |\n\
+         |---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.3} | {:.3} | {:.3} | {:.0} |\n",
+            r.primal_dofs,
+            r.dual_unknowns,
+            r.contact_points,
+            r.strategy,
+            r.primal_seconds,
+            r.dual_seconds,
+            r.dual_seconds / r.primal_seconds,
+            r.estimate_seconds,
+            r.estimate_seconds / (r.primal_seconds + r.dual_seconds),
+            r.relative_percent,
+            r.peak_memory_mb
+        ));
+    }
+    s
+}
