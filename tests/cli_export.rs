@@ -169,6 +169,10 @@ fn export_without_solution_and_refused_scenes() {
         assert!(!file.exists(), "{} written", file.display());
         stderr
     };
+    // Help, and a missing scene (a usage mistake: exit 2).
+    let help = bin().args(["export", "-h"]).output().unwrap();
+    assert!(help.status.success() && String::from_utf8_lossy(&help.stdout).contains("Usage: signorini export"));
+    assert_eq!(bin().arg("export").output().unwrap().status.code(), Some(2));
     let no_contact = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/block.toml");
     let stderr = refused(&no_contact, &dir.join("none.hdf5"));
     assert!(stderr.contains("has no [contact] section"), "{stderr}");
