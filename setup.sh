@@ -19,7 +19,12 @@ fi
 # is the slow reference BLAS unless an optimised one is installed (MUMPS factorisations 3-4x
 # faster at 1e6 dofs). Serial, not threaded: parallelism comes from MPI ranks, and threaded BLAS
 # under `mpirun -n N` oversubscribes the cores.
-packages=(libpetsc-real3.18-dev libopenblas0-serial libclang-dev pkg-config openmpi-bin gmsh python3 python3-pip)
+# libhdf5-mpi-dev: the HDF5 headers and hdf5.pc for the FCLIB export (crate hdf5-metno), of the
+# Open MPI build of HDF5 that PETSc already links, so that one HDF5 library is loaded (the
+# serial libhdf5-dev would take over hdf5.pc and bring a second one). python3-h5py: the
+# independent reader the tests use to check the exported files.
+packages=(libpetsc-real3.18-dev libopenblas0-serial libclang-dev pkg-config openmpi-bin gmsh python3 python3-pip
+  libhdf5-mpi-dev python3-h5py)
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -34,10 +39,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >&2
 fi
 
-# Python meshio: the independent reader the tests use to check solution.vtu.
-if ! python3 -c "import meshio" 2>/dev/null; then
-  echo "setup: installing Python meshio" >&2
-  python3 -m pip install -q meshio >&2 2>/dev/null \
-    || python3 -m pip install -q --user meshio >&2 2>/dev/null \
-    || python3 -m pip install -q --break-system-packages meshio >&2
-fi
+# Python meshio and h5py: the independent readers the tests use to check solution.vtu and the
+# FCLIB export, for the python3 on PATH (h5py from PyPI when that is not Debian's python3, which
+# python3-h5py serves).
+for module in meshio h5py; do
+  if ! python3 -c "import $module" 2>/dev/null; then
+    echo "setup: installing Python $module" >&2
+    python3 -m pip install -q "$module" >&2 2>/dev/null \
+      || python3 -m pip install -q --user "$module" >&2 2>/dev/null \
+      || python3 -m pip install -q --break-system-packages "$module" >&2
+  fi
+done

@@ -53,6 +53,12 @@ pub enum Command {
     /// effectivity and observed rates; writes DIR/study.json, study.md and study.svg.
     #[command(after_help = PETSC_HELP)]
     Study(StudyArgs),
+    /// Write the scene's condensed contact problem as an FCLIB local problem (HDF5): W, q (the
+    /// gaps minus the free displacements) and mu, in FCLIB's sign convention (normal force and
+    /// gap >= 0), for Siconos and the other FCLIB readers to solve the same discrete problem.
+    /// With --solve, our solution (u, r) too. Tresca friction has no FCLIB form.
+    #[command(after_help = PETSC_HELP)]
+    Export(ExportArgs),
     /// Benchmarks: tables (markdown) and plots (SVG) of times, iterations and memory.
     #[command(arg_required_else_help = false, subcommand_required = true)]
     Bench {
@@ -89,6 +95,19 @@ pub struct RunOptions {
     /// relation, per element and in total (as [estimate] in a scene).
     #[arg(long)]
     pub estimate: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The scene (a TOML file with a [contact] section, Coulomb or no friction).
+    pub scene: PathBuf,
+    /// The file to write (default: DIR/problem.hdf5, DIR the scene's [output] dir, else ./out).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Also solve the condensed problem with the scene's contact solver and write our solution
+    /// in the file (/solution: u and r, FCLIB's convention), for comparison.
+    #[arg(long)]
+    pub solve: bool,
 }
 
 #[derive(Debug, Args)]
@@ -295,6 +314,16 @@ mod tests {
             Command::Adapt(a) => assert_eq!((a.target, a.max_steps), (2.5, 8)),
             other => panic!("{other:?}"),
         }
+        match parse("export s.toml --out p.hdf5 --solve -ksp_type cg").unwrap().command {
+            Command::Export(a) => {
+                assert_eq!(
+                    (a.scene.to_str(), a.out.as_deref().and_then(|p| p.to_str()), a.solve),
+                    (Some("s.toml"), Some("p.hdf5"), true)
+                )
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(parse("export").is_err());
         match parse("study s.toml --levels 3 --out d").unwrap().command {
             Command::Study(a) => assert_eq!((a.levels, a.reference_halvings), (3, 1)),
             other => panic!("{other:?}"),

@@ -92,8 +92,9 @@ pub enum Error {
     NeedsGeometry { scene: PathBuf, file: PathBuf, command: &'static str },
 
     /// A scene that cannot be solved as posed: the chosen formulation cannot represent it (the
-    /// dual formulation on a domain with holes), or its geometry contradicts it (a body that
-    /// starts inside its obstacle). What and why, and what to do.
+    /// dual formulation on a domain with holes; an export format without its friction law, as
+    /// FCLIB for Tresca), or its geometry contradicts it (a body that starts inside its
+    /// obstacle). What and why, and what to do.
     #[error("{message}\n  hint: {hint}")]
     Formulation { message: String, hint: String },
 }

@@ -9,6 +9,7 @@
 //! - [`fem`]: Lagrange elements, quadrature, Hooke's law, assembly, post-processing.
 //! - [`scene`]: the TOML scene format.
 //! - [`output`]: `.vtu` for ParaView and meshio, `report.json`.
+//! - [`export`]: the condensed contact problem in the FCLIB format (HDF5), for other solvers.
 //! - [`problem`]: the driver, whose methods read like the algorithm.
 //!
 //! The library never prints or exits; the `signorini` binary does.
@@ -20,6 +21,7 @@ pub mod contact;
 pub mod dual;
 pub mod error;
 pub mod estimate;
+pub mod export;
 pub mod fem;
 pub mod mesh;
 pub mod output;

@@ -39,6 +39,8 @@ struct RunArgs {
     max_elements: usize,
     levels: usize,
     reference_halvings: usize,
+    /// export: `--solve`.
+    solve: bool,
     petsc: Vec<String>,
 }
 
@@ -69,6 +71,7 @@ fn main() -> ExitCode {
         max_elements: 0,
         levels: 0,
         reference_halvings: 0,
+        solve: false,
         petsc: petsc.clone(),
     };
     match parsed.command {
@@ -91,6 +94,11 @@ fn main() -> ExitCode {
             r.levels = a.levels as usize;
             r.reference_halvings = a.reference_halvings as usize;
             with_session(&program, r, error_control::study_command)
+        }
+        Command::Export(e) => {
+            let mut r = args(Some(e.scene), e.out, false, None, 0, None);
+            r.solve = e.solve;
+            with_session(&program, r, export_command)
         }
         Command::Bench { which } => match which {
             Bench::Elasticity(o) => {
@@ -214,6 +222,73 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
             eprintln!("{line}");
         }
     }
+    Ok(())
+}
+
+/// `signorini export SCENE [--out FILE] [--solve]`: the condensed contact problem in the FCLIB
+/// format (and our solution of it with `--solve`); one line on stdout says what was written.
+fn export_command(session: &Session, args: RunArgs) -> Result<(), Error> {
+    use signorini::contact::FrictionLaw;
+    use signorini::export::{check_friction, write_fclib, FclibInfo};
+    let path = args.scene.clone().ok_or_else(|| Error::Usage("signorini export needs a scene".into()))?;
+    let scene = Scene::from_file(&path)?;
+    if scene.contact.is_none() {
+        return Err(Error::Usage(format!(
+            "signorini export: the scene {} has no [contact] section: there is no contact problem to export",
+            path.display()
+        )));
+    }
+    let file = args
+        .out
+        .clone()
+        .unwrap_or_else(|| scene.output_dir.clone().unwrap_or_else(|| PathBuf::from("out")).join("problem.hdf5"));
+    let mut problem = ElasticityProblem::setup_system(session, scene)?;
+    if let Some(contact) = &problem.contact {
+        check_friction(&contact.friction_law())?; // Tresca: refused before the condensation
+    }
+    let condensed = problem.condensed_contact_problem()?;
+    let solution = if args.solve { Some(problem.solve_condensed_contact_problem(&condensed)?) } else { None };
+    if session.rank() != 0 {
+        return Ok(());
+    }
+    let contact = problem.contact.as_ref().map(|c| c.spec.part.clone()).unwrap_or_default();
+    let description = format!(
+        "signorini {} ({}): the condensed contact problem of the scene {}: {} contact points (the nodes of the \
+         part '{contact}', {} elements, {} nodes) of a linear elastic body (plane {}, E = {:e} Pa, nu = {}) against a \
+         rigid obstacle. W = B K^-1 B^T is the flexibility in the local frames (normal: the obstacle's normal, \
+         towards the body); q = gap - B K^-1 f. u are displacements (m), r nodal forces (N per unit thickness).",
+        env!("CARGO_PKG_VERSION"),
+        option_env!("SIGNORINI_COMMIT").unwrap_or("unknown"),
+        path.display(),
+        condensed.points(),
+        problem.mesh.num_cells(),
+        problem.mesh.num_nodes(),
+        match problem.material.plane {
+            signorini::fem::material::PlaneModel::Strain => "strain",
+            signorini::fem::material::PlaneModel::Stress => "stress",
+        },
+        problem.material.young,
+        problem.material.poisson,
+    );
+    let title = problem.scene.title.clone().unwrap_or_else(|| path.display().to_string());
+    let info = FclibInfo::new(title, description, &condensed);
+    let written = write_fclib(&file, &condensed, solution.as_ref().map(|s| s.force.as_slice()), &info)?;
+    let friction = match condensed.friction() {
+        FrictionLaw::Coulomb { mu } => format!("Coulomb mu = {}", mu.iter().cloned().fold(0.0, f64::max)),
+        _ => "frictionless".to_string(),
+    };
+    let ours = match &solution {
+        Some(s) => format!(", with our solution ({}, {} iterations)", s.solver, s.iterations),
+        None => String::new(),
+    };
+    println!(
+        "wrote {}: FCLIB local problem, {} contacts in dimension {} (W {n}x{n}, {} entries), {friction}{ours}",
+        file.display(),
+        written.contacts,
+        written.dimension,
+        written.nonzeros,
+        n = written.dimension * written.contacts,
+    );
     Ok(())
 }
 

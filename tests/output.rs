@@ -13,7 +13,7 @@ use signorini::error::Error;
 use signorini::mesh::{Mesh, Order, PhysicalGroup, NO_GROUP};
 use signorini::output::plot::{write_loglog_svg, Series};
 use signorini::output::vtu::{write_vtu, Field};
-use signorini::output::{write_atomically, write_json};
+use signorini::output::{write_atomically, write_atomically_by_name, write_json};
 use signorini::resources::{current_memory_bytes, peak_memory_bytes, Timings};
 
 /// A fresh, empty directory for one test.
@@ -438,6 +438,46 @@ fn failed_writer_leaves_the_old_file_intact() {
     write_json(&nested, &serde_json::json!({"k": [1.5, 2]})).unwrap();
     assert_eq!(fs::read_to_string(&nested).unwrap(), "{\n  \"k\": [\n    1.5,\n    2\n  ]\n}\n");
     assert_eq!(dir_entries(&dir), BTreeSet::from(["a".to_string(), "report.json".to_string()]));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The by-name writer (the FCLIB export's, whose HDF5 library opens the file itself): the
+/// closure gets a hidden temporary next to the target; a failure or a panic leaves the old file
+/// and no temporary; success replaces the target.
+#[test]
+fn failed_writer_by_name_leaves_the_old_file_intact() {
+    let dir = scratch_dir("atomic-by-name");
+    let file = dir.join("problem.hdf5");
+    fs::write(&file, "old contents\n").unwrap();
+    let err = write_atomically_by_name(&file, |temporary| {
+        assert_eq!(temporary.parent(), Some(dir.as_path()));
+        assert!(temporary.file_name().unwrap().to_string_lossy().starts_with(".problem.hdf5."));
+        fs::write(temporary, "half written")?;
+        Err(std::io::Error::other("simulated HDF5 failure"))
+    })
+    .unwrap_err();
+    let (path, message) = output_message(err);
+    assert_eq!(path, file);
+    assert!(message.contains("simulated HDF5 failure"), "{message}");
+    assert_eq!(fs::read_to_string(&file).unwrap(), "old contents\n");
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["problem.hdf5".to_string()]));
+    let result = std::panic::catch_unwind(|| {
+        let _ = write_atomically_by_name(&file, |temporary| {
+            fs::write(temporary, "partial")?;
+            panic!("writer panicked");
+        });
+    });
+    assert!(result.is_err());
+    assert_eq!(fs::read_to_string(&file).unwrap(), "old contents\n");
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["problem.hdf5".to_string()]));
+    // The writer may replace the temporary (as HDF5's truncating create does).
+    write_atomically_by_name(&file, |temporary| {
+        fs::remove_file(temporary)?;
+        fs::write(temporary, "new")
+    })
+    .unwrap();
+    assert_eq!(fs::read_to_string(&file).unwrap(), "new");
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["problem.hdf5".to_string()]));
     fs::remove_dir_all(&dir).unwrap();
 }
 

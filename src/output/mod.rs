@@ -1,7 +1,8 @@
 //! Result files: `.vtu` meshes with fields ([`vtu`]), log-log SVG plots ([`plot`]), JSON reports.
 //!
-//! Every file goes through [`write_atomically`], so a reader (ParaView, a script polling a run
-//! directory, the next run of the program) never sees a half-written file:
+//! Every file goes through [`write_atomically`] (or [`write_atomically_by_name`], for a library
+//! that opens the file itself, such as HDF5 for the FCLIB export), so a reader (ParaView, a
+//! script polling a run directory, the next run of the program) never sees a half-written file:
 //!
 //! ```text
 //!   out/report.json            target (old version, if any, stays readable throughout)
@@ -64,6 +65,32 @@ fn output_error(path: &Path, step: &str, err: impl std::fmt::Display) -> Error {
 /// contents of `path` (if any) are left untouched; the error is [`Error::Output`] naming `path`
 /// and the step that failed.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+    let (parent, mut temporary, file) = create_temporary(path)?;
+    let mut buffered = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
+    write(&mut buffered).map_err(|e| output_error(path, "writing", e))?;
+    let file: File = buffered.into_inner().map_err(|e| output_error(path, "flushing", e.error()))?;
+    file.sync_all().map_err(|e| output_error(path, "syncing to disk", e))?;
+    drop(file);
+    install(&mut temporary, path, &parent)
+}
+
+/// [`write_atomically`] for writers that open the file by name themselves (an HDF5 library):
+/// `write` gets the path of the hidden temporary file (already created, empty; the writer may
+/// truncate or replace it) and must have closed it when it returns. Then the temporary is
+/// fsync'ed and renamed over `path`; on any failure it is removed and `path` is untouched.
+pub fn write_atomically_by_name(path: &Path, write: impl FnOnce(&Path) -> io::Result<()>) -> Result<()> {
+    let (parent, mut temporary, file) = create_temporary(path)?;
+    drop(file);
+    write(&temporary.path).map_err(|e| output_error(path, "writing", e))?;
+    let file = File::open(&temporary.path).map_err(|e| output_error(path, "reopening the written file", e))?;
+    file.sync_all().map_err(|e| output_error(path, "syncing to disk", e))?;
+    drop(file);
+    install(&mut temporary, path, &parent)
+}
+
+/// Create the parent directories of `path` and a new hidden temporary file next to it; the
+/// parent directory, the temporary (removed when dropped unless installed) and its handle.
+fn create_temporary(path: &Path) -> Result<(PathBuf, TemporaryFile, File)> {
     let file_name = path
         .file_name()
         .ok_or_else(|| output_error(path, "choosing the file name", "the path does not end in a file name"))?;
@@ -78,24 +105,24 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
     let mut temporary_name = std::ffi::OsString::from(".");
     temporary_name.push(file_name);
     temporary_name.push(format!(".{}.{}.tmp", std::process::id(), counter));
-    let mut temporary = TemporaryFile { path: parent.join(temporary_name), renamed: false };
+    let temporary = TemporaryFile { path: parent.join(temporary_name), renamed: false };
 
     let file = OpenOptions::new()
         .write(true)
         .create_new(true)
         .open(&temporary.path)
         .map_err(|e| output_error(path, &format!("creating temporary file {}", temporary.path.display()), e))?;
-    let mut buffered = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
-    write(&mut buffered).map_err(|e| output_error(path, "writing", e))?;
-    let file: File = buffered.into_inner().map_err(|e| output_error(path, "flushing", e.error()))?;
-    file.sync_all().map_err(|e| output_error(path, "syncing to disk", e))?;
-    drop(file);
+    Ok((parent, temporary, file))
+}
+
+/// Rename the complete temporary over `path` and make the rename durable.
+fn install(temporary: &mut TemporaryFile, path: &Path, parent: &Path) -> Result<()> {
     fs::rename(&temporary.path, path).map_err(|e| {
         output_error(path, &format!("renaming temporary file {} over the target", temporary.path.display()), e)
     })?;
     temporary.renamed = true;
     // Make the rename itself durable. Best effort: not every platform can open a directory.
-    if let Ok(dir) = File::open(&parent) {
+    if let Ok(dir) = File::open(parent) {
         let _ = dir.sync_all();
     }
     Ok(())

@@ -458,58 +458,8 @@ impl ContactSetup {
         let mut x = matrix.create_vector()?;
         let friction = self.friction_law();
         let frictional = !matches!(friction, FrictionLaw::None);
-        let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
-        let columns: Vec<usize> = if frictional { (0..2 * m).collect() } else { (0..m).map(|i| 2 * i).collect() };
         let mut e = matrix.create_vector()?;
-        let mut unit = vec![0.0; 2 * m];
-        let mut load = vec![0.0; n];
-        // W = B K⁻¹ Bᵀ: on one process with the default linear solver, from one MUMPS
-        // factorisation with the Schur complement on the contact dofs (S⁻¹ = (K⁻¹)_cc); else, or
-        // with `-contact_condense_schur false`, one solve per contact unknown with the
-        // configured KSP (any options, any number of ranks).
-        let schur_rows: Vec<usize> = b.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
-        let default_solver = !session.has_option("-ksp_type")? && !session.has_option("-pc_type")?;
-        let applicable = session.size() == 1 && default_solver;
-        let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
-            None => applicable,
-            Some("0" | "false" | "no") => false,
-            Some("" | "1" | "true" | "yes") => {
-                if !applicable {
-                    return Err(Error::Usage(
-                        "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
-                            .into(),
-                    ));
-                }
-                true
-            }
-            Some(other) => {
-                return Err(Error::Usage(format!("-contact_condense_schur takes true or false (got \"{other}\")")))
-            }
-        };
-        let start = std::time::Instant::now();
-        let mut linear = if wants_schur {
-            let factor = SchurFactor::new(session, matrix, &schur_rows)?;
-            w = flexibility_from_schur(&factor, b)?;
-            Factorised::Schur(factor, start.elapsed().as_secs_f64())
-        } else {
-            Factorised::Krylov(ksp)
-        };
-        let columns: Vec<usize> = if matches!(linear, Factorised::Schur(..)) { Vec::new() } else { columns };
-        for (count, &j) in columns.iter().enumerate() {
-            unit[j] = 1.0;
-            load.iter_mut().for_each(|v| *v = 0.0);
-            b.scatter_add(&unit, &mut load);
-            unit[j] = 0.0;
-            e.set_owned(&load[rows.clone()])?;
-            linear.solve(matrix, &e, &mut x)?;
-            let col = b.gather(&x.gather_all()?);
-            for (i, v) in col.iter().enumerate() {
-                w[(i, j)] = *v;
-            }
-            if count % 50 == 49 {
-                progress.note(&format!("condensing: {} / {} flexibility columns", count + 1, columns.len()));
-            }
-        }
+        let (mut w, mut linear, mut solves) = self.flexibility(session, matrix, ksp, frictional, progress)?;
         if !frictional {
             // Tangential block never used (rT stays 0): keep W symmetric positive definite.
             for i in 0..m {
@@ -531,7 +481,6 @@ impl ContactSetup {
         // are anchored at the previous displacement, so their force vanishes at convergence.
         let f = rhs.owned_values()?;
         let mut anchor = vec![0.0; n];
-        let mut solves = columns.len();
         let mut history: Vec<f64> = Vec::new();
         let mut initial_force: Option<Vec<f64>> = None;
         let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::new());
@@ -582,6 +531,116 @@ impl ContactSetup {
             anchor = u;
             initial_force = Some(outcome.force);
         }
+    }
+
+    /// The flexibility `W = B K⁻¹ Bᵀ` (`2m × 2m`, local frames), the factorised stiffness it was
+    /// computed with (for the later solves), and the number of linear solves it took.
+    ///
+    /// On one process with the default linear solver: from one MUMPS factorisation with the
+    /// Schur complement on the contact dofs (`S⁻¹ = (K⁻¹)_cc`, every block at once); else, or
+    /// with `-contact_condense_schur false`, one solve per contact unknown with the configured
+    /// KSP (any options, any number of ranks): all `2m` columns when `all_columns`, only the
+    /// normal ones otherwise (the tangential columns are left zero).
+    fn flexibility<'a, 's>(
+        &self,
+        session: &'s Session,
+        matrix: &Matrix<'s>,
+        ksp: &'a mut LinearSolver<'s>,
+        all_columns: bool,
+        progress: &dyn super::Progress,
+    ) -> Result<(DMatrix<f64>, Factorised<'a, 's>, usize)> {
+        let b = &self.boundary;
+        let m = b.points();
+        let rows = matrix.owned_rows();
+        let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
+        let schur_rows: Vec<usize> = b.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
+        let default_solver = !session.has_option("-ksp_type")? && !session.has_option("-pc_type")?;
+        let applicable = session.size() == 1 && default_solver;
+        let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
+            None => applicable,
+            Some("0" | "false" | "no") => false,
+            Some("" | "1" | "true" | "yes") => {
+                if !applicable {
+                    return Err(Error::Usage(
+                        "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
+                            .into(),
+                    ));
+                }
+                true
+            }
+            Some(other) => {
+                return Err(Error::Usage(format!("-contact_condense_schur takes true or false (got \"{other}\")")))
+            }
+        };
+        let start = std::time::Instant::now();
+        let mut linear = if wants_schur {
+            let factor = SchurFactor::new(session, matrix, &schur_rows)?;
+            w = flexibility_from_schur(&factor, b)?;
+            Factorised::Schur(factor, start.elapsed().as_secs_f64())
+        } else {
+            Factorised::Krylov(ksp)
+        };
+        let columns: Vec<usize> = match linear {
+            Factorised::Schur(..) => Vec::new(),
+            Factorised::Krylov(_) if all_columns => (0..2 * m).collect(),
+            Factorised::Krylov(_) => (0..m).map(|i| 2 * i).collect(),
+        };
+        let mut x = matrix.create_vector()?;
+        let mut e = matrix.create_vector()?;
+        let mut unit = vec![0.0; 2 * m];
+        let mut load = vec![0.0; matrix.global_size()];
+        for (count, &j) in columns.iter().enumerate() {
+            unit[j] = 1.0;
+            load.iter_mut().for_each(|v| *v = 0.0);
+            b.scatter_add(&unit, &mut load);
+            unit[j] = 0.0;
+            e.set_owned(&load[rows.clone()])?;
+            linear.solve(matrix, &e, &mut x)?;
+            let col = b.gather(&x.gather_all()?);
+            for (i, v) in col.iter().enumerate() {
+                w[(i, j)] = *v;
+            }
+            if count % 50 == 49 {
+                progress.note(&format!("condensing: {} / {} flexibility columns", count + 1, columns.len()));
+            }
+        }
+        Ok((w, linear, columns.len()))
+    }
+
+    /// The condensed problem itself, for solvers elsewhere (the FCLIB export): the whole
+    /// flexibility `W = B K⁻¹ Bᵀ` (every column, also without friction), `u_free = B K⁻¹ f`,
+    /// the gaps, the friction law and the weights. `matrix` is K without springs, `rhs` f.
+    ///
+    /// A body held by the contact alone (Dirichlet conditions leave a rigid motion free) has a
+    /// singular K and no flexibility: [`Error::Unconstrained`] (the solver's stabilised
+    /// iterations have no single condensed problem to give).
+    pub fn condensed_problem<'s>(
+        &self,
+        session: &'s Session,
+        matrix: &Matrix<'s>,
+        rhs: &Vector<'s>,
+        ksp: &mut LinearSolver<'s>,
+        progress: &dyn super::Progress,
+    ) -> Result<CondensedProblem> {
+        if let Some(free) = &self.free_motions {
+            return Err(Error::Unconstrained(format!(
+                "the body is held by the contact on '{}' alone ({free}): its stiffness is singular, so there is no \
+                 flexibility W = B K^-1 B^T and no condensed contact problem; hold the rigid motions with Dirichlet \
+                 conditions",
+                self.spec.part
+            )));
+        }
+        let (w, mut linear, _) = self.flexibility(session, matrix, ksp, true, progress)?;
+        let mut x = matrix.create_vector()?;
+        linear.solve(matrix, rhs, &mut x)?;
+        let b = &self.boundary;
+        CondensedProblem::new(
+            Delassus::Dense(w),
+            b.gather(&x.gather_all()?),
+            b.gap.clone(),
+            self.friction_law(),
+            Some(b.weight.clone()),
+        )
     }
 
     fn solve_with_tao(&self, session: &Session, problem: &CondensedProblem) -> Result<contact::ContactSolution> {

@@ -12,6 +12,9 @@
 //!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
 //!                   ::write_output  solution.vtu + report.json, and for contact contact.csv,
 //!                                   contact.svg, convergence.svg (rank 0, atomic; output_files.rs)
+//!                   ::condensed_contact_problem   instead of assemble/solve: the condensed
+//!                                   contact problem alone, for other solvers (condensed.rs;
+//!                                   `signorini export` writes it in the FCLIB format)
 //! ```
 //!
 //! Parallel runs (`mpirun -n N`): every rank holds the whole mesh (2D meshes are small next to
@@ -22,6 +25,7 @@ use std::ops::Range;
 use std::path::Path;
 
 mod block_elimination;
+mod condensed;
 mod contact;
 mod contact_curve;
 mod contact_zones;

@@ -15,6 +15,7 @@ mod adapt;
 mod contact;
 mod dual;
 mod dual_contact;
+mod export;
 mod locking;
 mod progress;
 
@@ -83,6 +84,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("adapt_and_study_refuse_mesh_files", adapt::adapt_and_study_refuse_mesh_files),
     ("hertz_near_incompressible_p2p0_is_locking_free", locking::hertz_near_incompressible_p2p0_is_locking_free),
     ("contact_patch_near_incompressible_p2p0_exact", locking::contact_patch_near_incompressible_p2p0_exact),
+    ("fclib_export_square_block_reads_back", export::fclib_export_square_block_reads_back),
+    ("fclib_export_refuses_what_it_cannot_hold", export::fclib_export_refuses_what_it_cannot_hold),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
