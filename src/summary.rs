@@ -87,7 +87,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     );
     let s = &r.solver.stats;
     let iterations = match &r.contact {
-        Some(c) => format!("{} contact iteration(s), status changes {:?}", c.iterations, c.status_changes),
+        Some(c) => format!("{} contact iteration(s), status changes {}", c.iterations, changes_list(&c.status_changes)),
         None => format!("{} iteration(s)", s.iterations),
     };
     out.add(
@@ -265,5 +265,23 @@ mod tests {
         assert!(l.0[0].starts_with("label     word"));
         let joined: String = l.0.iter().map(|s| s[INDENT..].to_string()).collect::<Vec<_>>().join(" ");
         assert_eq!(joined.matches('x').count(), 250);
+    }
+
+    #[test]
+    fn long_status_change_lists_are_shortened() {
+        assert_eq!(changes_list(&[3, 1, 0]), "[3, 1, 0]");
+        let long: Vec<usize> = (0..111).collect();
+        assert_eq!(changes_list(&long), "[0, 1, 2, 3, 4, 5, … 101 more …, 107, 108, 109, 110]");
+    }
+}
+
+/// The status changes per iteration, the first six and the last four when there are more than
+/// twelve (all of them are in report.json).
+fn changes_list(changes: &[usize]) -> String {
+    let join = |v: &[usize]| v.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", ");
+    if changes.len() <= 12 {
+        format!("[{}]", join(changes))
+    } else {
+        format!("[{}, … {} more …, {}]", join(&changes[..6]), changes.len() - 10, join(&changes[changes.len() - 4..]))
     }
 }
