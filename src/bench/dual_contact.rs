@@ -44,30 +44,20 @@ pub fn dual_contact_cases(max_dofs: usize) -> Vec<(usize, usize, String)> {
 /// One case: the block at about `target_dofs` primal dofs.
 pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) -> Result<DualContactBenchRow> {
     let strategy = *STRATEGIES.get(index).ok_or_else(|| Error::Usage(format!("no dual contact strategy {index}")))?;
-    let cells = ((((target_dofs / 2) as f64).sqrt()).round() as usize).max(3) - 1;
     let corner = "[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n";
     let text = crate::scene::DEFAULT_SCENE_TOML.replace(corner, "");
     if text.contains("point = [0.04") {
         return Err(Error::Usage("bench dual-contact: the default scene's corner point was not found".into()));
     }
-    let text = text
-        .lines()
-        .map(|l| {
-            let t = l.trim_start();
-            if t.starts_with("cell_size") {
-                format!("cell_size = {:e}", 0.04 / cells as f64)
-            } else if t.starts_with("friction") {
-                "friction = \"tresca\"".to_string()
-            } else if t.starts_with("mu ") {
-                "threshold = 2e7".to_string()
-            } else if t.starts_with("solver") {
-                String::new()
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    let text = super::square_block_at(&text, target_dofs, |t| {
+        if t.starts_with("friction") {
+            Some("friction = \"tresca\"".to_string())
+        } else if t.starts_with("mu ") {
+            Some("threshold = 2e7".to_string())
+        } else {
+            t.starts_with("solver").then(String::new)
+        }
+    });
     let scene = crate::scene::Scene::from_str(&text, Path::new("bench-dual-contact.toml"))?;
     let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
     let t = Instant::now();

@@ -4,7 +4,6 @@
 //! (the contact alone holds the body, sideways by friction) — with the full-space Newton. The
 //! ratio of the two contact solve times, per size, is the target (at most 2 at 8.6e4 dofs).
 use std::path::Path;
-use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::petsc::Session;
@@ -72,12 +71,7 @@ pub fn held_case(session: &Session, target_dofs: usize, index: usize) -> Result<
     } else {
         None
     };
-    let mut contact_seconds = f64::INFINITY;
-    for _ in 0..2 {
-        let t = Instant::now();
-        problem.solve()?;
-        contact_seconds = contact_seconds.min(t.elapsed().as_secs_f64());
-    }
+    let contact_seconds = super::best_of_two_solves(&mut problem)?;
     let o = problem.contact_outcome.as_ref().ok_or_else(|| Error::Usage("no contact outcome".into()))?;
     Ok(HeldBenchRow {
         dofs: problem.num_dofs(),
