@@ -9,6 +9,7 @@
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
 pub mod dual;
 pub mod provenance;
+pub mod startup;
 
 pub use provenance::{BenchRecord, FailedCase};
 
