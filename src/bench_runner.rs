@@ -240,3 +240,36 @@ pub fn bench_dual_contact(parsed: RunArgs) -> ExitCode {
         },
     )
 }
+
+/// `bench startup`: every measurement a child process (see [`bench::startup`]); the table on
+/// stdout and in DIR/bench_startup.md.
+pub fn bench_startup(runs: usize, skip_half_disc: bool, out: Option<PathBuf>) -> ExitCode {
+    let out = out.unwrap_or_else(|| PathBuf::from("bench"));
+    let record = BenchRecord::new(command_line());
+    let result = std::env::current_exe()
+        .map_err(|e| Error::Usage(format!("cannot find the signorini executable to run: {e}")))
+        .and_then(|exe| {
+            let scratch = std::env::temp_dir().join(format!("signorini-bench-startup-{}", std::process::id()));
+            eprintln!(
+                "measuring start-up ({runs} runs each){}",
+                if skip_half_disc { "" } else { ", then the half disc twice" }
+            );
+            bench::startup::startup_bench(&exe, runs, skip_half_disc, &scratch)
+        })
+        .and_then(|b| {
+            let table = bench::startup::startup_table(&b);
+            let md = out.join("bench_startup.md");
+            let text = record.markdown("Start-up and meshing", &table);
+            signorini::output::write_atomically(&md, |w| w.write_all(text.as_bytes()))?;
+            println!("{table}");
+            eprintln!("wrote {}", md.display());
+            Ok(())
+        });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

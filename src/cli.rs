@@ -95,6 +95,10 @@ pub struct RunOptions {
     /// relation, per element and in total (as [estimate] in a scene).
     #[arg(long)]
     pub estimate: bool,
+    /// Mesh with Gmsh even if the mesh cache has this mesh, and do not store it (as
+    /// SIGNORINI_NO_MESH_CACHE=1).
+    #[arg(long)]
+    pub no_mesh_cache: bool,
 }
 
 #[derive(Debug, Args)]
@@ -174,6 +178,10 @@ pub enum Bench {
     /// displacement and by a traction with no support, full-space Newton, the ratio of the two
     /// solve times, at 1e4, 8.6e4 and 3e5 dofs up to --max-dofs (default 1e5).
     Held(BenchOptions),
+    /// Start-up and meshing: the wall and CPU time of a 1e3-dof `run` against
+    /// `signorini --version`, and the mesh / contact-solve time ratio of the 8.6e4-dof P2 half
+    /// disc on a first run and from the mesh cache.
+    Startup(StartupOptions),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
     ElasticityCase(CaseOptions),
@@ -202,6 +210,19 @@ pub struct BenchOptions {
 }
 
 #[derive(Debug, Args)]
+pub struct StartupOptions {
+    /// Start-up runs of each command.
+    #[arg(long, value_name = "N", default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+    /// Only the start-up part (not the half disc, which takes two contact solves of 8.6e4 dofs).
+    #[arg(long)]
+    pub skip_half_disc: bool,
+    /// Where the table goes (default ./bench).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
 pub struct CaseOptions {
     /// DOFS,SOLVER_INDEX
     #[arg(long, value_parser = parse_case)]
@@ -224,8 +245,9 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 11] = [
+const VALUE_FLAGS: [&str; 12] = [
     "--out",
+    "--runs",
     "--max-dofs",
     "--case",
     "--contact-solver",

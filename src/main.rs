@@ -76,6 +76,10 @@ fn main() -> ExitCode {
     };
     match parsed.command {
         Command::Run(r) => {
+            if r.no_mesh_cache {
+                // Still one thread: MPI and PETSc start later.
+                std::env::set_var("SIGNORINI_NO_MESH_CACHE", "1");
+            }
             let mut a = args(r.scene, r.out, r.quiet, r.contact_solver, 0, None);
             a.formulation = r.formulation;
             a.estimate = r.estimate;
@@ -107,6 +111,7 @@ fn main() -> ExitCode {
             Bench::Contact(o) => {
                 bench_runner::bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
             }
+            Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
             Bench::ElasticityCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_elasticity_case)
             }

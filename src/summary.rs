@@ -99,7 +99,13 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
             s.relative_residual
         ),
     );
-    let phases: Vec<String> = r.timings.phases().iter().map(|(k, v)| format!("{k} {v:.3} s")).collect();
+    let cached = r.mesh_cache.as_ref().is_some_and(|c| c.status == signorini::mesh::cache::CacheStatus::Hit);
+    let phases: Vec<String> = r
+        .timings
+        .phases()
+        .iter()
+        .map(|(k, v)| if k == "mesh" && cached { format!("{k} {v:.3} s (cached)") } else { format!("{k} {v:.3} s") })
+        .collect();
     out.add(
         "time",
         &format!(
@@ -247,6 +253,9 @@ pub fn warning_lines(r: &Report) -> Vec<String> {
     }
     for u in &r.solver.unused_options {
         out.add("warning", &format!("PETSc option {u} was never used (a typo?)"));
+    }
+    if let Some(problem) = r.mesh_cache.as_ref().and_then(|c| c.problem.as_ref()) {
+        out.add("note", &format!("mesh cache: {problem}"));
     }
     out.0
 }

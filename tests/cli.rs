@@ -7,6 +7,9 @@ use std::process::{Command, Output};
 fn bin() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_signorini"));
     c.env("OMP_NUM_THREADS", "1").env("OPENBLAS_NUM_THREADS", "1");
+    // Gmsh meshes cached for the tests, not in the user's cache.
+    c.env("SIGNORINI_CACHE_DIR", Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache"));
+    c.env_remove("SIGNORINI_NO_MESH_CACHE");
     c
 }
 
@@ -1050,4 +1053,46 @@ fn progress_is_drawn_on_a_terminal_only() {
     assert!(shown.contains('\u{1b}') && shown.contains("contact iteration"), "{shown}");
     let quiet = run("--quiet");
     assert!(!quiet.contains('\u{1b}') && !quiet.contains("contact iteration"), "{quiet}");
+}
+
+#[test]
+fn gmsh_meshes_come_from_the_mesh_cache_the_second_time() {
+    let dir = scratch("mesh-cache");
+    let cache = dir.join("cache");
+    let path = scene("examples/scenes/cantilever.toml");
+    let run = |out: &str, extra: &[&str], env: Option<(&str, &str)>| {
+        let mut c = bin();
+        c.arg("run").arg(&path).args(extra).arg("--out").arg(dir.join(out)).env("SIGNORINI_CACHE_DIR", &cache);
+        if let Some((k, v)) = env {
+            c.env(k, v);
+        }
+        let o = run_ok(&mut c);
+        let r = report(&dir.join(out));
+        (String::from_utf8_lossy(&o.stdout).to_string(), String::from_utf8_lossy(&o.stderr).to_string(), r)
+    };
+    let (first, _, r1) = run("first", &[], None);
+    assert_eq!(r1["mesh_cache"]["status"], "miss", "{r1}");
+    assert!(!first.contains("(cached)"), "{first}");
+    let (second, _, r2) = run("second", &[], None);
+    assert_eq!(r2["mesh_cache"]["status"], "hit", "{r2}");
+    assert!(second.contains("mesh ") && second.contains(" s (cached)"), "{second}");
+    // The same mesh, so the same answer to the bit.
+    let solution = |out: &str| std::fs::read(dir.join(out).join("solution.vtu")).unwrap();
+    assert!(solution("first") == solution("second"), "the cached mesh gave another solution");
+    // Off by the flag or the variable: meshed by Gmsh, nothing read.
+    let (_, _, r3) = run("flag", &["--no-mesh-cache"], None);
+    assert_eq!(r3["mesh_cache"]["status"], "disabled", "{r3}");
+    let (_, _, r4) = run("variable", &[], Some(("SIGNORINI_NO_MESH_CACHE", "1")));
+    assert_eq!(r4["mesh_cache"]["status"], "disabled", "{r4}");
+    // A damaged entry: a note on stderr, meshed again, and the next run hits.
+    let entries: Vec<PathBuf> = std::fs::read_dir(cache.join("meshes")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    let bytes = std::fs::read(&entries[0]).unwrap();
+    std::fs::write(&entries[0], &bytes[..bytes.len() / 3]).unwrap();
+    let (_, stderr, r5) = run("damaged", &[], None);
+    assert_eq!(r5["mesh_cache"]["status"], "miss", "{r5}");
+    assert!(stderr.contains("mesh cache: unusable entry"), "{stderr}");
+    assert!(solution("damaged") == solution("first"));
+    let (_, _, r6) = run("again", &[], None);
+    assert_eq!(r6["mesh_cache"]["status"], "hit", "{r6}");
 }

@@ -6,6 +6,9 @@ use std::process::{Command, Output};
 fn bin() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_signorini"));
     c.env("OMP_NUM_THREADS", "1").env("OPENBLAS_NUM_THREADS", "1");
+    // Gmsh meshes cached for the tests, not in the user's cache.
+    c.env("SIGNORINI_CACHE_DIR", Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache"));
+    c.env_remove("SIGNORINI_NO_MESH_CACHE");
     c
 }
 

@@ -1015,3 +1015,205 @@ fn msh_ascii_and_binary_from_gmsh_agree() {
         assert!(close(total_area(&ascii), quarter, tol), "{order:?}: {}", total_area(&ascii));
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// P2 mid nodes on the arcs, and the mesh cache
+// ---------------------------------------------------------------------------------------------
+
+fn half_disc_request(cell_size: f64, order: Order) -> MeshRequest {
+    MeshRequest {
+        shape: Shape::HalfDisc { center: [0.0, 0.1], radius: 0.1 },
+        cell_size,
+        refinement: Some(Refinement { point: [0.0, 0.0], cell_size: cell_size / 8.0, radius: 0.015 }),
+        order,
+    }
+}
+
+/// The same mesh to the bit: every array and group.
+fn assert_identical(a: &Mesh, b: &Mesh) {
+    assert_eq!(a.order, b.order);
+    let bits = |m: &Mesh| m.nodes.iter().flat_map(|p| [p[0].to_bits(), p[1].to_bits()]).collect::<Vec<u64>>();
+    assert!(bits(a) == bits(b), "node coordinates differ");
+    assert_eq!(a.cells, b.cells);
+    assert_eq!(a.cell_group, b.cell_group);
+    assert_eq!(a.edges, b.edges);
+    assert_eq!(a.edge_group, b.edge_group);
+    assert_eq!(a.groups, b.groups);
+}
+
+#[test]
+fn gmsh_half_disc_p2_nodes_lie_on_the_circle_where_gmsh_puts_them() {
+    // The chosen algorithm (Frontal-Delaunay) and our P2 mid nodes: every node of the arc,
+    // vertices and mid nodes, on the circle to 1e-12 relative.
+    let request = half_disc_request(0.02, Order::P2);
+    let mesh = generate(&request).unwrap();
+    let (c, r) = ([0.0, 0.1], 0.1);
+    let arc = mesh.require_group("arc", 1).unwrap();
+    let mut ours: Vec<[f64; 2]> = Vec::new();
+    for e in mesh.edges_in_group(arc) {
+        for &n in mesh.edge(e) {
+            assert!((dist(mesh.nodes[n], c) - r).abs() <= 1e-12 * r, "node {n} at {:?}", mesh.nodes[n]);
+        }
+        ours.push(mesh.nodes[mesh.edge(e)[2]]);
+    }
+    // Gmsh's own second-order mesh of the same script puts them at the same points, to 1e-9
+    // relative (both on the circle; Gmsh's are off the exact half angle by ~1e-10 rad).
+    let mut geo = String::new();
+    let p1 = generate(&MeshRequest { order: Order::P1, ..request.clone() }).unwrap();
+    assert_eq!(p1.num_cells(), mesh.num_cells());
+    for line in [
+        "Point(1) = {-0.1, 0.1, 0, 0.02};",
+        "Point(2) = {0.0, 0.0, 0, 0.02};",
+        "Point(3) = {0.1, 0.1, 0, 0.02};",
+        "Point(4) = {0.0, 0.1, 0, 0.02};",
+        "Circle(1) = {1, 4, 2};\nCircle(2) = {2, 4, 3};\nLine(3) = {3, 1};",
+        "Curve Loop(1) = {1, 2, 3};\nPlane Surface(1) = {1};",
+        "Physical Curve(\"arc\") = {1, 2};\nPhysical Curve(\"flat\") = {3};\nPhysical Surface(\"domain\") = {1};",
+        "Point(100) = {0.0, 0.0, 0, 0.0025};",
+        "Field[1] = Distance;\nField[1].PointsList = {100};\nField[2] = Threshold;\nField[2].InField = 1;",
+        "Field[2].SizeMin = 0.0025;\nField[2].SizeMax = 0.02;\nField[2].DistMin = 0.015;\nField[2].DistMax = 0.03;",
+        "Background Field = 2;\nMesh.MeshSizeExtendFromBoundary = 0;\nMesh.MeshSizeFromPoints = 0;",
+        "Mesh.MeshSizeFromCurvature = 0;\nMesh.Algorithm = 6;\nMesh.SecondOrderLinear = 0;",
+    ] {
+        geo.push_str(line);
+        geo.push('\n');
+    }
+    let theirs_mesh = generate_from_geo(&geo, Order::P2).unwrap();
+    assert_eq!(theirs_mesh.num_nodes(), mesh.num_nodes());
+    let arc = theirs_mesh.require_group("arc", 1).unwrap();
+    let mut theirs: Vec<[f64; 2]> =
+        theirs_mesh.edges_in_group(arc).map(|e| theirs_mesh.nodes[theirs_mesh.edge(e)[2]]).collect();
+    let by_x = |a: &[f64; 2], b: &[f64; 2]| a[0].total_cmp(&b[0]);
+    ours.sort_by(by_x);
+    theirs.sort_by(by_x);
+    assert_eq!(ours.len(), theirs.len());
+    for (a, b) in ours.iter().zip(&theirs) {
+        assert!(dist(*a, *b) <= 1e-9 * r, "mid node {a:?} against Gmsh's {b:?}");
+    }
+}
+
+mod cache {
+    use super::*;
+    use signorini::mesh::cache::{CacheStatus, MeshCache};
+    use signorini::mesh::gmsh::generate_cached;
+
+    fn entries(cache: &MeshCache) -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(cache.entries_dir())
+            .map(|d| d.map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "mesh")).collect())
+            .unwrap_or_default();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_hit_is_the_same_mesh_to_the_bit_and_disabled_meshes_alike() {
+        let scratch = Scratch::new("cache-hit");
+        let cache = MeshCache::at(&scratch.0);
+        let request = half_disc_request(0.02, Order::P2);
+        let (made, first) = generate_cached(&request, Some(&cache)).unwrap();
+        assert_eq!((first.status, first.problem.as_deref()), (CacheStatus::Miss, None));
+        assert_eq!(entries(&cache).len(), 1);
+        let (cached, second) = generate_cached(&request, Some(&cache)).unwrap();
+        assert_eq!((second.status, second.problem.as_deref()), (CacheStatus::Hit, None));
+        assert_identical(&made, &cached);
+        // Without a cache: made by Gmsh again, the same mesh (Gmsh is deterministic), nothing
+        // stored.
+        let (fresh, off) = generate_cached(&request, None).unwrap();
+        assert_eq!(off.status, CacheStatus::Disabled);
+        assert_identical(&made, &fresh);
+        assert_identical(&made, &generate(&request).unwrap());
+        assert_eq!(entries(&cache).len(), 1);
+    }
+
+    #[test]
+    fn corrupt_or_truncated_entries_are_detected_remeshed_and_replaced() {
+        let scratch = Scratch::new("cache-corrupt");
+        let cache = MeshCache::at(&scratch.0);
+        let request = half_disc_request(0.03, Order::P2);
+        let (made, _) = generate_cached(&request, Some(&cache)).unwrap();
+        let path = entries(&cache).pop().unwrap();
+        let good = std::fs::read(&path).unwrap();
+        let mut flipped = good.clone();
+        let middle = flipped.len() / 2;
+        flipped[middle] ^= 0x10; // one bit of a node coordinate or an index
+        let damages: [(&str, Vec<u8>); 4] = [
+            ("a flipped bit", flipped),
+            ("truncation", good[..good.len() - 100].to_vec()),
+            ("an empty file", Vec::new()),
+            ("another file", b"not a mesh at all".to_vec()),
+        ];
+        for (what, bytes) in damages {
+            std::fs::write(&path, &bytes).unwrap();
+            let (mesh, report) = generate_cached(&request, Some(&cache)).unwrap();
+            assert_eq!(report.status, CacheStatus::Miss, "{what}");
+            let problem = report.problem.unwrap_or_else(|| panic!("{what}: not reported"));
+            assert!(problem.contains("unusable entry") && problem.contains("replaced"), "{what}: {problem}");
+            assert_identical(&made, &mesh);
+            // Replaced: the entry is whole again and the next run hits.
+            assert_eq!(std::fs::read(&path).unwrap(), good, "{what}");
+            assert_eq!(generate_cached(&request, Some(&cache)).unwrap().1.status, CacheStatus::Hit, "{what}");
+        }
+    }
+
+    #[test]
+    fn any_change_of_the_input_misses() {
+        let scratch = Scratch::new("cache-inputs");
+        let cache = MeshCache::at(&scratch.0);
+        let base = half_disc_request(0.03, Order::P1);
+        let variants = [
+            base.clone(),
+            MeshRequest { cell_size: 0.029, ..base.clone() },
+            MeshRequest { order: Order::P2, ..base.clone() },
+            MeshRequest { shape: Shape::HalfDisc { center: [0.0, 0.1], radius: 0.11 }, ..base.clone() },
+            MeshRequest { shape: Shape::HalfDisc { center: [0.001, 0.1], radius: 0.1 }, ..base.clone() },
+            MeshRequest { shape: Shape::Disc { center: [0.0, 0.1], radius: 0.1 }, ..base.clone() },
+            MeshRequest { refinement: None, ..base.clone() },
+            MeshRequest {
+                refinement: Some(Refinement { point: [0.0, 0.0], cell_size: 0.03 / 8.0, radius: 0.016 }),
+                ..base.clone()
+            },
+        ];
+        for (k, request) in variants.iter().enumerate() {
+            let (_, report) = generate_cached(request, Some(&cache)).unwrap();
+            assert_eq!(report.status, CacheStatus::Miss, "variant {k}: {request:?}");
+            assert_eq!(entries(&cache).len(), k + 1);
+        }
+        for (k, request) in variants.iter().enumerate() {
+            let (mesh, report) = generate_cached(request, Some(&cache)).unwrap();
+            assert_eq!(report.status, CacheStatus::Hit, "variant {k}");
+            assert_eq!(mesh.order, request.order);
+        }
+    }
+
+    #[test]
+    fn the_cache_keeps_to_its_size_bound_newest_first() {
+        let scratch = Scratch::new("cache-bound");
+        // Room for about one entry: each store removes the older ones, never itself.
+        let cache = MeshCache::at(&scratch.0).with_max_bytes(1);
+        for h in [0.05, 0.04] {
+            let (_, report) = generate_cached(&half_disc_request(h, Order::P1), Some(&cache)).unwrap();
+            assert_eq!(report.status, CacheStatus::Miss);
+            assert_eq!(entries(&cache).len(), 1);
+        }
+        assert_eq!(
+            generate_cached(&half_disc_request(0.04, Order::P1), Some(&cache)).unwrap().1.status,
+            CacheStatus::Hit
+        );
+        assert_eq!(
+            generate_cached(&half_disc_request(0.05, Order::P1), Some(&cache)).unwrap().1.status,
+            CacheStatus::Miss
+        );
+    }
+
+    #[test]
+    fn an_unwritable_cache_still_meshes_and_says_so() {
+        let scratch = Scratch::new("cache-unwritable");
+        let file = scratch.path("not-a-directory");
+        std::fs::write(&file, b"x").unwrap();
+        let cache = MeshCache::at(&file);
+        let (mesh, report) = generate_cached(&half_disc_request(0.05, Order::P1), Some(&cache)).unwrap();
+        assert!(mesh.num_cells() > 0);
+        assert_eq!(report.status, CacheStatus::Miss);
+        assert!(report.problem.is_some_and(|p| p.contains("not stored")));
+    }
+}

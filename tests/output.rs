@@ -13,7 +13,7 @@ use signorini::error::Error;
 use signorini::mesh::{Mesh, Order, PhysicalGroup, NO_GROUP};
 use signorini::output::plot::{write_loglog_svg, Series};
 use signorini::output::vtu::{write_vtu, Field};
-use signorini::output::{write_atomically, write_atomically_by_name, write_json};
+use signorini::output::{all_or_nothing, write_atomically, write_atomically_by_name, write_json};
 use signorini::resources::{current_memory_bytes, peak_memory_bytes, Timings};
 
 /// A fresh, empty directory for one test.
@@ -478,6 +478,49 @@ fn failed_writer_by_name_leaves_the_old_file_intact() {
     .unwrap();
     assert_eq!(fs::read_to_string(&file).unwrap(), "new");
     assert_eq!(dir_entries(&dir), BTreeSet::from(["problem.hdf5".to_string()]));
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn files_written_all_or_nothing_appear_together_or_not_at_all() {
+    let dir = scratch_dir("batch");
+    let (a, b, c) = (dir.join("a.txt"), dir.join("b.txt"), dir.join("sub/c.txt"));
+    fs::write(&a, "old a").unwrap();
+    // A failure after some files were written: none of them appears, the old file stays, no
+    // temporary is left.
+    let err = all_or_nothing(|| {
+        write_atomically(&a, |w| w.write_all(b"new a"))?;
+        write_atomically(&b, |w| w.write_all(b"new b"))?;
+        Err::<(), _>(Error::Usage("simulated failure".into()))
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("simulated failure"));
+    assert_eq!(fs::read_to_string(&a).unwrap(), "old a");
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["a.txt".to_string()]));
+    // A panic likewise.
+    let result = std::panic::catch_unwind(|| {
+        let _ = all_or_nothing(|| -> signorini::Result<()> {
+            write_atomically(&b, |w| w.write_all(b"new b"))?;
+            panic!("writer panicked");
+        });
+    });
+    assert!(result.is_err());
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["a.txt".to_string()]));
+    // Inside the batch nothing is visible yet; after it, everything (nested batches join the
+    // outer one).
+    let seen = all_or_nothing(|| {
+        write_atomically(&a, |w| w.write_all(b"new a"))?;
+        all_or_nothing(|| write_atomically(&b, |w| w.write_all(b"new b")))?;
+        write_atomically(&c, |w| w.write_all(b"new c"))?;
+        Ok((fs::read_to_string(&a).unwrap(), b.exists(), c.exists()))
+    })
+    .unwrap();
+    assert_eq!(seen, ("old a".to_string(), false, false));
+    for (path, text) in [(&a, "new a"), (&b, "new b"), (&c, "new c")] {
+        assert_eq!(fs::read_to_string(path).unwrap(), text);
+    }
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["a.txt".into(), "b.txt".into(), "sub".into()]));
+    assert_eq!(dir_entries(&dir.join("sub")), BTreeSet::from(["c.txt".to_string()]));
     fs::remove_dir_all(&dir).unwrap();
 }
 

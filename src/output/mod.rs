@@ -1,8 +1,7 @@
 //! Result files: `.vtu` meshes with fields ([`vtu`]), log-log SVG plots ([`plot`]), JSON reports.
 //!
-//! Every file goes through [`write_atomically`] (or [`write_atomically_by_name`], for a library
-//! that opens the file itself, such as HDF5 for the FCLIB export), so a reader (ParaView, a
-//! script polling a run directory, the next run of the program) never sees a half-written file:
+//! Every file goes through [`write_atomically`], so a reader (ParaView, a script polling a run
+//! directory, the next run of the program) never sees a half-written file:
 //!
 //! ```text
 //!   out/report.json            target (old version, if any, stays readable throughout)
@@ -16,10 +15,16 @@
 //!
 //! The temporary name is hidden (leading dot) and unique per process (pid) and per call (a
 //! process-wide counter), so concurrent writers of the same target never share a temporary.
+//!
+//! Several files that belong together (a run's results) go through [`all_or_nothing`]: each is
+//! written to its temporary as above, and only when all are written are they fsync'ed — in
+//! parallel, which costs about one fsync instead of one per file —, renamed, and their
+//! directory fsync'ed once. A failure before that leaves no new file at all.
 pub mod contact_plots;
 pub mod plot;
 pub mod vtu;
 
+use std::cell::RefCell;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -49,6 +54,85 @@ impl Drop for TemporaryFile {
     }
 }
 
+/// A file of an [`all_or_nothing`] batch: written and flushed, not yet synced nor renamed.
+struct Pending {
+    temporary: TemporaryFile,
+    file: File,
+    target: PathBuf,
+}
+
+thread_local! {
+    /// The files of the [`all_or_nothing`] batch running on this thread, if one is.
+    static BATCH: RefCell<Option<Vec<Pending>>> = const { RefCell::new(None) };
+}
+
+/// Takes the batch away when dropped (its temporaries are then removed), also on a panic.
+struct BatchGuard;
+
+impl Drop for BatchGuard {
+    fn drop(&mut self) {
+        let _ = BATCH.with(|b| b.borrow_mut().take());
+    }
+}
+
+/// Run `write`, in which every [`write_atomically`] of this thread only writes its temporary
+/// file; when `write` succeeds, sync all the temporaries (in parallel), rename each over its
+/// target and sync each directory once, so the files appear together, or (on an error or a
+/// panic) none of them does. Inside another `all_or_nothing`, runs `write` as part of the
+/// outer one.
+pub fn all_or_nothing<T>(write: impl FnOnce() -> Result<T>) -> Result<T> {
+    if BATCH.with(|b| b.borrow().is_some()) {
+        return write();
+    }
+    BATCH.with(|b| *b.borrow_mut() = Some(Vec::new()));
+    let guard = BatchGuard;
+    let value = write()?;
+    let pending = BATCH.with(|b| b.borrow_mut().take()).unwrap_or_default();
+    drop(guard);
+    commit(pending)?;
+    Ok(value)
+}
+
+/// Sync, rename and make durable the files of a batch; on failure none stays.
+fn commit(pending: Vec<Pending>) -> Result<()> {
+    let synced: Vec<io::Result<()>> = if pending.len() < 2 {
+        pending.iter().map(|p| p.file.sync_all()).collect()
+    } else {
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = pending.iter().map(|p| scope.spawn(|| p.file.sync_all())).collect();
+            handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Err(io::Error::other("sync panicked")))).collect()
+        })
+    };
+    if let Some((p, Err(e))) = pending.iter().zip(synced).find(|(_, r)| r.is_err()) {
+        return Err(output_error(&p.target, "syncing to disk", e));
+    }
+    let mut renamed: Vec<PathBuf> = Vec::new();
+    let mut dirs: Vec<PathBuf> = Vec::new();
+    for Pending { mut temporary, file, target } in pending {
+        drop(file);
+        if let Err(e) = fs::rename(&temporary.path, &target) {
+            for path in &renamed {
+                let _ = fs::remove_file(path);
+            }
+            let step = format!("renaming temporary file {} over the target", temporary.path.display());
+            return Err(output_error(&target, &step, e));
+        }
+        temporary.renamed = true;
+        let dir = temporary.path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        if !dirs.contains(&dir) {
+            dirs.push(dir);
+        }
+        renamed.push(target);
+    }
+    for dir in dirs {
+        // Best effort, as in write_atomically.
+        if let Ok(dir) = File::open(&dir) {
+            let _ = dir.sync_all();
+        }
+    }
+    Ok(())
+}
+
 fn output_error(path: &Path, step: &str, err: impl std::fmt::Display) -> Error {
     Error::Output {
         path: path.to_path_buf(),
@@ -63,12 +147,23 @@ fn output_error(path: &Path, step: &str, err: impl std::fmt::Display) -> Error {
 /// fsync'ed, and the temporary is renamed over `path`. When anything fails — directory creation,
 /// the closure, the flush, the sync or the rename — the temporary is removed and the previous
 /// contents of `path` (if any) are left untouched; the error is [`Error::Output`] naming `path`
-/// and the step that failed.
+/// and the step that failed. Inside [`all_or_nothing`], the sync and the rename wait for the
+/// rest of the batch.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
     let (parent, mut temporary, file) = create_temporary(path)?;
     let mut buffered = BufWriter::with_capacity(WRITE_BUFFER_BYTES, file);
     write(&mut buffered).map_err(|e| output_error(path, "writing", e))?;
     let file: File = buffered.into_inner().map_err(|e| output_error(path, "flushing", e.error()))?;
+    if BATCH.with(|b| b.borrow().is_some()) {
+        // Inside all_or_nothing: synced and renamed with the rest of the batch.
+        let pending = Pending { temporary, file, target: path.to_path_buf() };
+        BATCH.with(|b| {
+            if let Some(batch) = b.borrow_mut().as_mut() {
+                batch.push(pending);
+            }
+        });
+        return Ok(());
+    }
     file.sync_all().map_err(|e| output_error(path, "syncing to disk", e))?;
     drop(file);
     install(&mut temporary, path, &parent)
@@ -78,6 +173,7 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut dyn Write) -> io::R
 /// `write` gets the path of the hidden temporary file (already created, empty; the writer may
 /// truncate or replace it) and must have closed it when it returns. Then the temporary is
 /// fsync'ed and renamed over `path`; on any failure it is removed and `path` is untouched.
+/// Never part of an [`all_or_nothing`] batch.
 pub fn write_atomically_by_name(path: &Path, write: impl FnOnce(&Path) -> io::Result<()>) -> Result<()> {
     let (parent, mut temporary, file) = create_temporary(path)?;
     drop(file);

@@ -48,6 +48,7 @@ use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{Material, PlaneModel};
 use crate::fem::mixed_pressure;
+use crate::mesh::cache::{CacheReport, MeshCache};
 use crate::mesh::{self, Mesh, Order};
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::resources::{self, Timings};
@@ -73,6 +74,9 @@ pub struct Report {
     pub fixed_dofs: usize,
     pub mpi_ranks: usize,
     pub timings: Timings,
+    /// The mesh cache's part in getting a Gmsh mesh (absent for other meshes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh_cache: Option<CacheReport>,
     pub solver: SolverReport,
     pub memory: MemoryReport,
     /// The primal solution's results (absent for a dual-only run).
@@ -151,6 +155,8 @@ pub struct ElasticityProblem<'s> {
     pub estimate: Option<EstimateReport>,
     /// Physics warnings so far.
     pub warnings: Vec<Warning>,
+    /// The mesh cache's part in getting the mesh, for a Gmsh mesh of the scene.
+    pub mesh_cache: Option<CacheReport>,
     /// Who is told the progress of the run ([`NoProgress`] unless set).
     progress: Box<dyn Progress>,
 }
@@ -177,9 +183,11 @@ impl<'s> ElasticityProblem<'s> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
         let mut timings = Timings::default();
-        let (mesh, file_order) =
+        let (mesh, file_order, mesh_cache) =
             progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
-        Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)
+        let mut problem = Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)?;
+        problem.mesh_cache = mesh_cache;
+        Ok(problem)
     }
 
     /// [`ElasticityProblem::setup_system`] on a mesh made elsewhere (a remeshed one, in mesh
@@ -257,6 +265,7 @@ impl<'s> ElasticityProblem<'s> {
             dual: None,
             estimate: None,
             warnings: initial_warnings,
+            mesh_cache: None,
             progress,
         })
     }
@@ -613,6 +622,7 @@ impl<'s> ElasticityProblem<'s> {
             fixed_dofs: self.constraints.num_fixed(),
             mpi_ranks: self.session.size(),
             timings: self.timings.clone(),
+            mesh_cache: self.mesh_cache.clone(),
             solver: SolverReport {
                 stats,
                 scene_options: self.scene_options.clone(),
@@ -675,26 +685,38 @@ fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constrain
 }
 
 /// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order;
-/// and the order of the file's triangles when it was read from one.
-pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>)> {
+/// the order of the file's triangles when it was read from one; and for a Gmsh mesh what the
+/// mesh cache did ([`MeshCache::from_env`]: on unless `SIGNORINI_NO_MESH_CACHE` is set).
+pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheReport>)> {
     let order = scene.order;
-    let generated = match &scene.mesh {
+    let (shape, cell_size, refine) = match &scene.mesh {
         scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Structured, .. } => {
             let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
-            mesh::structured::rectangle(*origin, *size, nx, ny, order)
+            return Ok((mesh::structured::rectangle(*origin, *size, nx, ny, order)?, None, None));
         }
+        scene::MeshSpec::File { path } => return mesh_file(path, order).map(|(m, o)| (m, o, None)),
         scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Gmsh, refine } => {
-            gmsh_mesh(mesh::gmsh::Shape::Rectangle { origin: *origin, size: *size }, *cell_size, refine, order)
+            (mesh::gmsh::Shape::Rectangle { origin: *origin, size: *size }, *cell_size, refine)
         }
         scene::MeshSpec::Disc { center, radius, cell_size, refine } => {
-            gmsh_mesh(mesh::gmsh::Shape::Disc { center: *center, radius: *radius }, *cell_size, refine, order)
+            (mesh::gmsh::Shape::Disc { center: *center, radius: *radius }, *cell_size, refine)
         }
         scene::MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
-            gmsh_mesh(mesh::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine, order)
+            (mesh::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine)
         }
-        scene::MeshSpec::File { path } => return mesh_file(path, order),
     };
-    generated.map(|m| (m, None))
+    let request = mesh::gmsh::MeshRequest {
+        shape,
+        cell_size,
+        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement {
+            point: r.point,
+            cell_size: r.cell_size,
+            radius: r.radius,
+        }),
+        order,
+    };
+    let (mesh, report) = mesh::gmsh::generate_cached(&request, MeshCache::from_env().as_ref())?;
+    Ok((mesh, None, Some(report)))
 }
 
 /// A mesh file at the scene's order, and the order of its triangles.
@@ -712,25 +734,6 @@ fn mesh_file(path: &Path, order: Order) -> Result<(Mesh, Option<Order>)> {
         }),
         _ => Ok((m, file_order)),
     }
-}
-
-fn gmsh_mesh(
-    shape: mesh::gmsh::Shape,
-    cell_size: f64,
-    refine: &Option<scene::RefineSpec>,
-    order: Order,
-) -> Result<Mesh> {
-    let request = mesh::gmsh::MeshRequest {
-        shape,
-        cell_size,
-        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement {
-            point: r.point,
-            cell_size: r.cell_size,
-            radius: r.radius,
-        }),
-        order,
-    };
-    mesh::gmsh::generate(&request)
 }
 
 /// Every rank builds the mesh itself; make sure they all got the same one (Gmsh is

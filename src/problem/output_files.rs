@@ -147,9 +147,14 @@ impl ElasticityProblem<'_> {
     }
 
     /// Write `solution.vtu`, `report.json` and, with contact, `contact.csv`, `contact.svg` and
-    /// `convergence.svg` into `dir` (rank 0 only; each atomically, and all or none of them).
-    /// Returns the report and the paths written.
+    /// `convergence.svg` into `dir` (rank 0 only; all or none of them, synced to disk together:
+    /// [`output::all_or_nothing`], so the `output` time in the report leaves out that last
+    /// sync). Returns the report and the paths written.
     pub fn write_output(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
+        output::all_or_nothing(|| self.write_output_files(dir))
+    }
+
+    fn write_output_files(&mut self, dir: &Path) -> Result<(Report, Vec<PathBuf>)> {
         self.progress.phase_started(Phase::Output);
         let start = std::time::Instant::now();
         let mut written = Vec::new();
