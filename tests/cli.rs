@@ -836,6 +836,34 @@ fn bench_dual_writes_its_table_and_plot() {
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
 }
 
+/// Concurrent runs on one machine: each process gets an Open MPI session directory of its own
+/// (isolated singletons all take job family 0, and one run's clean-up used to remove the shared
+/// directory under another, which then failed in MPI_Init); none is left behind.
+#[test]
+fn concurrent_runs_do_not_share_the_mpi_session_directory() {
+    let dir = scratch("concurrent-runs");
+    let tmp = dir.join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/square_block_1k.toml");
+    let children: Vec<_> = (0..8)
+        .map(|k| {
+            bin()
+                .arg("run")
+                .arg(&scene)
+                .args(["--quiet", "--out"])
+                .arg(dir.join(format!("out{k}")))
+                .env("TMPDIR", &tmp)
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for mut child in children {
+        assert!(child.wait().unwrap().success());
+    }
+    let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert!(left.is_empty(), "left in TMPDIR: {left:?}");
+}
+
 /// `bench held`: both drives of the half disc at 1e4 dofs, the force-driven row with its ratio
 /// to the displacement-driven one, no failed case (the force-driven disc has no supports).
 #[test]

@@ -227,11 +227,46 @@ fn singleton_settings_to_apply(is_set: impl Fn(&str) -> bool) -> Vec<(&'static s
     SINGLETON_SETTINGS.iter().copied().filter(|(name, _)| !is_set(name)).collect()
 }
 
+/// Remove the session directories of earlier runs that were killed before they could (their
+/// process no longer exists; Linux `/proc`, nothing is removed elsewhere).
+fn remove_stale_session_directories() {
+    if !std::path::Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else { return };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().to_string();
+        if let Some(pid) = name.strip_prefix("signorini-mpi-").and_then(|p| p.parse::<u32>().ok()) {
+            if pid != std::process::id() && !std::path::Path::new(&format!("/proc/{pid}")).exists() {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
+        }
+    }
+}
+
+/// Open MPI's session directory base of this process, when the program chose it (removed after
+/// MPI is finalised).
+static SESSION_DIRECTORY: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+
 /// Apply the singleton settings to this process's environment (before MPI is initialised: it
-/// reads them once).
+/// reads them once). Also give the process a session directory of its own
+/// (`OMPI_MCA_orte_tmpdir_base` = `$TMPDIR/signorini-mpi-PID`): isolated singletons all take job
+/// family 0, so concurrent runs shared `/tmp/ompi.HOST.UID/jf.0`, and one run's clean-up removed
+/// it under another, which then failed in MPI_Init ("A call to mkdir was unable to create the
+/// desired directory"). Not under a launcher, and not when the user set the variable.
 fn prefer_fast_singleton_start() {
-    for (name, value) in singleton_settings_to_apply(|v| std::env::var_os(v).is_some()) {
+    let is_set = |v: &str| std::env::var_os(v).is_some();
+    for (name, value) in singleton_settings_to_apply(is_set) {
         std::env::set_var(name, value);
+    }
+    let launched = LAUNCHER_VARIABLES.iter().any(|v| is_set(v));
+    if !launched && !is_set("OMPI_MCA_orte_tmpdir_base") {
+        remove_stale_session_directories();
+        let dir = std::env::temp_dir().join(format!("signorini-mpi-{}", std::process::id()));
+        if std::fs::create_dir_all(&dir).is_ok() {
+            std::env::set_var("OMPI_MCA_orte_tmpdir_base", &dir);
+            let _ = SESSION_DIRECTORY.set(dir);
+        }
     }
 }
 
@@ -503,6 +538,10 @@ impl Drop for Session {
         // SAFETY: every PETSc object borrows the session, so all were destroyed before this.
         let _ = unsafe { sys::PetscFinalize() };
         SESSION_STATE.store(2, Ordering::SeqCst);
+        // Best effort: Open MPI has removed its own session files by now.
+        if let Some(dir) = SESSION_DIRECTORY.get() {
+            let _ = std::fs::remove_dir_all(dir);
+        }
     }
 }
 
