@@ -166,8 +166,7 @@ impl MeshCache {
             Err(e) => problem = Some(format!("cannot read entry {}: {e}; replaced", path.display())),
         }
         let mesh = make()?;
-        if let Err(e) = self.store(&path, key, &mesh) {
-            let note = format!("mesh not stored in the cache: {e}");
+        if let Some(note) = self.insert(key, &mesh) {
             problem = Some(match problem {
                 Some(p) => format!("{p}; {note}"),
                 None => note,
@@ -176,21 +175,25 @@ impl MeshCache {
         Ok((mesh, CacheReport { status: CacheStatus::Miss, problem }))
     }
 
-    /// A small text remembered in the cache under `name` (e.g. the version of a program, by
-    /// the identity of its binary): read if there, else computed and written. Failing to
-    /// write is not an error.
-    pub fn remembered(&self, name: &str, compute: impl FnOnce() -> Result<String>) -> Result<String> {
-        let path = self.root.join(format!("{name}.txt"));
-        if let Ok(text) = fs::read_to_string(&path) {
-            if let Some(value) = text.strip_suffix('\n').filter(|v| !v.is_empty() && !v.contains('\n')) {
-                return Ok(value.to_string());
-            }
+    /// A line of text the cache remembers under `name` (e.g. the version of a program, by
+    /// the identity of its binary), if it does.
+    pub fn recall(&self, name: &str) -> Option<String> {
+        let text = fs::read_to_string(self.root.join(format!("{name}.txt"))).ok()?;
+        text.strip_suffix('\n').filter(|v| !v.is_empty() && !v.contains('\n')).map(str::to_string)
+    }
+
+    /// Remember a line of text under `name` (best effort: a cache that cannot be written
+    /// only forgets).
+    pub fn remember(&self, name: &str, value: &str) {
+        if !value.is_empty() && !value.contains('\n') {
+            let _ = write_atomically(&self.root.join(format!("{name}.txt")), format!("{value}\n").as_bytes());
         }
-        let value = compute()?;
-        if !value.contains('\n') {
-            let _ = write_atomically(&path, format!("{value}\n").as_bytes());
-        }
-        Ok(value)
+    }
+
+    /// Store `mesh` under `key` (replacing any entry), then keep to the size bound; what went
+    /// wrong, if anything.
+    pub fn insert(&self, key: &str, mesh: &Mesh) -> Option<String> {
+        self.store(&self.entry_path(key), key, mesh).err().map(|e| format!("mesh not stored in the cache: {e}"))
     }
 
     fn store(&self, path: &Path, key: &str, mesh: &Mesh) -> std::result::Result<(), String> {

@@ -60,7 +60,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::cache::{CacheReport, MeshCache};
+use super::cache::{CacheReport, CacheStatus, MeshCache};
 use super::{msh::read_msh, Mesh, Order};
 use crate::error::{Error, Result};
 
@@ -129,13 +129,32 @@ pub fn generate_cached(request: &MeshRequest, cache: Option<&MeshCache>) -> Resu
     let Some(cache) = cache else {
         return Ok((mesh_shape(request, &geo, None)?, CacheReport::disabled()));
     };
-    let (binary, version) = match identify_gmsh(cache) {
-        Ok(found) => found,
-        // No gmsh to key on: mesh without the cache (which reports a missing gmsh).
-        Err(_) => return Ok((mesh_shape(request, &geo, None)?, CacheReport::disabled())),
+    let Some((binary, memo)) = gmsh_binary() else {
+        // No gmsh to key on: mesh without the cache (which reports the missing gmsh).
+        return Ok((mesh_shape(request, &geo, None)?, CacheReport::disabled()));
     };
-    let key = cache_key(request, &geo, &binary, &version);
-    cache.get_or_make(&key, || mesh_shape(request, &geo, None))
+    if let Some(version) = cache.recall(&memo) {
+        let key = cache_key(request, &geo, &binary, &version);
+        return cache.get_or_make(&key, || mesh_shape(request, &geo, None));
+    }
+    // The first mesh by this Gmsh binary: ask its version (a fifth of a second) while it
+    // meshes, then remember the version and store the mesh.
+    let asking = Command::new("gmsh")
+        .arg("--version")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn();
+    let mesh = mesh_shape(request, &geo, None)?;
+    let version = asking.and_then(|child| child.wait_with_output());
+    let version = version_of(version);
+    let problem = match version {
+        Ok(version) => {
+            cache.remember(&memo, &version);
+            cache.insert(&cache_key(request, &geo, &binary, &version), &mesh)
+        }
+        Err(e) => Some(format!("mesh not stored in the cache: {e}")),
+    };
+    Ok((mesh, CacheReport { status: CacheStatus::Miss, problem }))
 }
 
 /// Everything that defines the mesh of `request`, as text: the cache key.
@@ -149,26 +168,19 @@ fn cache_key(request: &MeshRequest, geo: &str, binary: &str, version: &str) -> S
     )
 }
 
-/// The gmsh binary on PATH, as its canonical path, size and modification time (ns), and its
-/// version, remembered in the cache per binary (asking Gmsh takes a fifth of a second).
-fn identify_gmsh(cache: &MeshCache) -> Result<(String, String)> {
-    let not_found = || Error::Gmsh { message: NOT_FOUND.to_string(), stderr: String::new() };
-    let path = std::env::var_os("PATH")
-        .and_then(|paths| {
-            use std::os::unix::fs::PermissionsExt as _;
-            let runnable =
-                |p: &std::path::Path| p.metadata().is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0);
-            std::env::split_paths(&paths).map(|d| d.join("gmsh")).find(|p| runnable(p))
-        })
-        .ok_or_else(not_found)?;
+/// The gmsh binary that PATH gives, as its canonical path, size and modification time (ns),
+/// and the name under which the cache remembers its version; `None` without one.
+fn gmsh_binary() -> Option<(String, String)> {
+    use std::os::unix::fs::PermissionsExt as _;
+    let runnable = |p: &std::path::Path| p.metadata().is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0);
+    let path = std::env::split_paths(&std::env::var_os("PATH")?).map(|d| d.join("gmsh")).find(|p| runnable(p))?;
     let path = std::fs::canonicalize(&path).unwrap_or(path);
-    let meta = std::fs::metadata(&path).map_err(|_| not_found())?;
+    let meta = std::fs::metadata(&path).ok()?;
     let modified =
         meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map_or(0, |d| d.as_nanos());
     let binary = format!("{} ({} bytes, modified {modified} ns)", path.display(), meta.len());
     let memo = format!("gmsh-version-{:032x}", super::cache::fnv1a_128(binary.as_bytes()));
-    let version = cache.remembered(&memo, gmsh_version)?;
-    Ok((binary, version))
+    Some((binary, memo))
 }
 
 /// The mesh of `request` from its script: Gmsh's linear mesh, made quadratic by us for P2.
@@ -278,11 +290,15 @@ fn run_gmsh(geo: &str, order: Order, background_pos: Option<&str>) -> Result<Mes
 
 /// The version Gmsh reports (`gmsh --version`), e.g. "4.8.4".
 pub fn gmsh_version() -> Result<String> {
-    let output = Command::new("gmsh").arg("--version").output().map_err(spawn_error)?;
-    // Gmsh prints its version on stderr.
+    version_of(Command::new("gmsh").arg("--version").output())
+}
+
+/// The version in the output of `gmsh --version` (which Gmsh prints on stderr).
+fn version_of(output: std::io::Result<std::process::Output>) -> Result<String> {
+    let output = output.map_err(spawn_error)?;
     let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
     let version = text.trim().to_string();
-    if !output.status.success() || version.is_empty() {
+    if !output.status.success() || version.is_empty() || version.contains('\n') {
         return Err(Error::Gmsh { message: format!("gmsh --version failed ({})", output.status), stderr: version });
     }
     Ok(version)
