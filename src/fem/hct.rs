@@ -646,9 +646,6 @@ mod tests {
                 let size = (t[1][0] - t[0][0]).abs().max((t[2][1] - t[0][1]).abs()).max((t[1][1] - t[0][1]).abs());
                 let far = t.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
                 let tol = 1e-11 + 100.0 * f64::EPSILON * far / size;
-                let h = (0..3)
-                    .map(|k| (t[(k + 1) % 3][0] - t[k][0]).hypot(t[(k + 1) % 3][1] - t[k][1]))
-                    .fold(0.0, f64::max);
                 for (piece, [p, q, r]) in fast.pieces().into_iter().enumerate() {
                     for w in [[0.2, 0.3, 0.5], [0.6, 0.2, 0.2], [0.1, 0.1, 0.8]] {
                         let x = [0, 1].map(|d| w[0] * p[d] + w[1] * q[d] + w[2] * r[d]);
