@@ -276,6 +276,15 @@ impl DualSystem {
         }
         let mut matrix = CsrAssembler::new(rows.clone(), nm, &group_ptr, &group_indices);
         drop((group_ptr, group_indices));
+        // Per element, in the reduced unknowns K of its dofs' expansions (sorted): T (12 × |K|,
+        // the expansion coefficients), then Tᵀ S T row by row, each row added along its CSR row
+        // in one merge walk. Near a contact part every slave dof of an element depends on the
+        // same long list of contact forces, so |K| is about the length of one expansion, not 12
+        // times it: dense products instead of a search per (term, term) pair (measured: the
+        // searches were 85 % of the dual solve on a flat punch with 118 contact points).
+        let mut local = vec![usize::MAX; nm];
+        let mut keys: Vec<usize> = Vec::new();
+        let (mut t, mut st, mut row_values) = (Vec::new(), Vec::new(), Vec::new());
         for (c, element) in self.elements.iter().enumerate() {
             let cell_dofs = self.dofs.cell_dofs(mesh, c);
             let exp: Vec<(Terms<'_>, f64)> = cell_dofs.iter().map(|&d| self.expansion(d)).collect();
@@ -292,20 +301,63 @@ impl DualSystem {
             }
             for i in 0..HCT_DOFS {
                 for (ki, ai) in exp[i].0.iter() {
-                    if !rows.contains(&ki) {
-                        continue;
+                    if rows.contains(&ki) {
+                        rhs[ki - rows.start] -= ai * (s_phi0[i] + bp[i]);
                     }
-                    rhs[ki - rows.start] -= ai * (s_phi0[i] + bp[i]);
-                    for j in 0..HCT_DOFS {
-                        let sij = s[(i, j)];
-                        if sij == 0.0 {
-                            continue;
-                        }
-                        for (kj, aj) in exp[j].0.iter() {
-                            matrix.add(ki, kj, ai * sij * aj);
+                }
+            }
+            keys.clear();
+            for (terms, _) in &exp {
+                for (k, _) in terms.iter() {
+                    if local[k] == usize::MAX {
+                        local[k] = 0;
+                        keys.push(k);
+                    }
+                }
+            }
+            keys.sort_unstable();
+            for (p, &k) in keys.iter().enumerate() {
+                local[k] = p;
+            }
+            let n = keys.len();
+            t.clear();
+            t.resize(HCT_DOFS * n, 0.0);
+            for (i, (terms, _)) in exp.iter().enumerate() {
+                for (k, a) in terms.iter() {
+                    t[i * n + local[k]] += a;
+                }
+            }
+            st.clear();
+            st.resize(HCT_DOFS * n, 0.0);
+            for i in 0..HCT_DOFS {
+                for j in 0..HCT_DOFS {
+                    let sij = s[(i, j)];
+                    if sij != 0.0 {
+                        let (out, tj) = (&mut st[i * n..(i + 1) * n], &t[j * n..(j + 1) * n]);
+                        for (o, v) in out.iter_mut().zip(tj) {
+                            *o += sij * v;
                         }
                     }
                 }
+            }
+            for (p, &kp) in keys.iter().enumerate() {
+                if !rows.contains(&kp) {
+                    continue;
+                }
+                row_values.clear();
+                row_values.resize(n, 0.0);
+                for i in 0..HCT_DOFS {
+                    let tip = t[i * n + p];
+                    if tip != 0.0 {
+                        for (o, v) in row_values.iter_mut().zip(&st[i * n..(i + 1) * n]) {
+                            *o += tip * v;
+                        }
+                    }
+                }
+                matrix.add_sorted_row(kp, &keys, &row_values);
+            }
+            for &k in &keys {
+                local[k] = usize::MAX;
             }
         }
         let (indptr, indices, values) = matrix.into_parts();

@@ -92,6 +92,27 @@ impl CsrAssembler {
         }
     }
 
+    /// Add `values[k]` at (`row`, `cols[k]`) for every `k`; `cols` must be sorted ascending and
+    /// within the pattern of the row (one merge walk along the row instead of a search per
+    /// entry). Rows outside the owned range are ignored.
+    pub fn add_sorted_row(&mut self, row: usize, cols: &[usize], values: &[f64]) {
+        if !self.rows.contains(&row) {
+            return;
+        }
+        let r = row - self.rows.start;
+        let (mut k, end) = (self.indptr[r], self.indptr[r + 1]);
+        for (&c, &v) in cols.iter().zip(values) {
+            while k < end && self.indices[k] < c {
+                k += 1;
+            }
+            if k < end && self.indices[k] == c {
+                self.values[k] += v;
+            } else {
+                debug_assert!(false, "({row}, {c}) is not in the pattern");
+            }
+        }
+    }
+
     /// `(indptr, indices, values)` of the owned rows, columns global and sorted.
     pub fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         (self.indptr, self.indices, self.values)
@@ -120,6 +141,19 @@ mod tests {
             }
         }
         assert_eq!(a.rows(), 1..4);
+        // The same sums through whole sorted rows.
+        let mut b = CsrAssembler::new(1..4, 5, &group_ptr, &group_indices);
+        for g in 0..3 {
+            let mut idx: Vec<(usize, usize)> =
+                group_indices[group_ptr[g]..group_ptr[g + 1]].iter().copied().enumerate().collect();
+            idx.sort_by_key(|&(_, i)| i);
+            let cols: Vec<usize> = idx.iter().map(|&(_, j)| j).collect();
+            for &(p, i) in &idx {
+                let values: Vec<f64> = idx.iter().map(|&(q, _)| (10 * g + 3 * p + q + 1) as f64).collect();
+                b.add_sorted_row(i, &cols, &values);
+            }
+        }
+        assert_eq!(b.values, a.values);
         let (indptr, indices, values) = a.into_parts();
         assert_eq!(indptr, vec![0, 4, 6, 9]);
         assert_eq!(indices, vec![0, 1, 2, 3, 1, 2, 0, 1, 3]);

@@ -29,6 +29,11 @@ use crate::fem::quadrature;
 use crate::petsc::SolveStats;
 use crate::scene::{ContactSolverSpec, FrictionSpec};
 
+/// How closely the contact displacements recomputed from the assembled matrix must confirm
+/// `W r + u_free` (relative to the displacement scale) for the contact laws to be checked with
+/// the latter when the recomputation's round-off exceeds the tolerance.
+const FLEXIBILITY_AGREEMENT: f64 = 1e-3;
+
 /// The dual contact solution (forces per edge end, in the contact frames).
 pub struct DualContactOutcome {
     pub points: Vec<DualContactPoint>,
@@ -111,30 +116,62 @@ impl ElasticityProblem<'_> {
         let force_mismatch =
             answer.solution.force.iter().zip(&force_check).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
                 / scale.max(f64::MIN_POSITIVE);
-        let residuals = condensed.problem.residuals_at(&force_check, &answer.displacement_check)?;
         let equilibrium = condensed.equilibrium.relative_residual(&force_check);
         // The displacements are recomputed as a residual of the assembled HCT system, which
         // carries its round-off (measured up to 1e-7 of the displacement scale on the 32 × 32
         // square block): a margin of 1000 over the solver's tolerance, never more than the
         // scene asked for.
         let accepted = (1e3 * settings.tolerance.max(1e-10)).min(spec.tolerance.unwrap_or(f64::INFINITY));
+        let recomputed = condensed.problem.residuals_at(&force_check, &answer.displacement_check)?;
+        // That round-off grows quickly under refinement: the recomputed displacement is a small
+        // difference of large terms (|A| |x| / U measured at 9e4, 7e5, 4e6 on the square block
+        // with cells of 2, 1, 0.5 mm), and the solve's own error is amplified by it: measured
+        // 4e-9, 3e-7, 1.5e-5 of U between the recomputed displacements and W r + u_free while
+        // the solver's answer was exact to 1e-15 for W. Where the recomputed displacements
+        // cannot resolve the tolerance, the laws are checked with W r + u_free + Eᵀρ instead,
+        // provided the recomputation confirms it to `FLEXIBILITY_AGREEMENT` of U (a wrong W
+        // would differ by order one).
+        let flexible: Vec<f64> = {
+            let w_r = condensed.problem.displacement(&force_check)?;
+            let rigid = if condensed.equilibrium.is_empty() {
+                vec![0.0; w_r.len()]
+            } else {
+                condensed.equilibrium.transpose_times(&answer.rigid)
+            };
+            w_r.iter().zip(&rigid).map(|(a, b)| a + b).collect()
+        };
+        let agreement = flexible.iter().zip(&answer.displacement_check).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / recomputed.scale.displacement;
+        let (residuals, displacement) = if recomputed.is_acceptable(accepted) || agreement > FLEXIBILITY_AGREEMENT {
+            (recomputed, answer.displacement_check.clone())
+        } else {
+            (condensed.problem.residuals_at(&force_check, &flexible)?, flexible)
+        };
         if force_mismatch > 1e-8 || equilibrium > 1e-8 || !residuals.is_acceptable(accepted) {
             return Err(Error::SolverDiverged {
                 solver: format!("dual formulation: {}", answer.solution.solver),
                 reason: format!(
                     "its answer fails the independent check: forces recomputed from the stress field differ by \
-                     {force_mismatch:.2e} (relative), equilibrium of the contact forces {equilibrium:.2e}, {residuals}"
+                     {force_mismatch:.2e} (relative), equilibrium of the contact forces {equilibrium:.2e}, \
+                     displacements recomputed from the assembled matrix differ from W r + u_free by {agreement:.2e} \
+                     (relative), {residuals}"
                 ),
                 iterations: answer.solution.iterations,
                 residual: residuals.worst().max(force_mismatch).max(equilibrium),
                 tried: answer.solution.notes.join("; "),
             });
         }
-        let status = condensed.problem.status_at(&force_check, &answer.displacement_check)?;
+        let status = condensed.problem.status_at(&force_check, &displacement)?;
         let mut notes = answer.solution.notes.clone();
         notes.push(format!(
             "forces recomputed from the stress field agree to {force_mismatch:.1e}; equilibrium of the contact forces \
-             {equilibrium:.1e}"
+             {equilibrium:.1e}; displacements recomputed from the assembled matrix agree with W r + u_free to \
+             {agreement:.1e}{}",
+            if recomputed.is_acceptable(accepted) {
+                ""
+            } else {
+                " (laws checked with W r + u_free: the recomputation's round-off exceeds the tolerance)"
+            }
         ));
         let report = self.dual_contact_report(&points, &force_check, &status, &residuals, &answer.solution, notes);
         let stats = SolveStats {
@@ -146,8 +183,7 @@ impl ElasticityProblem<'_> {
             relative_residual: 0.0,
             seconds: condensed.assemble_seconds + condensed.factor_seconds + contact_seconds,
         };
-        let outcome =
-            DualContactOutcome { points, force: force_check, displacement: answer.displacement_check, status, report };
+        let outcome = DualContactOutcome { points, force: force_check, displacement, status, report };
         Ok((answer.phi, stats, outcome))
     }
 
