@@ -16,6 +16,7 @@
 //! The temporary name is hidden (leading dot) and unique per process (pid) and per call (a
 //! process-wide counter), so concurrent writers of the same target never share a temporary.
 pub mod contact_plots;
+pub mod mesh_plot;
 pub mod plot;
 pub mod vtu;
 
