@@ -39,7 +39,7 @@ fn run_case<T: serde::de::DeserializeOwned>(
 }
 
 /// Writes a benchmark's files (table, then the plot when a case succeeded) into a directory.
-type Writer<T> = fn(&[T], &BenchRecord, &Path) -> Result<Vec<PathBuf>, Error>;
+type Writer<T> = Box<dyn Fn(&[T], &BenchRecord, &Path) -> Result<Vec<PathBuf>, Error>>;
 
 /// The parts of a benchmark run in child processes, one per (size, solver) case.
 struct CaseRunner<T> {
@@ -160,7 +160,7 @@ pub fn bench_elasticity(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::elasticity_table,
-            write: bench::write_elasticity_outputs,
+            write: Box::new(bench::write_elasticity_outputs),
             scratch: None,
             failure_of: None,
         },
@@ -190,7 +190,7 @@ pub fn bench_contact(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::contact_table,
-            write: bench::write_contact_outputs,
+            write: Box::new(bench::write_contact_outputs),
             scratch: None,
             failure_of: None,
         },
@@ -212,7 +212,7 @@ pub fn bench_dual(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::dual::dual_table,
-            write: bench::write_dual_outputs,
+            write: Box::new(bench::write_dual_outputs),
             scratch: None,
             failure_of: None,
         },
@@ -247,8 +247,6 @@ pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
     }
     let cases = plan.cases.iter().enumerate().map(|(k, (dofs, _, name))| (*dofs, k, name.clone())).collect();
     let scene_name = plan.scene_path.display().to_string();
-    // The writer is a plain fn: the scene's name goes through a static.
-    SCENE_NAME.with(|n| *n.borrow_mut() = scene_name);
     run_bench(
         &parsed,
         CaseRunner::<AccuracyCaseResult> {
@@ -272,16 +270,9 @@ pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
                 }
             },
             table: accuracy::accuracy_table,
-            write: |rows, record, dir| {
-                let name = SCENE_NAME.with(|n| n.borrow().clone());
-                accuracy::write_accuracy_outputs(rows, record, dir, &name)
-            },
+            write: Box::new(move |rows, record, dir| accuracy::write_accuracy_outputs(rows, record, dir, &scene_name)),
             scratch: Some(scratch),
             failure_of: Some(|r| r.failure.clone()),
         },
     )
-}
-
-thread_local! {
-    static SCENE_NAME: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
 }

@@ -34,8 +34,8 @@
 //! coarsen: the map both refines and coarsens. When even every element at `min_ratio` cannot
 //! reach the target, the map aims at 5 % above that floor instead of at the target: with the
 //! target itself `λ → ∞` and every element, however small its error, would be divided by the
-//! largest factor (on a flat punch from 128 elements at 43 %: 13214 elements, of which the
-//! next step coarsened most).
+//! largest factor (on a rigid flat punch from 128 elements at 43 %: 13214 elements, of which
+//! the next step coarsened most).
 use crate::error::{Error, Result};
 
 /// Bounds on the reduction ratios `r_E = h*_E / h_E`.

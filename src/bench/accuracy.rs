@@ -443,7 +443,7 @@ pub fn accuracy_table(results: &[AccuracyCaseResult]) -> String {
     }
     // The reference's own error, extrapolated from the uniform P2 estimates.
     if let (Some(r), Some(rate)) = (reference_row(&rows), dof_rate(&rows, "uniform P2")) {
-        if let Some(last) = rows.iter().filter(|x| x.series == "uniform P2").last() {
+        if let Some(last) = rows.iter().rfind(|x| x.series == "uniform P2") {
             let own = last.estimate_percent * (r.dofs as f64 / last.dofs as f64).powf(-rate);
             s.push_str(&format!(
                 "The reference's own error, extrapolated from the uniform P2 estimates at that rate: about {own:.3} %; \
@@ -463,17 +463,28 @@ pub fn accuracy_table(results: &[AccuracyCaseResult]) -> String {
     s
 }
 
+/// The values 1, 2, 5 × 10^k within `[lo, hi]` (the labelled ticks of a log axis).
+fn one_two_five(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    if !(lo > 0.0 && hi > lo && lo.is_finite() && hi.is_finite()) {
+        return out;
+    }
+    for k in (lo.log10().floor() as i32)..=(hi.log10().ceil() as i32) {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(k);
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
 /// A tick label with as many digits as it needs (0.05, 0.5, 5, 50).
 fn short_number(v: f64) -> String {
-    if v >= 10.0 {
-        format!("{v:.0}")
-    } else if v >= 1.0 {
-        format!("{v:.1}")
-    } else {
-        let digits = ((-v.log10().floor()) as usize + 1).min(12);
-        let s = format!("{v:.digits$}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
+    let digits = if v >= 1.0 { 1 } else { ((-v.log10().floor()) as usize + 1).min(12) };
+    let s = format!("{v:.digits$}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 const SERIES: [(&str, RGBColor); 4] = [
@@ -512,7 +523,10 @@ pub fn write_accuracy_svg(path: &Path, title: &str, rows: &[AccuracyRow]) -> Res
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(70)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .build_cartesian_2d(
+                (x0..x1).log_scale().with_key_points(one_two_five(x0, x1)),
+                (y0..y1).log_scale().with_key_points(one_two_five(y0, y1)),
+            )
             .map_err(e)?;
         chart
             .configure_mesh()
@@ -698,7 +712,13 @@ mod tests {
         {
             assert!(svg.contains(label), "{label} missing");
         }
-        assert!(svg.contains("stroke-dasharray") || svg.matches("<line").count() > 10, "no dashed true-error line");
+        // A dashed line is one <polyline> per dash: without the true errors, far fewer.
+        let mut no_truth = results();
+        no_truth.iter_mut().flat_map(|r| r.rows.iter_mut()).for_each(|r| r.true_percent = None);
+        write_accuracy_outputs(&no_truth, &record, &dir, "test scene").unwrap();
+        let plain = std::fs::read_to_string(dir.join("bench_accuracy.svg")).unwrap();
+        assert!(!plain.contains("true error"));
+        assert!(svg.matches("<polyline").count() > plain.matches("<polyline").count() + 10, "no dashed line");
         let md = std::fs::read_to_string(dir.join("bench_accuracy.md")).unwrap();
         assert!(md.starts_with("# Benchmark: error against run time (test scene)") && md.contains("- date: "));
         // No point at all: the table alone.
@@ -706,6 +726,17 @@ mod tests {
         assert_eq!(write_accuracy_outputs(&none, &record, &dir, "x").unwrap().len(), 1);
         assert!(!dir.join("bench_accuracy.svg").exists());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn log_ticks_are_one_two_five() {
+        assert_eq!(one_two_five(0.15, 12.0), vec![0.2, 0.5, 1.0, 2.0, 5.0, 10.0]);
+        assert!(one_two_five(0.0, 1.0).is_empty());
+        assert_eq!(short_number(0.05), "0.05");
+        assert_eq!(short_number(0.2), "0.2");
+        assert_eq!(short_number(5.0), "5");
+        assert_eq!(short_number(2.5), "2.5");
+        assert_eq!(short_number(20.0), "20");
     }
 
     #[test]

@@ -109,11 +109,17 @@ pub fn write_mesh_svg(
             mesh.cell(c)[..3].iter().map(|&n| (mesh.nodes[n][0], mesh.nodes[n][1])).collect()
         };
         for (k, (area, w)) in areas.iter().zip(&windows).enumerate() {
+            // The cells whose bounding box meets the window (the plotting area clips them).
             let inside = |c: usize| {
-                mesh.cell(c)[..3].iter().any(|&n| {
-                    let p = mesh.nodes[n];
-                    p[0] >= w[0] && p[0] <= w[1] && p[1] >= w[2] && p[1] <= w[3]
-                })
+                let v = &mesh.cell(c)[..3];
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for &n in v {
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(mesh.nodes[n][k]);
+                        hi[k] = hi[k].max(mesh.nodes[n][k]);
+                    }
+                }
+                hi[0] >= w[0] && lo[0] <= w[1] && hi[1] >= w[2] && lo[1] <= w[3]
             };
             let mut chart = ChartBuilder::on(area)
                 .caption(if k == 0 { "the whole mesh" } else { "zoom" }, ("sans-serif", 14))

@@ -191,16 +191,17 @@ pub(crate) fn write_file_scene(dir: &Path) -> PathBuf {
     scene
 }
 
-/// The flat punch (examples/scenes/flat_punch.toml): the pressure is singular at the punch
-/// edges and uniform meshes converge as h^0.5 only. From the scene's 128 elements the loop's
-/// error falls at every step to the target, and the adapted mesh beats a uniform mesh with
-/// several times its elements (measured: 36.1 %, 15.5 %, 11.3 % on 128, 788, 701 elements;
-/// uniform cells of 0.03: 13.0 % on 5280 elements).
+/// The flat punch (examples/scenes/flat_punch.toml: an elastic block sticking on a rigid flat,
+/// the stress singular at the punch edges, uniform meshes converging as h^0.69): from the
+/// scene's 118 elements the loop's error falls at every step to the 1 % target, and the
+/// adapted mesh beats a uniform mesh with more elements by over a factor 2 (measured: 7.22,
+/// 1.52, 1.06, 0.94 % on 118, 2839, 2127, 2416 elements; uniform cells of 0.025: 2.22 % on
+/// 3714 elements). Tresca on a straight obstacle: every estimate is a guaranteed bound.
 pub fn adapt_error_decreases_on_the_flat_punch(session: &Session) -> Result<(), String> {
     let path = manifest("examples/scenes/flat_punch.toml");
     let scene = Scene::from_file(&path).map_err(|e| e.to_string())?;
-    let mut options = AdaptOptions::new(&scene, 12.0);
-    options.max_steps = 4;
+    let mut options = AdaptOptions::new(&scene, 1.0);
+    options.max_steps = 6;
     let out = scratch("punch");
     let outcome = adapt(session, &scene, &options, &out, &mut |_| {}).map_err(|e| e.to_string())?;
     let errors: Vec<f64> = outcome.steps.iter().map(|s| s.error_percent).collect();
@@ -209,13 +210,16 @@ pub fn adapt_error_decreases_on_the_flat_punch(session: &Session) -> Result<(), 
         eprintln!("punch: errors {errors:?}, elements {elements:?}");
     }
     ensure(errors.len() >= 2 && errors.windows(2).all(|w| w[1] < w[0]), || format!("errors {errors:?}"))?;
-    ensure(errors[0] > 30.0 && errors[1] < 0.5 * errors[0], || format!("errors {errors:?}"))?;
+    ensure(errors[1] < 0.5 * errors[0], || format!("errors {errors:?}"))?;
     ensure(outcome.reached, || format!("not reached: {errors:?} {:?}", outcome.warnings))?;
+    ensure(outcome.steps.iter().all(|s| s.kind == signorini::estimate::EstimateKind::GuaranteedBound), || {
+        "Tresca: the estimate must be a guaranteed bound".into()
+    })?;
     let last = outcome.steps.last().unwrap();
-    let text = std::fs::read_to_string(&path).unwrap().replace("cell_size = 0.2", "cell_size = 0.03");
+    let text = std::fs::read_to_string(&path).unwrap().replace("cell_size = 0.15", "cell_size = 0.025");
     let uniform = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
     let (error, n) = uniform_estimate(session, uniform).map_err(|e| e.to_string())?;
-    ensure(n >= 4 * last.elements && error > 1.1 * last.error_percent, || {
+    ensure(2 * n >= 3 * last.elements && error > 2.0 * last.error_percent, || {
         format!("uniform {error:.3} % on {n} elements vs adapted {:.3} % on {}", last.error_percent, last.elements)
     })?;
     let _ = std::fs::remove_dir_all(&out);
