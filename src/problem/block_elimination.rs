@@ -70,21 +70,135 @@ pub(super) enum ContactRow {
     CoulombSlip { a: f64, b: f64, c: f64 },
 }
 
-pub(super) struct BlockElimination<'s> {
-    factor: SchurFactor<'s>,
-    /// `W` in the points' frames, `2m × 2m` (frictionless: only the normal rows are used).
-    w: DMatrix<f64>,
+/// The contact points' nodes and frames, and the current Newton step's contact rows with the
+/// unknowns they leave: the part of the small system that both eliminations (this one and
+/// `floating_elimination.rs`) share.
+pub(super) struct StepRows {
     nodes: Vec<usize>,
     normal: Vec<[f64; 2]>,
     tangent: Vec<[f64; 2]>,
     per_point: usize,
+    /// The current step's rows (`per_point` per point, in point order).
+    rows: Vec<ContactRow>,
+    /// The unknowns: the displacement rows, in `W`'s numbering `2i + k`.
+    pub unknowns: Vec<usize>,
+    /// How the multiplier changes depend on the unknowns: `(unknown, W index, coefficient)` — 1
+    /// for the unknown itself, `−b/c` for the tangential change of a Coulomb slip point, which
+    /// follows its normal one (`dλT = … − (b/c) dλN`).
+    pub columns: Vec<(usize, usize, f64)>,
+}
+
+impl StepRows {
+    pub fn new(boundary: &ContactBoundary, per_point: usize) -> Self {
+        StepRows {
+            nodes: boundary.nodes.clone(),
+            normal: boundary.normal.clone(),
+            tangent: boundary.tangent.clone(),
+            per_point,
+            rows: Vec::new(),
+            unknowns: Vec::new(),
+            columns: Vec::new(),
+        }
+    }
+
+    /// The row of point `i`, component `k`, in `W`'s numbering.
+    fn w_index(&self, r: usize) -> usize {
+        2 * (r / self.per_point) + r % self.per_point
+    }
+
+    /// The contact node of each point.
+    pub fn nodes(&self) -> &[usize] {
+        &self.nodes
+    }
+
+    /// The contact row of a `W` index.
+    pub fn contact_row(&self, wi: usize) -> usize {
+        self.per_point * (wi / 2) + wi % 2
+    }
+
+    /// Take the rows of a new Jacobian: their unknowns and columns.
+    pub fn set(&mut self, rows: Vec<ContactRow>) -> Result<()> {
+        if rows.len() != self.per_point * self.nodes.len() {
+            return Err(Error::PetscUsage(format!("{} contact rows for {} points", rows.len(), self.nodes.len())));
+        }
+        let unknowns: Vec<usize> =
+            (0..rows.len()).filter(|&r| rows[r] == ContactRow::Displacement).map(|r| self.w_index(r)).collect();
+        let mut columns: Vec<(usize, usize, f64)> = unknowns.iter().enumerate().map(|(p, &wi)| (p, wi, 1.0)).collect();
+        for (r, kind) in rows.iter().enumerate() {
+            if let ContactRow::CoulombSlip { b, c, .. } = *kind {
+                let (t, n) = (self.w_index(r), self.w_index(r) - 1);
+                let p = unknowns
+                    .binary_search(&n)
+                    .map_err(|_| Error::PetscUsage(format!("Coulomb slip row {r} without a closed normal row")))?;
+                columns.push((p, t, -b / c));
+            }
+        }
+        self.rows = rows;
+        self.unknowns = unknowns;
+        self.columns = columns;
+        Ok(())
+    }
+
+    /// `B y`: the displacements `y` at the contact nodes in the points' frames.
+    pub fn frame_components(&self, y: &[f64]) -> Vec<f64> {
+        let mut by = vec![0.0; 2 * self.nodes.len()];
+        for (i, &k) in self.nodes.iter().enumerate() {
+            by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
+            by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
+        }
+        by
+    }
+
+    /// The parts of `dλ` the contact rows `r_c` fix by themselves (force rows, the constant
+    /// part of Coulomb slip rows), in `W`'s numbering; 0 for the unknowns.
+    pub fn known_changes(&self, r_c: &[f64]) -> Vec<f64> {
+        let mut dl = vec![0.0; 2 * self.nodes.len()];
+        for (row, kind) in self.rows.iter().enumerate() {
+            let wi = self.w_index(row);
+            match *kind {
+                ContactRow::Force { rho } => dl[wi] = rho * r_c[row],
+                ContactRow::CoulombSlip { a, c, .. } => dl[wi] = (r_c[row] - a * r_c[row - 1]) / c,
+                ContactRow::Displacement => {}
+            }
+        }
+        dl
+    }
+
+    /// Add the unknowns' part `x` to the known changes `dl`.
+    pub fn add_unknowns(&self, dl: &mut [f64], x: &[f64]) {
+        for &(col, wj, coef) in &self.columns {
+            dl[wj] += coef * x[col];
+        }
+    }
+
+    /// `dλ` in the contact rows' order (the second part of a Newton step).
+    pub fn write_changes(&self, dl: &[f64], out: &mut [f64]) {
+        for (row, o) in out.iter_mut().enumerate() {
+            *o = dl[self.w_index(row)];
+        }
+    }
+
+    /// `Bᵀ λ` (`λ` in the points' frames) as a load on `n` dofs.
+    pub fn load(&self, lambda: &[f64], n: usize) -> Vec<f64> {
+        let mut load = vec![0.0; n];
+        for (i, &k) in self.nodes.iter().enumerate() {
+            for c in 0..2 {
+                load[2 * k + c] = self.normal[i][c] * lambda[2 * i] + self.tangent[i][c] * lambda[2 * i + 1];
+            }
+        }
+        load
+    }
+}
+
+pub(super) struct BlockElimination<'s> {
+    factor: SchurFactor<'s>,
+    /// `W` in the points' frames, `2m × 2m` (frictionless: only the normal rows are used).
+    w: DMatrix<f64>,
+    step: StepRows,
     num_u: usize,
     rhs: Vector<'s>,
     solution: Vector<'s>,
-    /// The current step's rows (`per_point` per point), the unknowns (row numbers in `W`'s
-    /// numbering `2i + k`) and the factorised reduced matrix.
-    rows: Vec<ContactRow>,
-    unknowns: Vec<usize>,
+    /// The factorised reduced matrix of the current step.
     reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
 }
 
@@ -104,53 +218,26 @@ impl<'s> BlockElimination<'s> {
         Ok(BlockElimination {
             factor,
             w,
-            nodes: boundary.nodes.clone(),
-            normal: boundary.normal.clone(),
-            tangent: boundary.tangent.clone(),
-            per_point,
+            step: StepRows::new(boundary, per_point),
             num_u,
             rhs: stiffness.create_vector()?,
             solution: stiffness.create_vector()?,
-            rows: Vec::new(),
-            unknowns: Vec::new(),
             reduced: None,
         })
-    }
-
-    /// The row of point `i`, component `k`, in `W`'s numbering.
-    fn w_index(&self, r: usize) -> usize {
-        2 * (r / self.per_point) + r % self.per_point
     }
 
     /// Take the pieces of a new Jacobian (`per_point` rows per point, in point order) and
     /// factorise the reduced matrix.
     pub fn set_rows(&mut self, rows: Vec<ContactRow>) -> Result<()> {
-        if rows.len() != self.per_point * self.nodes.len() {
-            return Err(Error::PetscUsage(format!("{} contact rows for {} points", rows.len(), self.nodes.len())));
-        }
-        let unknowns: Vec<usize> =
-            (0..rows.len()).filter(|&r| rows[r] == ContactRow::Displacement).map(|r| self.w_index(r)).collect();
-        let position = |wi: usize| unknowns.binary_search(&wi).ok();
+        self.step.set(rows)?;
+        let unknowns = &self.step.unknowns;
         let mut a = DMatrix::<f64>::zeros(unknowns.len(), unknowns.len());
-        for (p, &row) in unknowns.iter().enumerate() {
-            for (q, &col) in unknowns.iter().enumerate() {
-                a[(p, q)] = self.w[(row, col)];
-            }
-        }
-        for (r, kind) in rows.iter().enumerate() {
-            if let ContactRow::CoulombSlip { b, c, .. } = *kind {
-                // dλT = … − (b/c) dλN: the column of the point's normal unknown gains −(b/c) W_{·,T}.
-                let (t, n) = (self.w_index(r), self.w_index(r) - 1);
-                let q = position(n)
-                    .ok_or_else(|| Error::PetscUsage(format!("Coulomb slip row {r} without a closed normal row")))?;
-                for (p, &row) in unknowns.iter().enumerate() {
-                    a[(p, q)] -= b / c * self.w[(row, t)];
-                }
+        for &(q, col, coef) in &self.step.columns {
+            for (p, &row) in unknowns.iter().enumerate() {
+                a[(p, q)] += coef * self.w[(row, col)];
             }
         }
         self.reduced = if unknowns.is_empty() { None } else { Some(a.lu()) };
-        self.rows = rows;
-        self.unknowns = unknowns;
         Ok(())
     }
 
@@ -160,38 +247,25 @@ impl<'s> BlockElimination<'s> {
     pub fn solve(&mut self, r: &[f64], d: &mut [f64], negligible: f64) -> Result<()> {
         let n = self.num_u;
         let (r_v, r_c) = r.split_at(n);
-        let m = self.nodes.len();
-        let mut by = vec![0.0; 2 * m];
         let largest = r_v.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        if largest > negligible {
+        let by = if largest > negligible {
             self.rhs.set_owned(r_v)?;
             self.factor.solve(&self.rhs, &mut self.solution)?;
             let y = self.solution.owned_values()?;
-            for (i, &k) in self.nodes.iter().enumerate() {
-                by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
-                by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
-            }
             d[..n].copy_from_slice(&y);
+            self.step.frame_components(&y)
         } else {
             d[..n].fill(0.0);
-        }
-        // Known parts of dλ (force rows, the constant part of Coulomb slip rows).
-        let mut dl = vec![0.0; 2 * m];
-        for (row, kind) in self.rows.iter().enumerate() {
-            let wi = self.w_index(row);
-            match *kind {
-                ContactRow::Force { rho } => dl[wi] = rho * r_c[row],
-                ContactRow::CoulombSlip { a, c, .. } => dl[wi] = (r_c[row] - a * r_c[row - 1]) / c,
-                ContactRow::Displacement => {}
-            }
-        }
+            vec![0.0; self.w.nrows()]
+        };
+        let mut dl = self.step.known_changes(r_c);
         if let Some(lu) = &self.reduced {
-            let mut rhs = DVector::<f64>::zeros(self.unknowns.len());
-            let known_columns: Vec<usize> = (0..2 * m).filter(|&j| dl[j] != 0.0).collect();
-            for (p, &wi) in self.unknowns.iter().enumerate() {
-                let row = self.per_point * (wi / 2) + wi % 2;
+            let unknowns = &self.step.unknowns;
+            let mut rhs = DVector::<f64>::zeros(unknowns.len());
+            let known_columns: Vec<usize> = (0..dl.len()).filter(|&j| dl[j] != 0.0).collect();
+            for (p, &wi) in unknowns.iter().enumerate() {
                 let known: f64 = known_columns.iter().map(|&j| self.w[(wi, j)] * dl[j]).sum();
-                rhs[p] = r_c[row] - by[wi] - known;
+                rhs[p] = r_c[self.step.contact_row(wi)] - by[wi] - known;
             }
             let x = lu.solve(&rhs).ok_or_else(|| Error::SolverDiverged {
                 solver: "block elimination of the mixed Jacobian".into(),
@@ -202,19 +276,9 @@ impl<'s> BlockElimination<'s> {
                         -contact_full_space_lu factorises the whole mixed Jacobian instead"
                     .into(),
             })?;
-            for (p, &wi) in self.unknowns.iter().enumerate() {
-                dl[wi] = x[p];
-            }
-            for (row, kind) in self.rows.iter().enumerate() {
-                if let ContactRow::CoulombSlip { b, c, .. } = *kind {
-                    let wi = self.w_index(row);
-                    dl[wi] -= b / c * dl[wi - 1];
-                }
-            }
+            self.step.add_unknowns(&mut dl, x.as_slice());
         }
-        for (row, out) in d[n..].iter_mut().enumerate() {
-            *out = dl[self.w_index(row)];
-        }
+        self.step.write_changes(&dl, &mut d[n..]);
         Ok(())
     }
 
@@ -225,12 +289,7 @@ impl<'s> BlockElimination<'s> {
 
     /// The displacement `u = v + K⁻¹ Bᵀ λ` (`λ` in the points' frames): one solve.
     pub fn displacement(&mut self, v: &[f64], lambda: &[f64]) -> Result<Vec<f64>> {
-        let mut load = vec![0.0; self.num_u];
-        for (i, &k) in self.nodes.iter().enumerate() {
-            for c in 0..2 {
-                load[2 * k + c] = self.normal[i][c] * lambda[2 * i] + self.tangent[i][c] * lambda[2 * i + 1];
-            }
-        }
+        let load = self.step.load(lambda, self.num_u);
         self.rhs.set_owned(&load)?;
         self.factor.solve(&self.rhs, &mut self.solution)?;
         let response = self.solution.owned_values()?;

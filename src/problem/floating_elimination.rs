@@ -47,7 +47,7 @@
 //! digits (`I − k H` is of order one).
 use nalgebra::{DMatrix, DVector};
 
-use super::block_elimination::ContactRow;
+use super::block_elimination::{ContactRow, StepRows};
 use super::contact::flexibility_from_schur;
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
@@ -97,16 +97,10 @@ pub(super) struct FloatingElimination<'s> {
     /// step (the pins removed, springs on the rigid motions added).
     exact: Correction,
     regularizing: Correction,
-    nodes: Vec<usize>,
-    normal: Vec<[f64; 2]>,
-    tangent: Vec<[f64; 2]>,
-    per_point: usize,
+    step: StepRows,
     num_u: usize,
     rhs: Vector<'s>,
     solution: Vector<'s>,
-    rows: Vec<ContactRow>,
-    /// `W`-numbered unknowns of the displacement rows.
-    unknowns: Vec<usize>,
     /// The springs stay in this step's Jacobian (no `π` unknowns).
     regularized: bool,
     reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
@@ -207,60 +201,27 @@ impl<'s> FloatingElimination<'s> {
             w,
             exact,
             regularizing,
-            nodes: boundary.nodes.clone(),
-            normal: boundary.normal.clone(),
-            tangent: boundary.tangent.clone(),
-            per_point,
+            step: StepRows::new(boundary, per_point),
             num_u: n,
-            rows: Vec::new(),
-            unknowns: Vec::new(),
             regularized: false,
             reduced: None,
         })
     }
 
-    fn w_index(&self, r: usize) -> usize {
-        2 * (r / self.per_point) + r % self.per_point
-    }
-
-    /// The coefficients of the `W`-numbered multiplier changes in the unknowns of the displacement
-    /// rows: `(column of the unknown, W index, coefficient)` — 1 for the unknown itself, `−b/c`
-    /// for the tangential change of a Coulomb slip point following its normal one.
-    fn unknown_columns(&self) -> Result<Vec<(usize, usize, f64)>> {
-        let mut columns: Vec<(usize, usize, f64)> =
-            self.unknowns.iter().enumerate().map(|(p, &wi)| (p, wi, 1.0)).collect();
-        for (r, kind) in self.rows.iter().enumerate() {
-            if let ContactRow::CoulombSlip { b, c, .. } = *kind {
-                let (t, n) = (self.w_index(r), self.w_index(r) - 1);
-                let p = self
-                    .unknowns
-                    .binary_search(&n)
-                    .map_err(|_| Error::PetscUsage(format!("Coulomb slip row {r} without a closed normal row")))?;
-                columns.push((p, t, -b / c));
-            }
-        }
-        Ok(columns)
-    }
-
     /// Take the pieces of a new Jacobian and factorise the small system; `regularized`: keep the
     /// springs in this step (the contact rows do not hold the body yet).
     pub fn set_rows(&mut self, rows: Vec<ContactRow>, regularized: bool) -> Result<()> {
-        if rows.len() != self.per_point * self.nodes.len() {
-            return Err(Error::PetscUsage(format!("{} contact rows for {} points", rows.len(), self.nodes.len())));
-        }
-        self.unknowns =
-            (0..rows.len()).filter(|&r| rows[r] == ContactRow::Displacement).map(|r| self.w_index(r)).collect();
-        self.rows = rows;
+        self.step.set(rows)?;
         self.regularized = regularized;
-        let columns = self.unknown_columns()?;
-        let d = self.unknowns.len();
+        let (unknowns, columns) = (&self.step.unknowns, &self.step.columns);
+        let d = unknowns.len();
         let cor = if regularized { &self.regularizing } else { &self.exact };
         let p = cor.len();
         // Rows: Ŵ_D dλ − G_D C π = …, (I + H C) π − Gᵀ dλ = … (module documentation, C = −k for
         // the pins).
         let mut a = DMatrix::<f64>::zeros(d + p, d + p);
-        for &(col, wj, coef) in &columns {
-            for (row, &wi) in self.unknowns.iter().enumerate() {
+        for &(col, wj, coef) in columns {
+            for (row, &wi) in unknowns.iter().enumerate() {
                 a[(row, col)] += self.w[(wi, wj)] * coef;
             }
             for q in 0..p {
@@ -268,7 +229,7 @@ impl<'s> FloatingElimination<'s> {
             }
         }
         for q in 0..p {
-            for (row, &wi) in self.unknowns.iter().enumerate() {
+            for (row, &wi) in unknowns.iter().enumerate() {
                 a[(row, d + q)] = -cor.g[(wi, q)] * cor.c[q];
             }
             for q2 in 0..p {
@@ -285,7 +246,7 @@ impl<'s> FloatingElimination<'s> {
     pub fn solve(&mut self, r: &[f64], d: &mut [f64], negligible: f64) -> Result<()> {
         let n = self.num_u;
         let (r_u, r_c) = r.split_at(n);
-        let m = self.nodes.len();
+        let m = self.step.nodes().len();
         let largest = r_u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let y = if largest > negligible {
             self.rhs.set_owned(r_u)?;
@@ -294,37 +255,22 @@ impl<'s> FloatingElimination<'s> {
         } else {
             vec![0.0; n]
         };
-        let mut by = vec![0.0; 2 * m];
-        for (i, &k) in self.nodes.iter().enumerate() {
-            by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
-            by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
-        }
-        // Known parts of dλ.
-        let mut dl = vec![0.0; 2 * m];
-        for (row, kind) in self.rows.iter().enumerate() {
-            let wi = self.w_index(row);
-            match *kind {
-                ContactRow::Force { rho } => dl[wi] = rho * r_c[row],
-                ContactRow::CoulombSlip { a, c, .. } => dl[wi] = (r_c[row] - a * r_c[row - 1]) / c,
-                ContactRow::Displacement => {}
-            }
-        }
-        let d_count = self.unknowns.len();
+        let by = self.step.frame_components(&y);
+        let mut dl = self.step.known_changes(r_c);
+        let d_count = self.step.unknowns.len();
         let cor = if self.regularized { &self.regularizing } else { &self.exact };
         let p = cor.len();
         let mut pi = vec![0.0; p];
         // Uᵀ y over the contact dofs.
-        let y_contact = DVector::from_iterator(2 * m, self.nodes.iter().flat_map(|&k| [y[2 * k], y[2 * k + 1]]));
+        let y_contact = DVector::from_iterator(2 * m, self.step.nodes().iter().flat_map(|&k| [y[2 * k], y[2 * k + 1]]));
         let uty = cor.u.transpose() * &y_contact;
-        let columns = self.unknown_columns()?;
         if let Some(lu) = &self.reduced {
             let known = DVector::from_column_slice(&dl);
             let w_known = &self.w * &known;
             let g_known = cor.g.transpose() * &known;
             let mut rhs = DVector::<f64>::zeros(d_count + p);
-            for (row, &wi) in self.unknowns.iter().enumerate() {
-                let contact_row = self.per_point * (wi / 2) + wi % 2;
-                rhs[row] = r_c[contact_row] - by[wi] - w_known[wi];
+            for (row, &wi) in self.step.unknowns.iter().enumerate() {
+                rhs[row] = r_c[self.step.contact_row(wi)] - by[wi] - w_known[wi];
             }
             for q in 0..p {
                 rhs[d_count + q] = uty[q] + g_known[q];
@@ -338,18 +284,15 @@ impl<'s> FloatingElimination<'s> {
                         -contact_full_space_lu factorises the whole mixed Jacobian instead"
                     .into(),
             })?;
-            for &(col, wj, coef) in &columns {
-                dl[wj] += coef * x[col];
-            }
+            self.step.add_unknowns(&mut dl, x.as_slice());
             pi.copy_from_slice(&x.as_slice()[d_count..]);
         }
         // du = y + K̂⁻¹ (Bᵀ dλ − U C π).
         let change = &cor.u * DVector::from_iterator(p, (0..p).map(|q| cor.c[q] * pi[q]));
-        let mut load = vec![0.0; n];
-        for (i, &k) in self.nodes.iter().enumerate() {
+        let mut load = self.step.load(&dl, n);
+        for (k, &node) in self.step.nodes().iter().enumerate() {
             for c in 0..2 {
-                load[2 * k + c] =
-                    self.normal[i][c] * dl[2 * i] + self.tangent[i][c] * dl[2 * i + 1] - change[2 * i + c];
+                load[2 * node + c] -= change[2 * k + c];
             }
         }
         if load.iter().any(|&v| v != 0.0) {
@@ -362,9 +305,7 @@ impl<'s> FloatingElimination<'s> {
         } else {
             d[..n].copy_from_slice(&y);
         }
-        for (row, out) in d[n..].iter_mut().enumerate() {
-            *out = dl[self.w_index(row)];
-        }
+        self.step.write_changes(&dl, &mut d[n..]);
         Ok(())
     }
 }
