@@ -340,8 +340,13 @@ fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> 
     let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
     let scratch = args.out.clone().unwrap_or_else(std::env::temp_dir);
     let row = bench::elasticity_case(session, dofs, solver, &scratch)?;
+    print_case_row(session, &row)
+}
+
+/// A benchmark case's result: its JSON row on stdout, for the parent process (rank 0 only).
+fn print_case_row(session: &Session, row: &impl serde::Serialize) -> Result<(), Error> {
     if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
+        println!("{}", serde_json::to_string(row).map_err(|e| Error::Usage(e.to_string()))?);
     }
     Ok(())
 }
@@ -351,30 +356,21 @@ fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
     let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no contact solver {index}")))?;
     let row = bench::contact_case(session, dofs, solver)?;
-    if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
-    }
-    Ok(())
+    print_case_row(session, &row)
 }
 
 fn bench_dual_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
         args.case.ok_or_else(|| Error::Usage("bench dual-contact-case needs --case DOFS,STRATEGY_INDEX".into()))?;
     let row = bench::dual_contact::dual_contact_case(session, dofs, index)?;
-    if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
-    }
-    Ok(())
+    print_case_row(session, &row)
 }
 
 fn bench_held_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let (dofs, index) =
         args.case.ok_or_else(|| Error::Usage("bench held-case needs --case DOFS,DRIVE_INDEX".into()))?;
     let row = bench::held::held_case(session, dofs, index)?;
-    if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
-    }
-    Ok(())
+    print_case_row(session, &row)
 }
 
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
@@ -383,8 +379,5 @@ fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
     let solvers = bench::dual::dual_solvers();
     let solver = solvers.get(index).ok_or_else(|| Error::Usage(format!("no dual benchmark solver {index}")))?;
     let row = bench::dual::dual_case(session, dofs, solver)?;
-    if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&row).map_err(|e| Error::Usage(e.to_string()))?);
-    }
-    Ok(())
+    print_case_row(session, &row)
 }
