@@ -36,7 +36,9 @@
 //! `u = W r + u_free` is the dual contact displacement (the multiplier of the force
 //! constraints: a weighted mean of the displacement near each edge end). `W` comes from one
 //! MUMPS factorisation of `A` with the Schur complement on the contact forces
-//! ([`crate::petsc::schur::SchurFactor`]); `z` then from one solve with the same factor.
+//! ([`crate::petsc::schur::SchurFactor`]); `u_free` and, for the solver's `r`, `z` each from one
+//! interior solve with the same factor (`z = A_zz⁻¹ (b_z − A_zr r)`): no solve with `W`, whose
+//! conditioning would otherwise perturb the forces the field is built from.
 //!
 //! ## Equilibrium through the contact
 //!
@@ -176,6 +178,8 @@ pub struct CondensedDual<'s> {
     pub matrix: Matrix<'s>,
     /// The reduced right-hand side `b` (all rows).
     pub rhs: Vec<f64>,
+    /// `ℓ = −A_rz A_zz⁻¹ b_z`, the load condensed onto the contact forces.
+    condensed_load: Vec<f64>,
     factor: SchurFactor<'s>,
     /// Seconds: assembly, factorisation with the Schur complement.
     pub assemble_seconds: f64,
@@ -229,14 +233,17 @@ pub fn condense<'s>(
             _ => 0.5 * (lo + hi),
         }
     });
-    // The unconstrained minimiser (contact glued): its forces r_0 give u_free = −W r_0.
+    // The condensed load ℓ = −A_rz A_zz⁻¹ b_z from an interior solve with zero forces; the
+    // unconstrained minimiser (contact glued) has W r_0 = b_r + ℓ, so u_free = −W r_0 = −(b_r + ℓ)
+    // without any solve with W.
+    let mut glued = rows.rhs.clone();
+    glued[nz..].fill(0.0);
     let mut b = matrix.create_vector()?;
-    b.set_owned(&rows.rhs)?;
+    b.set_owned(&glued)?;
     let mut x = matrix.create_vector()?;
-    factor.solve(&b, &mut x)?;
-    let x = x.gather_all()?;
-    let r0 = DVector::from_column_slice(&x[nz..]);
-    let u_free: Vec<f64> = (-(&w * r0)).iter().copied().collect();
+    factor.solve_interior(&b, &mut x)?;
+    let condensed_load = x.gather_all()?[nz..].to_vec();
+    let u_free: Vec<f64> = (0..m2).map(|k| -(rows.rhs[nz + k] + condensed_load[k])).collect();
     let problem = CondensedProblem::new(
         Delassus::Dense(w),
         u_free,
@@ -249,6 +256,7 @@ pub fn condense<'s>(
         equilibrium: ContactEquilibrium::new(system),
         matrix,
         rhs: rows.rhs,
+        condensed_load,
         factor,
         assemble_seconds,
         factor_seconds,
@@ -285,19 +293,19 @@ impl CondensedDual<'_> {
         };
         let (solution, rigid, outer_iterations) =
             solve_with_equilibrium(&self.problem, &self.equilibrium, settings, run)?;
-        // z from one solve with the same factor: A [z; y] = [b_z; b_r + W r + u_free] gives y = r.
+        // z = A_zz⁻¹ (b_z − A_zr r) from one interior solve with the same factor (forces r − ℓ
+        // on the contact rows: see `SchurFactor::solve_interior`), never through W⁻¹.
         let nz = system.affine.num_masters;
-        let w_r = self.problem.displacement(&solution.force)?;
         let mut rhs = self.rhs.clone();
-        for (k, v) in w_r.iter().enumerate() {
-            rhs[nz + k] += v;
+        for (k, (r, l)) in solution.force.iter().zip(&self.condensed_load).enumerate() {
+            rhs[nz + k] = r - l;
         }
         let mut b = self.matrix.create_vector()?;
         b.set_owned(&rhs)?;
         let mut x = self.matrix.create_vector()?;
-        self.factor.solve(&b, &mut x)?;
+        self.factor.solve_interior(&b, &mut x)?;
         let mut reduced = x.gather_all()?;
-        // The contact forces are the solver's exactly (the solve returns them to round-off).
+        // The contact forces are the solver's exactly (the solve returns them to ε |ℓ|).
         reduced[nz..].copy_from_slice(&solution.force);
         // Independent displacement: the contact rows of A x − b, plus the rigid part.
         let mut full = self.matrix.create_vector()?;
@@ -306,9 +314,9 @@ impl CondensedDual<'_> {
         self.matrix.multiply(&full, &mut product)?;
         let product = product.gather_all()?;
         let rigid_part =
-            if self.equilibrium.is_empty() { vec![0.0; w_r.len()] } else { self.equilibrium.transpose_times(&rigid) };
+            if self.equilibrium.is_empty() { vec![0.0; solution.force.len()] } else { self.equilibrium.transpose_times(&rigid) };
         let displacement_check: Vec<f64> =
-            (0..w_r.len()).map(|k| product[nz + k] - self.rhs[nz + k] + rigid_part[k]).collect();
+            (0..solution.force.len()).map(|k| product[nz + k] - self.rhs[nz + k] + rigid_part[k]).collect();
         let phi = system.affine.expand(&reduced);
         Ok(DualContactAnswer { solution, rigid, outer_iterations, reduced, phi, displacement_check })
     }
