@@ -41,6 +41,20 @@ pub struct DualBenchSolver {
     pub constraints: DualConstraints,
 }
 
+/// Extra solvers of the eliminated system: CG with symmetric SOR (the SSOR of the issue and the
+/// talk's preconditioner family; SYMMLQ + SSOR of the elasticity list stalls on the HCT system).
+static ELIMINATED_EXTRA_SOLVERS: &[BenchSolver] = &[BenchSolver {
+    name: "CG + SSOR",
+    prefix: "b_cg_ssor_",
+    options: &[
+        ("ksp_type", Some("cg")),
+        ("pc_type", Some("sor")),
+        ("pc_sor_symmetric", None),
+        ("ksp_max_it", Some("200000")),
+    ],
+    max_dofs: 20_000,
+}];
+
 static SADDLE_POINT_SOLVERS: &[BenchSolver] = &[
     BenchSolver { name: "saddle point, MUMPS LDLᵀ", prefix: "b_kkt_mumps_", options: &[], max_dofs: usize::MAX },
     BenchSolver {
@@ -54,11 +68,12 @@ static SADDLE_POINT_SOLVERS: &[BenchSolver] = &[
 
 /// The solvers of the dual benchmark, in table order: the eliminated (positive definite)
 /// system with the elasticity benchmark's solvers but BoomerAMG (the HCT system is not an
-/// elliptic second-order one), then the saddle point with multipliers.
+/// elliptic second-order one) and CG + SSOR, then the saddle point with multipliers.
 pub fn dual_solvers() -> Vec<DualBenchSolver> {
     let eliminated = SOLVERS
         .iter()
         .filter(|s| !s.name.contains("BoomerAMG"))
+        .chain(ELIMINATED_EXTRA_SOLVERS)
         .map(|solver| DualBenchSolver { solver, constraints: DualConstraints::Eliminated });
     let saddle =
         SADDLE_POINT_SOLVERS.iter().map(|solver| DualBenchSolver { solver, constraints: DualConstraints::Multipliers });

@@ -313,8 +313,11 @@ impl CondensedDual<'_> {
         let mut product = self.matrix.create_vector()?;
         self.matrix.multiply(&full, &mut product)?;
         let product = product.gather_all()?;
-        let rigid_part =
-            if self.equilibrium.is_empty() { vec![0.0; solution.force.len()] } else { self.equilibrium.transpose_times(&rigid) };
+        let rigid_part = if self.equilibrium.is_empty() {
+            vec![0.0; solution.force.len()]
+        } else {
+            self.equilibrium.transpose_times(&rigid)
+        };
         let displacement_check: Vec<f64> =
             (0..solution.force.len()).map(|k| product[nz + k] - self.rhs[nz + k] + rigid_part[k]).collect();
         let phi = system.affine.expand(&reduced);

@@ -198,7 +198,8 @@ fn set_schur_to_identity(f: sys::Mat, m: usize) -> Result<()> {
         }
         let _ = unsafe { sys::MatDenseRestoreArray(s, &mut ptr) };
     }
-    let restore = petsc!(MatFactorRestoreSchurComplement(f, &mut s, sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_INVERTED));
+    let restore =
+        petsc!(MatFactorRestoreSchurComplement(f, &mut s, sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_INVERTED));
     write?;
     restore
 }
