@@ -39,7 +39,7 @@ fn run_case<T: serde::de::DeserializeOwned>(
 }
 
 /// Writes a benchmark's files (table, then the plot when a case succeeded) into a directory.
-type Writer<T> = fn(&[T], &BenchRecord, &Path) -> Result<Vec<PathBuf>, Error>;
+type Writer<T> = Box<dyn Fn(&[T], &BenchRecord, &Path) -> Result<Vec<PathBuf>, Error>>;
 
 /// The parts of a benchmark run in child processes, one per (size, solver) case.
 struct CaseRunner<T> {
@@ -51,6 +51,11 @@ struct CaseRunner<T> {
     describe: fn(&T) -> String,
     table: fn(&[T]) -> String,
     write: Writer<T>,
+    /// The children's scratch directory (default: a fresh one under the system's temporary
+    /// directory), removed at the end.
+    scratch: Option<PathBuf>,
+    /// A result that is partly a failure (rows kept, the reason a failed-case row).
+    failure_of: Option<fn(&T) -> Option<String>>,
 }
 
 /// The command line as typed (the program by its file name), for the benchmark files.
@@ -85,7 +90,9 @@ fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunne
         }
     };
     let mut record = BenchRecord::new(command_line());
-    let scratch = std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()));
+    let scratch = runner.scratch.clone().unwrap_or_else(|| {
+        std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()))
+    });
     let spinner = Spinner::new(terminal_progress::wanted(parsed.quiet));
     let mut rows: Vec<T> = Vec::new();
     for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
@@ -96,6 +103,10 @@ fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunne
         match result {
             Ok(row) => {
                 eprintln!("{head} {}", (runner.describe)(&row));
+                if let Some(reason) = runner.failure_of.and_then(|f| f(&row)) {
+                    eprintln!("{head} failed: {reason}");
+                    record.failures.push(FailedCase { dofs: *dofs, solver: name.clone(), reason });
+                }
                 rows.push(row);
             }
             Err(reason) => {
@@ -149,7 +160,9 @@ pub fn bench_elasticity(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::elasticity_table,
-            write: bench::write_elasticity_outputs,
+            write: Box::new(bench::write_elasticity_outputs),
+            scratch: None,
+            failure_of: None,
         },
     )
 }
@@ -177,7 +190,9 @@ pub fn bench_contact(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::contact_table,
-            write: bench::write_contact_outputs,
+            write: Box::new(bench::write_contact_outputs),
+            scratch: None,
+            failure_of: None,
         },
     )
 }
@@ -197,7 +212,67 @@ pub fn bench_dual(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::dual::dual_table,
-            write: bench::write_dual_outputs,
+            write: Box::new(bench::write_dual_outputs),
+            scratch: None,
+            failure_of: None,
+        },
+    )
+}
+
+/// `bench accuracy [SCENE]`: the plan (levels meshed here to count their dofs) in a scratch
+/// directory, then each case in a child process.
+pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
+    use signorini::bench::accuracy::{self, AccuracyCaseResult};
+    use signorini::scene::Scene;
+    let scene = match &parsed.scene {
+        Some(path) => Scene::from_file(path),
+        None => Scene::from_str(accuracy::DEFAULT_SCENE_TOML, Path::new(accuracy::DEFAULT_SCENE_PATH)),
+    };
+    let plan = scene.and_then(|s| accuracy::plan(&s, parsed.max_dofs, parsed.target));
+    let plan = match plan {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(if matches!(e, Error::Usage(_)) { 2 } else { 1 });
+        }
+    };
+    let scratch = std::env::temp_dir().join(format!("signorini-bench-accuracy-{}", std::process::id()));
+    let written = std::fs::create_dir_all(&scratch).map_err(|e| e.to_string()).and_then(|_| {
+        let text = serde_json::to_string(&plan).map_err(|e| e.to_string())?;
+        std::fs::write(accuracy::plan_path(&scratch), text).map_err(|e| e.to_string())
+    });
+    if let Err(e) = written {
+        eprintln!("error: cannot write the benchmark plan into {}: {e}", scratch.display());
+        return ExitCode::FAILURE;
+    }
+    let cases = plan.cases.iter().enumerate().map(|(k, (dofs, _, name))| (*dofs, k, name.clone())).collect();
+    let scene_name = plan.scene_path.display().to_string();
+    run_bench(
+        &parsed,
+        CaseRunner::<AccuracyCaseResult> {
+            kind: "accuracy",
+            cases,
+            describe: |r| {
+                let last = r.rows.last();
+                match last {
+                    Some(row) if row.series == "reference" => {
+                        format!("{} elements, {} dofs, {:.2} s", row.elements, row.dofs, row.run_seconds)
+                    }
+                    Some(row) => format!(
+                        "{:>3} point(s), last: {:>7} dofs, {:>8.3} s, estimate {:>7.3} %, true {}",
+                        r.rows.len(),
+                        row.dofs,
+                        row.cumulative_seconds,
+                        row.estimate_percent,
+                        row.true_percent.map_or("–".to_string(), |t| format!("{t:.3} %"))
+                    ),
+                    None => "no point".into(),
+                }
+            },
+            table: accuracy::accuracy_table,
+            write: Box::new(move |rows, record, dir| accuracy::write_accuracy_outputs(rows, record, dir, &scene_name)),
+            scratch: Some(scratch),
+            failure_of: Some(|r| r.failure.clone()),
         },
     )
 }
@@ -212,7 +287,9 @@ pub fn bench_held(parsed: RunArgs) -> ExitCode {
             cases,
             describe: |row| format!("{:>8.3} s, {:>3} Newton steps", row.contact_seconds, row.iterations),
             table: bench::held::held_table,
-            write: bench::write_held_outputs,
+            write: Box::new(bench::write_held_outputs),
+            scratch: None,
+            failure_of: None,
         },
     )
 }
@@ -236,7 +313,9 @@ pub fn bench_dual_contact(parsed: RunArgs) -> ExitCode {
                 )
             },
             table: bench::dual_contact::dual_contact_table,
-            write: bench::write_dual_contact_outputs,
+            write: Box::new(bench::write_dual_contact_outputs),
+            scratch: None,
+            failure_of: None,
         },
     )
 }

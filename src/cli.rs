@@ -127,6 +127,10 @@ pub struct AdaptArgs {
     /// Stop rather than remesh to more elements than this (predicted by the size map).
     #[arg(long, value_name = "N", default_value = "2e6", value_parser = parse_dofs)]
     pub max_elements: usize,
+    /// The a priori rate p of the cells on the contact part (default 0.5, the talk's dual
+    /// Tresca rate; the element degree makes them like the volume's).
+    #[arg(long, value_name = "P", value_parser = parse_rate)]
+    pub contact_rate: Option<f64>,
     /// Output directory (default: the scene's [output] dir, else ./out).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -151,6 +155,13 @@ pub struct StudyArgs {
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+fn parse_rate(v: &str) -> Result<f64, String> {
+    v.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x > 0.0 && *x <= 4.0)
+        .ok_or_else(|| format!("expects an a priori rate in (0, 4], such as 0.5, got {v:?}"))
 }
 
 fn parse_percent(v: &str) -> Result<f64, String> {
@@ -182,9 +193,18 @@ pub enum Bench {
     /// `signorini --version`, and the mesh / contact-solve time ratio of the 8.6e4-dof P2 half
     /// disc on a first run and from the mesh cache.
     Startup(StartupOptions),
+    /// The work-precision diagram of a contact scene: relative error (the estimate, and the
+    /// true error against a P2 reference) against wall time for uniform P1 and P2 meshes, the
+    /// adaptive loop in P1 and P2, and every contact solver on one mesh; one SVG plot and a
+    /// markdown table. Default scene: the square block without its corner point, Tresca
+    /// friction (examples/scenes/square_block_tresca.toml).
+    Accuracy(AccuracyOptions),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
     ElasticityCase(CaseOptions),
+    /// One accuracy case (used by `bench accuracy`).
+    #[command(hide = true)]
+    AccuracyCase(CaseOptions),
     /// One contact case (used by `bench contact`).
     #[command(hide = true)]
     ContactCase(CaseOptions),
@@ -223,6 +243,23 @@ pub struct StartupOptions {
 }
 
 #[derive(Debug, Args)]
+pub struct AccuracyOptions {
+    /// The scene (a TOML file with a geometry); default: the square block without its corner
+    /// point, Tresca friction.
+    pub scene: Option<PathBuf>,
+    /// Largest uniform mesh, in degrees of freedom (default 2e4); the adaptive loops stop
+    /// before meshes above it, the P2 reference is about 16 times larger.
+    #[arg(long, value_name = "N", value_parser = parse_dofs)]
+    pub max_dofs: Option<usize>,
+    /// The adaptive loops' target error, percent (default 1).
+    #[arg(long, value_name = "PERCENT", value_parser = parse_percent, allow_hyphen_values = true)]
+    pub target: Option<f64>,
+    /// Where the table and the plot go (default ./bench).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
 pub struct CaseOptions {
     /// DOFS,SOLVER_INDEX
     #[arg(long, value_parser = parse_case)]
@@ -245,7 +282,7 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 12] = [
+const VALUE_FLAGS: [&str; 13] = [
     "--out",
     "--runs",
     "--max-dofs",
@@ -258,6 +295,7 @@ const VALUE_FLAGS: [&str; 12] = [
     "--max-elements",
     "--levels",
     "--reference-halvings",
+    "--contact-rate",
 ];
 
 /// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never

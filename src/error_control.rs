@@ -23,6 +23,17 @@ pub fn adapt_command(session: &Session, args: RunArgs) -> Result<(), Error> {
     let mut options = AdaptOptions::new(&scene, args.target);
     options.max_steps = args.max_steps;
     options.max_elements = args.max_elements;
+    if let Some(rate) = args.contact_rate {
+        if scene.contact.is_none() {
+            return Err(Error::Usage(format!(
+                "adapt: --contact-rate applies to the contact part, and {} has no [contact] section",
+                scene.source.display()
+            )));
+        }
+        for (_, p) in options.rates.parts.iter_mut() {
+            *p = rate;
+        }
+    }
     // Checked before anything is removed or solved.
     adapt::driver::mesh_request(&scene, "adapt")?;
     if session.rank() == 0 {
@@ -67,7 +78,8 @@ pub fn adapt_command(session: &Session, args: RunArgs) -> Result<(), Error> {
             eprintln!("  warning   {w}");
         }
         if loud {
-            let files: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+            let files: Vec<String> =
+                written.iter().chain(&outcome.mesh_picture).map(|p| p.display().to_string()).collect();
             eprintln!("  wrote     {} and step_0 .. step_{}/solution.vtu", files.join(", "), outcome.steps.len() - 1);
         }
     }

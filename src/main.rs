@@ -37,6 +37,8 @@ struct RunArgs {
     target: f64,
     max_steps: usize,
     max_elements: usize,
+    /// adapt: `--contact-rate`.
+    contact_rate: Option<f64>,
     levels: usize,
     reference_halvings: usize,
     /// export: `--solve`.
@@ -69,6 +71,7 @@ fn main() -> ExitCode {
         target: 0.0,
         max_steps: 0,
         max_elements: 0,
+        contact_rate: None,
         levels: 0,
         reference_halvings: 0,
         solve: false,
@@ -91,6 +94,7 @@ fn main() -> ExitCode {
             r.target = a.target;
             r.max_steps = a.max_steps as usize;
             r.max_elements = a.max_elements;
+            r.contact_rate = a.contact_rate;
             with_session(&program, r, error_control::adapt_command)
         }
         Command::Study(a) => {
@@ -120,6 +124,14 @@ fn main() -> ExitCode {
             }
             Bench::Dual(o) => {
                 bench_runner::bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
+            }
+            Bench::Accuracy(o) => {
+                let mut a = args(o.scene, o.out, false, None, o.max_dofs.unwrap_or(20_000), None);
+                a.target = o.target.unwrap_or(1.0);
+                bench_runner::bench_accuracy(a)
+            }
+            Bench::AccuracyCase(c) => {
+                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_accuracy_case)
             }
             Bench::DualCase(c) => {
                 with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
@@ -371,6 +383,17 @@ fn bench_held_case(session: &Session, args: RunArgs) -> Result<(), Error> {
         args.case.ok_or_else(|| Error::Usage("bench held-case needs --case DOFS,DRIVE_INDEX".into()))?;
     let row = bench::held::held_case(session, dofs, index)?;
     print_case_row(session, &row)
+}
+
+/// `bench accuracy-case --case DOFS,INDEX --out SCRATCH`: case INDEX of SCRATCH/plan.json.
+fn bench_accuracy_case(session: &Session, args: RunArgs) -> Result<(), Error> {
+    let (_, index) = args.case.ok_or_else(|| Error::Usage("bench accuracy-case needs --case DOFS,INDEX".into()))?;
+    let scratch = args.out.clone().ok_or_else(|| Error::Usage("bench accuracy-case needs --out SCRATCH".into()))?;
+    let result = bench::accuracy::accuracy_case(session, &scratch, index)?;
+    if session.rank() == 0 {
+        println!("{}", serde_json::to_string(&result).map_err(|e| Error::Usage(e.to_string()))?);
+    }
+    Ok(())
 }
 
 fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {

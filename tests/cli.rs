@@ -396,6 +396,48 @@ fn bench_contact_small_writes_table_and_plot() {
     assert!(std::fs::read_to_string(dir.join("bench_contact.svg")).unwrap().contains("<svg"));
 }
 
+/// The work-precision diagram on the default scene (square block without its corner point,
+/// Tresca), tiny: a reference, uniform P1 and P2 levels with their true errors, the adaptive
+/// loops, every contact solver on one mesh; one SVG with estimates and true errors.
+#[test]
+fn bench_accuracy_small_writes_the_diagram_and_its_table() {
+    let dir = scratch("bench-accuracy");
+    let out = run_ok(bin().args(["bench", "accuracy", "--max-dofs", "500", "--out"]).arg(&dir));
+    let md = std::fs::read_to_string(dir.join("bench_accuracy.md")).unwrap();
+    assert_provenance(&md, "bench accuracy --max-dofs 500");
+    assert!(md.contains("(examples/scenes/square_block_tresca.toml)") && md.contains("Reference: P2"), "{md}");
+    let rows = table_rows(&md);
+    let series = |s: &str| rows.iter().filter(|r| r.starts_with(&format!("| {s} |"))).count();
+    assert_eq!((series("uniform P1"), series("uniform P2")), (2, 1), "{md}");
+    assert!(series("adaptive P1") >= 1 && series("adaptive P2") >= 1, "{md}");
+    for solver in ["newton_full", "newton", "dpana", "uzawa", "tao"] {
+        assert!(rows.iter().any(|r| r.starts_with(&format!("| solver | {solver} |"))), "{solver}: {md}");
+    }
+    // Uniform levels: the estimate and the true error agree (Tresca: a guaranteed bound, the
+    // effectivity near 1) and fall from the first level to the second.
+    let cells = |r: &str| r.split('|').map(|c| c.trim().to_string()).collect::<Vec<String>>();
+    let p1: Vec<Vec<String>> = rows.iter().filter(|r| r.starts_with("| uniform P1 |")).map(|r| cells(r)).collect();
+    let (e0, e1): (f64, f64) = (p1[0][12].parse().unwrap(), p1[1][12].parse().unwrap());
+    let (t0, t1): (f64, f64) = (p1[0][13].parse().unwrap(), p1[1][13].parse().unwrap());
+    assert!(e1 < 0.7 * e0 && t1 < 0.7 * t0, "{md}");
+    let effectivity: f64 = p1[1][14].parse().unwrap();
+    assert!((0.95..1.1).contains(&effectivity), "{md}");
+    assert!(md.contains("Observed rates") && md.contains("adaptive P1:"), "{md}");
+    let svg = std::fs::read_to_string(dir.join("bench_accuracy.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("uniform P2: true error") && svg.contains("contact solvers"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("| series |"));
+    // A scene without geometry is refused before any case runs.
+    let file_dir = scratch("bench-accuracy-file");
+    std::fs::write(
+        file_dir.join("m.toml"),
+        "[mesh]\nshape = \"file\"\nfile = \"m.msh\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n",
+    )
+    .unwrap();
+    std::fs::write(file_dir.join("m.msh"), "").unwrap();
+    let msg = run_err(bin().args(["bench", "accuracy"]).arg(file_dir.join("m.toml")).arg("--out").arg(&file_dir), 1);
+    assert!(msg.contains("bench accuracy") && !file_dir.join("bench_accuracy.md").exists(), "{msg}");
+}
+
 // ------------------------------------------------------------------ errors: clear, typed, no partial output
 
 #[test]

@@ -270,7 +270,13 @@ pub struct AdaptOutcome {
     /// Plain statements of what went wrong: a step whose error grew, a target not reached.
     pub warnings: Vec<String>,
     pub steps: Vec<AdaptStep>,
+    /// `adapt_mesh.svg`: the last mesh coloured by the element size, with a zoom on the cell of
+    /// largest error (not drawn above [`MESH_PICTURE_CELLS`] cells).
+    pub mesh_picture: Option<PathBuf>,
 }
+
+/// The largest mesh `adapt_mesh.svg` is drawn for (an SVG of about 150 bytes per cell).
+pub const MESH_PICTURE_CELLS: usize = 50_000;
 
 /// The Gmsh request that meshes the scene's geometry (its own cell size and refinement); a
 /// scene whose mesh is read from a file has no geometry to remesh.
@@ -329,6 +335,20 @@ pub fn adapt(
     out: &Path,
     on_step: &mut dyn FnMut(&AdaptStep),
 ) -> Result<AdaptOutcome> {
+    adapt_inspecting(session, scene, options, out, on_step, &mut |_, _| Ok(()))
+}
+
+/// [`adapt`], calling `inspect(k, problem)` on each step's solved problem (primal, dual and
+/// estimate done) before its size map; its time is in none of the step's phases (the accuracy
+/// benchmark measures true errors there).
+pub fn adapt_inspecting(
+    session: &Session,
+    scene: &Scene,
+    options: &AdaptOptions,
+    out: &Path,
+    on_step: &mut dyn FnMut(&AdaptStep),
+    inspect: &mut dyn FnMut(usize, &ElasticityProblem) -> Result<()>,
+) -> Result<AdaptOutcome> {
     options.check()?;
     let request = mesh_request(scene, "adapt")?;
     let mut steps: Vec<AdaptStep> = Vec::new();
@@ -336,6 +356,7 @@ pub fn adapt(
     let mut next_mesh: Option<Mesh> = None;
     let mut cumulative = 0.0;
     let mut status = AdaptStatus::MaxSteps;
+    let mut mesh_picture = None;
     for k in 0..options.max_steps {
         let mut seconds = StepSeconds::default();
         let start = Instant::now();
@@ -359,6 +380,7 @@ pub fn adapt(
             problem.estimate.clone().ok_or_else(|| Error::PetscUsage("adapt: the estimate was not computed".into()))?;
         let estimate = &report.estimate;
         cumulative += seconds.mesh + seconds.solve + seconds.dual + seconds.estimate;
+        inspect(k, &problem)?;
 
         // The size map (also on the last step: its target_size field shows the next mesh).
         let start = Instant::now();
@@ -412,6 +434,24 @@ pub fn adapt(
         let reached = estimate.relative_percent <= options.target_percent;
         let last = k + 1 == options.max_steps;
         let too_many = map.predicted_elements > options.max_elements as f64;
+        if (reached || last || too_many) && session.rank() == 0 && problem.mesh.num_cells() <= MESH_PICTURE_CELLS {
+            let path = out.join("adapt_mesh.svg");
+            let title = format!(
+                "{}: step {k}, {} elements, error {:.3} %",
+                scene.title.as_deref().unwrap_or("adapted mesh"),
+                problem.mesh.num_cells(),
+                estimate.relative_percent
+            );
+            // Coloured by the element size; the zoom frames the cell with the largest error
+            // (where the map refines most), a 75th of the diagonal wide.
+            let worst = (0..errors.len()).max_by(|&a, &b| errors[a].total_cmp(&errors[b])).unwrap_or(0);
+            let v = problem.mesh.cell(worst);
+            let c = problem.mesh.nodes[v[0]];
+            let half = problem.mesh.diagonal() / 150.0;
+            let zoom = [c[0] - half, c[0] + half, c[1] - half, c[1] + half];
+            output::mesh_plot::write_mesh_svg(&path, &problem.mesh, &h, &title, "element size h_E", Some(zoom))?;
+            mesh_picture = Some(path);
+        }
         let mut next = None;
         if !reached && !last && !too_many {
             let start = Instant::now();
@@ -467,5 +507,6 @@ pub fn adapt(
         final_error_percent,
         warnings,
         steps,
+        mesh_picture,
     })
 }

@@ -14,8 +14,8 @@ pub mod report;
 pub mod size_map;
 pub mod study;
 
-pub use driver::{adapt, AdaptOptions, AdaptOutcome, AdaptStatus, AdaptStep, RateModel};
+pub use driver::{adapt, adapt_inspecting, AdaptOptions, AdaptOutcome, AdaptStatus, AdaptStep, RateModel};
 pub use remesh::{element_sizes, nodal_sizes, remesh, size_view};
 pub use report::{write_adapt_outputs, write_study_outputs};
 pub use size_map::{optimal_size_map, SizeMap, SizeMapLimits};
-pub use study::{study, StudyOptions, StudyOutcome};
+pub use study::{study, ReferenceField, StudyOptions, StudyOutcome, TrueErrors};

@@ -12,7 +12,7 @@ use crate::output::plot::{write_loglog_panels_svg, Panel, Series};
 use crate::output::{write_atomically, write_json};
 
 /// The summary files, removed before a new run into the same directory.
-pub const ADAPT_FILES: [&str; 3] = ["adapt.json", "adapt.md", "adapt.svg"];
+pub const ADAPT_FILES: [&str; 4] = ["adapt.json", "adapt.md", "adapt.svg", "adapt_mesh.svg"];
 
 /// One line saying how the run ended.
 pub fn status_line(outcome: &AdaptOutcome) -> String {
@@ -262,6 +262,7 @@ mod tests {
             final_error_percent: steps.last().unwrap().error_percent,
             warnings: vec!["step 2: the error grew".into()],
             steps,
+            mesh_picture: None,
         }
     }
 

@@ -111,7 +111,7 @@ pub struct StudyOutcome {
 }
 
 /// The scene with its cell sizes (and refinement size) multiplied by `factor`, at `order`.
-fn scaled(scene: &Scene, factor: f64, order: Order) -> Scene {
+pub fn scaled(scene: &Scene, factor: f64, order: Order) -> Scene {
     let mut s = scene.clone();
     s.order = order;
     match &mut s.mesh {
@@ -128,7 +128,8 @@ fn scaled(scene: &Scene, factor: f64, order: Order) -> Scene {
     s
 }
 
-fn cell_size(scene: &Scene) -> f64 {
+/// The scene's cell size (NaN for a mesh file).
+pub fn cell_size(scene: &Scene) -> f64 {
     match &scene.mesh {
         MeshSpec::Rectangle { cell_size, .. }
         | MeshSpec::Disc { cell_size, .. }
@@ -165,13 +166,33 @@ fn quadratic(m: &[[f64; 3]; 3], v: [f64; 3]) -> f64 {
     (0..3).map(|i| (0..3).map(|j| v[i] * m[i][j] * v[j]).sum::<f64>()).sum()
 }
 
-/// The reference strain at every quadrature point of the reference mesh, with its weight.
-struct ReferenceField {
-    points: Vec<([f64; 2], f64, [f64; 3])>,
+/// The reference strain at every quadrature point of the reference mesh, with its weight: all
+/// the true errors need of the reference solution (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceField {
+    /// `(x, w |det J|, ε(u_ref)(x))` per quadrature point.
+    pub points: Vec<([f64; 2], f64, [f64; 3])>,
+}
+
+/// The true errors of a primal–dual pair against a reference ([`ReferenceField::true_errors`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrueErrors {
+    /// `‖u_ref − u_h‖_a`.
+    pub displacement: f64,
+    /// `‖σ_ref − σ_h‖_b` (σ_h the dual solution).
+    pub stress: f64,
+}
+
+impl TrueErrors {
+    /// `(‖Δu‖² + ‖Δσ‖²)^½`.
+    pub fn combined(&self) -> f64 {
+        self.displacement.hypot(self.stress)
+    }
 }
 
 impl ReferenceField {
-    fn new(mesh: &Mesh, u: &[f64]) -> Self {
+    /// The strains of the displacement `u` on `mesh` at the points of a degree-4 rule.
+    pub fn new(mesh: &Mesh, u: &[f64]) -> Self {
         let rule = quadrature::triangle(4);
         let mut points = Vec::with_capacity(mesh.num_cells() * rule.len());
         let mut coords = [[0.0; 2]; MAX_CELL_NODES];
@@ -193,6 +214,65 @@ impl ReferenceField {
             }
         }
         ReferenceField { points }
+    }
+
+    /// `‖σ_ref‖_{C⁻¹} = a(u_ref, u_ref)^½`.
+    pub fn energy_norm(&self, material: &Material) -> f64 {
+        let c = material.elasticity();
+        self.points.iter().map(|(_, w, e)| w * quadratic(&c, *e)).sum::<f64>().sqrt()
+    }
+
+    /// The true errors of the solved pair of `problem` (primal displacement and dual stresses,
+    /// after `solve`, `solve_dual`), integrated on the reference's points.
+    pub fn true_errors(&self, problem: &ElasticityProblem) -> Result<TrueErrors> {
+        let (Some(u), Some(dual)) = (&problem.displacement, &problem.dual) else {
+            return Err(Error::PetscUsage("true errors: the primal and the dual must be solved first".into()));
+        };
+        let mesh = &problem.mesh;
+        let material = &problem.material;
+        let (c, s) = (material.elasticity(), material.compliance());
+        let sigma = dual.system.field(mesh, &dual.phi);
+        let locator = Locator::new(mesh);
+        let (mut du, mut ds) = (0.0, 0.0);
+        for (x, w, e_ref) in &self.points {
+            let Some(cell) = locator.locate(*x) else { continue };
+            let e_h = strain_at_point(mesh, u, cell, *x);
+            let d = [e_ref[0] - e_h[0], e_ref[1] - e_h[1], e_ref[2] - e_h[2]];
+            du += w * quadratic(&c, d);
+            let s_ref = material.stress(*e_ref);
+            let s_h = sigma.stress_at(cell, *x);
+            ds += w * quadratic(&s, [s_ref[0] - s_h[0], s_ref[1] - s_h[1], s_ref[2] - s_h[2]]);
+        }
+        Ok(TrueErrors { displacement: du.sqrt(), stress: ds.sqrt() })
+    }
+
+    /// The field as bytes: the point count (u64), then 6 f64 per point (x, y, weight, three
+    /// strains), little-endian.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(8 + 48 * self.points.len());
+        out.extend_from_slice(&(self.points.len() as u64).to_le_bytes());
+        for (x, w, e) in &self.points {
+            for v in [x[0], x[1], *w, e[0], e[1], e[2]] {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// The field from [`Self::to_bytes`]; `None` when the bytes are not such a field.
+    pub fn from_bytes(bytes: &[u8]) -> Option<Self> {
+        let n = u64::from_le_bytes(bytes.get(..8)?.try_into().ok()?) as usize;
+        if bytes.len() != 8 + 48 * n {
+            return None;
+        }
+        let f = |k: usize| f64::from_le_bytes(bytes[8 + 8 * k..16 + 8 * k].try_into().expect("8 bytes"));
+        let points = (0..n)
+            .map(|i| {
+                let k = 6 * i;
+                ([f(k), f(k + 1)], f(k + 2), [f(k + 3), f(k + 4), f(k + 5)])
+            })
+            .collect();
+        Some(ReferenceField { points })
     }
 }
 
@@ -236,15 +316,13 @@ pub fn study(
     let reference_dofs = problem.num_dofs();
     drop(problem);
     let field = ReferenceField::new(&ref_mesh, &u_ref);
-    let (c, s) = (material.elasticity(), material.compliance());
-    let norm_sq: f64 = field.points.iter().map(|(_, w, e)| w * quadratic(&c, *e)).sum();
     let reference = StudyReference {
         cell_size: h0 * factor,
         order: 2,
         nodes: ref_mesh.num_nodes(),
         elements: ref_mesh.num_cells(),
         dofs: reference_dofs,
-        energy_norm: norm_sq.sqrt(),
+        energy_norm: field.energy_norm(&material),
         seconds: start.elapsed().as_secs_f64(),
     };
     drop(u_ref);
@@ -260,23 +338,12 @@ pub fn study(
         problem.postprocess()?;
         problem.solve_dual()?;
         problem.estimate()?;
-        let (Some(u), Some(dual), Some(est)) = (&problem.displacement, &problem.dual, &problem.estimate) else {
+        let Some(est) = &problem.estimate else {
             return Err(Error::PetscUsage("study: a level was not solved".into()));
         };
+        let errors = field.true_errors(&problem)?;
+        let error_true = errors.combined();
         let mesh = &problem.mesh;
-        let sigma = dual.system.field(mesh, &dual.phi);
-        let locator = Locator::new(mesh);
-        let (mut du, mut ds) = (0.0, 0.0);
-        for (x, w, e_ref) in &field.points {
-            let Some(cell) = locator.locate(*x) else { continue };
-            let e_h = strain_at_point(mesh, u, cell, *x);
-            let d = [e_ref[0] - e_h[0], e_ref[1] - e_h[1], e_ref[2] - e_h[2]];
-            du += w * quadratic(&c, d);
-            let s_ref = material.stress(*e_ref);
-            let s_h = sigma.stress_at(cell, *x);
-            ds += w * quadratic(&s, [s_ref[0] - s_h[0], s_ref[1] - s_h[1], s_ref[2] - s_h[2]]);
-        }
-        let error_true = (du + ds).sqrt();
         levels.push(StudyLevel {
             level: k,
             cell_size: cell_size(&problem.scene),
@@ -284,8 +351,8 @@ pub fn study(
             nodes: mesh.num_nodes(),
             elements: mesh.num_cells(),
             dofs: problem.num_dofs(),
-            error_displacement: du.sqrt(),
-            error_stress: ds.sqrt(),
+            error_displacement: errors.displacement,
+            error_stress: errors.stress,
             error_true,
             true_percent: if reference.energy_norm > 0.0 { 100.0 * error_true / reference.energy_norm } else { 0.0 },
             estimate: est.estimate.error,
@@ -318,6 +385,17 @@ pub fn study(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reference_fields_round_trip_through_bytes() {
+        let field =
+            ReferenceField { points: vec![([0.5, -1.0], 0.25, [1e-3, -2e-4, 3.5e-5]), ([1.0, 2.0], 1e-9, [0.0; 3])] };
+        let bytes = field.to_bytes();
+        assert_eq!(bytes.len(), 8 + 2 * 48);
+        assert_eq!(ReferenceField::from_bytes(&bytes), Some(field));
+        assert_eq!(ReferenceField::from_bytes(&bytes[..bytes.len() - 1]), None);
+        assert_eq!(ReferenceField::from_bytes(&[1, 2]), None);
+    }
 
     #[test]
     fn fitted_rate_recovers_a_power_law() {

@@ -7,6 +7,7 @@
 //! factorisation/setup + solve time (PETSc's `KSPSolve`), iterations, and the memory the
 //! solve added — each (size, solver) case in a process of its own (the CLI spawns them), so
 //! memory freed by one solver cannot hide another's. The overhead ratio is (mesh + assembly + output) / MUMPS solve time.
+pub mod accuracy;
 pub mod dual;
 pub mod dual_contact;
 pub mod held;

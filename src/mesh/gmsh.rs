@@ -21,7 +21,9 @@
 //! ```
 //!
 //! Circle arcs are kept below 180 degrees, as Gmsh requires. The bottom point of the half disc
-//! is a geometry point, so it is a mesh node (the initial contact point of the Hertz problem).
+//! is a geometry point, so it is a mesh node (the initial contact point of the Hertz problem);
+//! so is the centre, which splits the flat side in two lines (the point support of the Hertz
+//! scene sits there, and a remeshed size map need not put a node at the middle otherwise).
 //!
 //! Mesh size: the points carry `cell_size`. With a [`Refinement`] the size is instead given by a
 //! background field: a `Distance` field `d` from the refinement point feeding a `Threshold`
@@ -450,9 +452,9 @@ fn half_disc_geo(c: [f64; 2], r: f64, h: f64) -> String {
     point(&mut geo, 3, [c[0] + r, c[1]], h);
     point(&mut geo, 4, c, h);
     geo.push_str(
-        "Circle(1) = {1, 4, 2};\nCircle(2) = {2, 4, 3};\nLine(3) = {3, 1};\n\
-         Curve Loop(1) = {1, 2, 3};\nPlane Surface(1) = {1};\n\
-         Physical Curve(\"arc\") = {1, 2};\nPhysical Curve(\"flat\") = {3};\n\
+        "Circle(1) = {1, 4, 2};\nCircle(2) = {2, 4, 3};\nLine(3) = {3, 4};\nLine(4) = {4, 1};\n\
+         Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n\
+         Physical Curve(\"arc\") = {1, 2};\nPhysical Curve(\"flat\") = {3, 4};\n\
          Physical Surface(\"domain\") = {1};\n",
     );
     geo

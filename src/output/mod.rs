@@ -21,6 +21,7 @@
 //! parallel, which costs about one fsync instead of one per file —, renamed, and their
 //! directory fsync'ed once. A failure before that leaves no new file at all.
 pub mod contact_plots;
+pub mod mesh_plot;
 pub mod plot;
 pub mod vtu;
 

@@ -132,6 +132,22 @@ impl ContactSolverSpec {
             ContactSolverSpec::Tao => "tao",
         }
     }
+
+    /// The solver a scene names `name` (relaxation with ω = 1); `None` for an unknown name.
+    pub fn from_scene_name(name: &str) -> Option<Self> {
+        [
+            ContactSolverSpec::FullSpaceNewton,
+            ContactSolverSpec::Newton,
+            ContactSolverSpec::Relaxation { omega: 1.0 },
+            ContactSolverSpec::DPana,
+            ContactSolverSpec::Uzawa,
+            ContactSolverSpec::TrescaFixedPoint,
+            ContactSolverSpec::SnesVi,
+            ContactSolverSpec::Tao,
+        ]
+        .into_iter()
+        .find(|s| s.scene_name() == name)
+    }
 }
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {

@@ -190,3 +190,72 @@ pub(crate) fn write_file_scene(dir: &Path) -> PathBuf {
     .unwrap();
     scene
 }
+
+/// The flat punch (examples/scenes/flat_punch.toml: an elastic block sticking on a rigid flat,
+/// the stress singular at the punch edges, uniform meshes converging as h^0.69): from the
+/// scene's 118 elements the loop's error falls at every step to the 1 % target, and the
+/// adapted mesh beats a uniform mesh with more elements by over a factor 2 (measured: 7.22,
+/// 1.52, 1.06, 0.94 % on 118, 2839, 2127, 2416 elements; uniform cells of 0.025: 2.22 % on
+/// 3714 elements). Tresca on a straight obstacle: every estimate is a guaranteed bound.
+pub fn adapt_error_decreases_on_the_flat_punch(session: &Session) -> Result<(), String> {
+    let path = manifest("examples/scenes/flat_punch.toml");
+    let scene = Scene::from_file(&path).map_err(|e| e.to_string())?;
+    let mut options = AdaptOptions::new(&scene, 1.0);
+    options.max_steps = 6;
+    let out = scratch("punch");
+    let outcome = adapt(session, &scene, &options, &out, &mut |_| {}).map_err(|e| e.to_string())?;
+    let errors: Vec<f64> = outcome.steps.iter().map(|s| s.error_percent).collect();
+    let elements: Vec<usize> = outcome.steps.iter().map(|s| s.elements).collect();
+    if std::env::var_os("SIGNORINI_PRINT_RATES").is_some() {
+        eprintln!("punch: errors {errors:?}, elements {elements:?}");
+    }
+    ensure(errors.len() >= 2 && errors.windows(2).all(|w| w[1] < w[0]), || format!("errors {errors:?}"))?;
+    ensure(errors[1] < 0.5 * errors[0], || format!("errors {errors:?}"))?;
+    ensure(outcome.reached, || format!("not reached: {errors:?} {:?}", outcome.warnings))?;
+    ensure(outcome.steps.iter().all(|s| s.kind == signorini::estimate::EstimateKind::GuaranteedBound), || {
+        "Tresca: the estimate must be a guaranteed bound".into()
+    })?;
+    let last = outcome.steps.last().unwrap();
+    let text = std::fs::read_to_string(&path).unwrap().replace("cell_size = 0.15", "cell_size = 0.025");
+    let uniform = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
+    let (error, n) = uniform_estimate(session, uniform).map_err(|e| e.to_string())?;
+    ensure(2 * n >= 3 * last.elements && error > 2.0 * last.error_percent, || {
+        format!("uniform {error:.3} % on {n} elements vs adapted {:.3} % on {}", last.error_percent, last.elements)
+    })?;
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
+
+/// Every mesh of the loop keeps its curved boundary exact: on a P2 disc (clamped, under its own
+/// weight), every boundary node of every step, vertices and mid-edge nodes, lies on the circle
+/// to round-off, and the remeshed steps are other meshes than the first.
+pub fn adapt_keeps_curved_boundaries_exact(session: &Session) -> Result<(), String> {
+    let text = "[mesh]\nshape = \"disc\"\ncenter = [0.3, -0.2]\nradius = 0.5\ncell_size = 0.15\n\n\
+                [discretization]\norder = 2\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+                [loads]\nbody_force = [0.0, -1e4]\n\n[[dirichlet]]\npart = \"circle\"\nux = 0.0\nuy = 0.0\n";
+    let scene = Scene::from_str(text, &manifest("disc.toml")).map_err(|e| e.to_string())?;
+    let mut options = AdaptOptions::new(&scene, 0.05);
+    options.max_steps = 3;
+    let out = scratch("disc");
+    let mut checked = Vec::new();
+    let outcome = signorini::adapt::adapt_inspecting(session, &scene, &options, &out, &mut |_| {}, &mut |k, p| {
+        let mesh = &p.mesh;
+        let mut worst = 0.0f64;
+        let mut nodes = 0;
+        for e in 0..mesh.num_edges() {
+            for &n in mesh.edge(e) {
+                let x = mesh.nodes[n];
+                worst = worst.max(((x[0] - 0.3).hypot(x[1] + 0.2) - 0.5).abs());
+                nodes += 1;
+            }
+        }
+        checked.push((k, mesh.num_cells(), nodes, worst));
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
+    ensure(outcome.steps.len() >= 2, || format!("one step only: {checked:?}"))?;
+    ensure(checked.iter().all(|&(_, _, nodes, worst)| nodes > 0 && worst <= 1e-12 * 0.5), || format!("{checked:?}"))?;
+    ensure(checked[1].1 != checked[0].1, || format!("step 1 is the first mesh again: {checked:?}"))?;
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(())
+}
