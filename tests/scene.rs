@@ -628,8 +628,34 @@ fn mesh_file_is_resolved_against_the_scene_directory() {
     // the same name read from another directory is missing
     let elsewhere = Scene::from_str(&file_scene("meshes/part.msh"), Path::new("/nonexistent/scene.toml"));
     std::fs::remove_dir_all(&dir).unwrap();
-    assert_eq!(s.unwrap().mesh, MeshSpec::File { path: dir.join("meshes/part.msh") });
+    assert_eq!(s.unwrap().mesh, MeshSpec::File { path: dir.join("meshes/part.msh"), geometry: None });
     assert!(matches!(elsewhere, Err(Error::Scene { .. })), "{elsewhere:?}");
+}
+
+#[test]
+fn mesh_file_geometry_script_is_resolved_and_checked() {
+    let dir = std::env::temp_dir().join(format!("signorini-scene-geometry-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::write(dir.join("meshes/part.msh"), "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n").unwrap();
+    std::fs::write(dir.join("meshes/part.geo"), "Point(1) = {0, 0, 0, 1};\n").unwrap();
+    let with = |geometry: &str| {
+        base_with(
+            "shape = \"rectangle\"\nsize = [1.0, 0.2]\ncell_size = 0.1",
+            &format!("shape = \"file\"\nfile = \"meshes/part.msh\"\ngeometry = \"{geometry}\""),
+        )
+    };
+    let good = Scene::from_str(&with("meshes/part.geo"), &dir.join("scene.toml"));
+    let text = with("meshes/missing.geo");
+    let bad = Scene::from_str(&text, &dir.join("scene.toml"));
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(
+        good.unwrap().mesh,
+        MeshSpec::File { path: dir.join("meshes/part.msh"), geometry: Some(dir.join("meshes/part.geo")) }
+    );
+    let Err(Error::Scene { location: Location { line, .. }, message, hint }) = bad else { panic!("{bad:?}") };
+    assert_eq!(line, line_of(&text, "geometry ="));
+    assert!(message.contains("missing.geo") && message.contains("does not exist"), "{message}");
+    assert!(hint.contains(".geo script"), "{hint}");
 }
 
 // ---- solver and output -----------------------------------------------------------------------

@@ -278,8 +278,10 @@ pub struct AdaptOutcome {
 /// The largest mesh `adapt_mesh.svg` is drawn for (an SVG of about 150 bytes per cell).
 pub const MESH_PICTURE_CELLS: usize = 50_000;
 
-/// The Gmsh request that meshes the scene's geometry (its own cell size and refinement); a
-/// scene whose mesh is read from a file has no geometry to remesh.
+/// The Gmsh request that meshes the scene's geometry (its own cell size and refinement). A
+/// scene whose mesh is read from a file has a geometry only with `geometry = "part.geo"`, and
+/// only for `adapt` (the remeshing takes its sizes from the size map; `study` needs a cell
+/// size to halve).
 pub fn mesh_request(scene: &Scene, command: &'static str) -> Result<MeshRequest> {
     let refinement = |r: &Option<crate::scene::RefineSpec>| {
         r.as_ref().map(|r| Refinement { point: r.point, cell_size: r.cell_size, radius: r.radius })
@@ -294,7 +296,12 @@ pub fn mesh_request(scene: &Scene, command: &'static str) -> Result<MeshRequest>
         MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
             (Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refinement(refine))
         }
-        MeshSpec::File { path } => {
+        MeshSpec::File { path, geometry: Some(geometry) } if command == "adapt" => {
+            let script =
+                std::fs::read_to_string(geometry).map_err(|e| Error::io(geometry, "reading the geometry script", e))?;
+            (Shape::Geometry { script, file: geometry.clone() }, f64::NAN, None)
+        }
+        MeshSpec::File { path, .. } => {
             return Err(Error::NeedsGeometry { scene: scene.source.clone(), file: path.clone(), command })
         }
     };

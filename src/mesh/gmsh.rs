@@ -77,6 +77,11 @@ pub enum Shape {
     /// Lower half disc `{|x - c| <= R, y <= cy}`. Groups "arc" (curved side), "flat" (top),
     /// "domain".
     HalfDisc { center: [f64; 2], radius: f64 },
+    /// A user's Gmsh script (built-in or OpenCASCADE kernel), read from `file`, with its own
+    /// physical groups; only meshed with a background size map ([`generate_with_background`]).
+    /// P2 by Gmsh's `-order 2`, which puts the mid nodes of boundary edges on the script's
+    /// curves.
+    Geometry { script: String, file: PathBuf },
 }
 
 /// Smaller cells around a point: `cell_size` within `radius`, growing to the request's size at
@@ -187,6 +192,14 @@ fn gmsh_binary() -> Option<(String, String)> {
 
 /// The mesh of `request` from its script: Gmsh's linear mesh, made quadratic by us for P2.
 fn mesh_shape(request: &MeshRequest, geo: &str, background_pos: Option<&str>) -> Result<Mesh> {
+    if let Shape::Geometry { file, .. } = &request.shape {
+        return run_gmsh(geo, request.order, background_pos).map_err(|e| match e {
+            Error::Gmsh { message, stderr } => {
+                Error::Gmsh { message: format!("{message} (meshing the geometry script {})", file.display()), stderr }
+            }
+            other => other,
+        });
+    }
     let linear = run_gmsh(geo, Order::P1, background_pos)?;
     match request.order {
         Order::P1 => Ok(linear),
@@ -198,7 +211,7 @@ fn mesh_shape(request: &MeshRequest, geo: &str, background_pos: Option<&str>) ->
 /// circle, all others at the midpoint; validated (a projection can fold a coarse cell).
 fn quadratic_on_shape(linear: &Mesh, shape: &Shape) -> Result<Mesh> {
     let (arcs, center, radius) = match *shape {
-        Shape::Rectangle { .. } => (None, [0.0; 2], 0.0),
+        Shape::Rectangle { .. } | Shape::Geometry { .. } => (None, [0.0; 2], 0.0),
         Shape::Disc { center, radius } => (linear.group_index("circle", 1), center, radius),
         Shape::HalfDisc { center, radius } => (linear.group_index("arc", 1), center, radius),
     };
@@ -382,6 +395,15 @@ fn geo_script(request: &MeshRequest) -> Result<String> {
             finite_point(center, "center", &entity)?;
             positive(radius, "radius", &entity)?;
             (0.5 * std::f64::consts::PI * radius * radius, half_disc_geo(center, radius, request.cell_size))
+        }
+        Shape::Geometry { ref script, .. } => {
+            // The sizes come from the background map, whose triangle count the caller checks.
+            let mut geo = script.clone();
+            if !geo.ends_with('\n') {
+                geo.push('\n');
+            }
+            let _ = writeln!(geo, "Mesh.Algorithm = {ALGORITHM};");
+            return Ok(geo);
         }
     };
     positive(request.cell_size, "cell_size", &entity)?;

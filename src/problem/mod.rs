@@ -694,7 +694,7 @@ pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheRep
             let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
             return Ok((mesh::structured::rectangle(*origin, *size, nx, ny, order)?, None, None));
         }
-        scene::MeshSpec::File { path } => return mesh_file(path, order).map(|(m, o)| (m, o, None)),
+        scene::MeshSpec::File { path, .. } => return mesh_file(path, order).map(|(m, o)| (m, o, None)),
         scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Gmsh, refine } => {
             (mesh::gmsh::Shape::Rectangle { origin: *origin, size: *size }, *cell_size, refine)
         }

@@ -88,10 +88,13 @@ impl Scene {
                 );
                 refine_line(&mut t, refine);
             }
-            MeshSpec::File { path } => {
+            MeshSpec::File { path, geometry } => {
                 // Absolute, so that reading the text back resolves it to the same file.
-                let path = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-                let _ = writeln!(t, "shape = \"file\"\nfile = {}", string(&path.display().to_string()));
+                let absolute = |p: &PathBuf| std::path::absolute(p).unwrap_or_else(|_| p.clone());
+                let _ = writeln!(t, "shape = \"file\"\nfile = {}", string(&absolute(path).display().to_string()));
+                if let Some(g) = geometry {
+                    let _ = writeln!(t, "geometry = {}", string(&absolute(g).display().to_string()));
+                }
             }
         }
         let _ = writeln!(
@@ -264,7 +267,14 @@ impl SceneBuilder {
     }
     /// A mesh file (MSH 4.1).
     pub fn mesh_file(path: impl AsRef<Path>) -> Self {
-        Self::from_mesh(MeshSpec::File { path: path.as_ref().to_path_buf() })
+        Self::from_mesh(MeshSpec::File { path: path.as_ref().to_path_buf(), geometry: None })
+    }
+    /// A mesh file (MSH 4.1) and the Gmsh `.geo` script it was made from (for `adapt`).
+    pub fn mesh_file_with_geometry(path: impl AsRef<Path>, geometry: impl AsRef<Path>) -> Self {
+        Self::from_mesh(MeshSpec::File {
+            path: path.as_ref().to_path_buf(),
+            geometry: Some(geometry.as_ref().to_path_buf()),
+        })
     }
     pub fn title(mut self, title: &str) -> Self {
         self.scene.title = Some(title.to_string());

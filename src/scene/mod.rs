@@ -163,7 +163,9 @@ pub enum MeshSpec {
     /// Always meshed by gmsh.
     HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
-    File { path: PathBuf },
+    /// `geometry`: the Gmsh `.geo` script the file was meshed from (`geometry = "part.geo"`),
+    /// which `signorini adapt` remeshes with its size map.
+    File { path: PathBuf, geometry: Option<PathBuf> },
 }
 
 /// Who meshes a rectangle.
@@ -516,7 +518,7 @@ const SHAPES: &[&str] = &["rectangle", "disc", "half_disc", "file"];
 const MESHERS: &[&str] = &["structured", "gmsh"];
 const RECTANGLE_KEYS: &[&str] = &["shape", "origin", "size", "cell_size", "mesher", "refine"];
 const DISC_KEYS: &[&str] = &["shape", "center", "radius", "cell_size", "refine"];
-const FILE_KEYS: &[&str] = &["shape", "file"];
+const FILE_KEYS: &[&str] = &["shape", "file", "geometry"];
 
 fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
     let table = Table::locate(src, "[mesh]", ("mesh", false, 0), m.first_span(), 0..0);
@@ -549,7 +551,23 @@ fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
                 "check the name; a relative path is read from the scene file's directory",
             ));
         }
-        return Ok(MeshSpec::File { path });
+        let geometry = match &m.geometry {
+            None => None,
+            Some(v) => {
+                let name = src.nonempty_string(v, "geometry")?;
+                let geometry = scene_dir.join(name);
+                if !geometry.is_file() {
+                    return Err(src.error(
+                        &v.span(),
+                        format!("geometry script `{name}` does not exist (looked for {})", geometry.display()),
+                        "give the Gmsh .geo script the mesh file was made from; a relative path is read from the \
+                         scene file's directory",
+                    ));
+                }
+                Some(geometry)
+            }
+        };
+        return Ok(MeshSpec::File { path, geometry });
     }
 
     let cell_v = table.require(&m.cell_size, "cell_size", "cell_size = 0.05 (target edge length)")?;

@@ -163,6 +163,77 @@ pub fn adapt_and_study_refuse_mesh_files(session: &Session) -> Result<(), String
     Ok(())
 }
 
+/// A mesh file with the Gmsh script it was made from (`geometry = "…"`): adapt remeshes the
+/// script's geometry with the size map, P2, and the mid nodes of the new boundary edges lie on
+/// the script's circle arc (a quarter disc of radius 1 clamped on one straight side, pulled on
+/// the other); a script without the scene's parts is a clear error naming the part; study still
+/// refuses the file.
+pub fn adapt_remeshes_a_mesh_file_from_its_geometry_script(session: &Session) -> Result<(), String> {
+    let dir = scratch("file-geometry");
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = "SetFactory(\"Built-in\");\nPoint(1) = {0, 0, 0, 0.3};\nPoint(2) = {1, 0, 0, 0.3};\n\
+                  Point(3) = {0, 1, 0, 0.3};\nLine(1) = {1, 2};\nCircle(2) = {2, 1, 3};\nLine(3) = {3, 1};\n\
+                  Curve Loop(1) = {1, 2, 3};\nPlane Surface(1) = {1};\nPhysical Curve(\"base\") = {1};\n\
+                  Physical Curve(\"arc\") = {2};\nPhysical Curve(\"side\") = {3};\nPhysical Surface(\"domain\") = {1};\n";
+    std::fs::write(dir.join("quarter.geo"), script).unwrap();
+    let status = std::process::Command::new("gmsh")
+        .arg(dir.join("quarter.geo"))
+        .args(["-2", "-order", "2", "-format", "msh41", "-v", "0", "-o"])
+        .arg(dir.join("quarter.msh"))
+        .status()
+        .unwrap();
+    ensure(status.success(), || "gmsh failed on the quarter disc".into())?;
+    let scene_text = "[mesh]\nshape = \"file\"\nfile = \"quarter.msh\"\ngeometry = \"quarter.geo\"\n\n\
+                      [discretization]\norder = 2\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+                      [[dirichlet]]\npart = \"base\"\nux = 0.0\nuy = 0.0\n\n\
+                      [[traction]]\npart = \"side\"\ntraction = [-1e6, 0.0]\n";
+    std::fs::write(dir.join("quarter.toml"), scene_text).unwrap();
+    let scene = Scene::from_file(&dir.join("quarter.toml")).map_err(|e| e.to_string())?;
+    let mut options = AdaptOptions::new(&scene, 0.5);
+    options.max_steps = 3;
+    let out = dir.join("out");
+    let mut checked = Vec::new();
+    let arc = |mesh: &signorini::mesh::Mesh| mesh.group_index("arc", 1);
+    let outcome = signorini::adapt::adapt_inspecting(session, &scene, &options, &out, &mut |_| {}, &mut |k, p| {
+        let mesh = &p.mesh;
+        let group = arc(mesh).ok_or_else(|| signorini::Error::Usage(format!("step {k}: no arc group")))?;
+        let mut worst = 0.0f64;
+        let mut nodes = 0;
+        for e in 0..mesh.num_edges() {
+            if mesh.edge_group[e] != group {
+                continue;
+            }
+            for &n in mesh.edge(e) {
+                worst = worst.max((mesh.nodes[n][0].hypot(mesh.nodes[n][1]) - 1.0).abs());
+                nodes += 1;
+            }
+        }
+        checked.push((k, mesh.num_cells(), nodes, worst));
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
+    ensure(outcome.steps.len() >= 2, || format!("one step only: {checked:?}"))?;
+    ensure(checked[1].1 != checked[0].1, || format!("step 1 is the file's mesh again: {checked:?}"))?;
+    // Gmsh places the arc's nodes on the circle to its own tolerance (parametric evaluation).
+    ensure(checked.iter().all(|&(_, _, nodes, worst)| nodes > 0 && worst <= 1e-12), || format!("{checked:?}"))?;
+    let errors: Vec<f64> = outcome.steps.iter().map(|s| s.error_percent).collect();
+    ensure(errors[1] < errors[0], || format!("errors {errors:?}"))?;
+    let options = StudyOptions { levels: 2, reference_halvings: 1 };
+    ensure(
+        matches!(study(session, &scene, options, &mut |_, _| {}), Err(Error::NeedsGeometry { command: "study", .. })),
+        || "study on a mesh file with its geometry".into(),
+    )?;
+    // A script that lacks one of the scene's parts.
+    std::fs::write(dir.join("quarter.geo"), script.replace("Physical Curve(\"side\") = {3};\n", "")).unwrap();
+    let scene = Scene::from_file(&dir.join("quarter.toml")).map_err(|e| e.to_string())?;
+    match adapt(session, &scene, &AdaptOptions::new(&scene, 0.5), &out, &mut |_| {}) {
+        Err(e) if e.to_string().contains("side") => {}
+        other => return Err(format!("a script without the part `side`: {:?}", other.map(|o| o.status))),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}
+
 /// A scene reading `square.msh` (a Gmsh unit square) beside it.
 pub(crate) fn write_file_scene(dir: &Path) -> PathBuf {
     let geo = dir.join("square.geo");

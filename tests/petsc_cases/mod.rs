@@ -84,6 +84,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("adapt_and_study_refuse_mesh_files", adapt::adapt_and_study_refuse_mesh_files),
     ("adapt_error_decreases_on_the_flat_punch", adapt::adapt_error_decreases_on_the_flat_punch),
     ("adapt_keeps_curved_boundaries_exact", adapt::adapt_keeps_curved_boundaries_exact),
+    ("adapt_remeshes_a_mesh_file_from_its_geometry_script", adapt::adapt_remeshes_a_mesh_file_from_its_geometry_script),
     ("hertz_near_incompressible_p2p0_is_locking_free", locking::hertz_near_incompressible_p2p0_is_locking_free),
     ("contact_patch_near_incompressible_p2p0_exact", locking::contact_patch_near_incompressible_p2p0_exact),
     ("fclib_export_square_block_reads_back", export::fclib_export_square_block_reads_back),
