@@ -83,6 +83,10 @@ pub fn adapt_command(session: &Session, args: RunArgs) -> Result<(), Error> {
             eprintln!("  wrote     {} and step_0 .. step_{}/solution.vtu", files.join(", "), outcome.steps.len() - 1);
         }
     }
+    // A failed step: the files of the steps before it are written; the run's error is its.
+    if let Some(error) = outcome.error {
+        return Err(std::sync::Arc::try_unwrap(error).unwrap_or_else(|shared| Error::Usage(shared.to_string())));
+    }
     Ok(())
 }
 

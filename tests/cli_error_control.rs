@@ -260,3 +260,45 @@ fn help_for_adapt_and_study() {
         assert!(text.contains(if sub == "adapt" { "--target" } else { "--levels" }), "{text}");
     }
 }
+
+/// A step after the first fails (here: the geometry script lacks a part the scene loads, so
+/// the first remeshed mesh is refused): exit 1 with the error, and the steps before it are
+/// written with status "failed" in adapt.json and the reason in adapt.md.
+#[test]
+fn adapt_failure_after_the_first_step_keeps_the_steps_done() {
+    let dir = scratch("adapt-failed-step");
+    let geo = "Point(1) = {0, 0, 0, 0.3};\nPoint(2) = {1, 0, 0, 0.3};\nPoint(3) = {1, 1, 0, 0.3};\n\
+               Point(4) = {0, 1, 0, 0.3};\nLine(1) = {1, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 4};\n\
+               Line(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n\
+               Physical Curve(\"bottom\") = {1};\nPhysical Curve(\"right\") = {2};\nPhysical Curve(\"top\") = {3};\n\
+               Physical Curve(\"left\") = {4};\nPhysical Surface(\"domain\") = {1};\n";
+    std::fs::write(dir.join("square.geo"), geo).unwrap();
+    let status = Command::new("gmsh")
+        .arg(dir.join("square.geo"))
+        .args(["-2", "-format", "msh41", "-v", "0", "-o"])
+        .arg(dir.join("square.msh"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    // The remeshing script lacks "top", which the scene loads.
+    std::fs::write(dir.join("remesh.geo"), geo.replace("Physical Curve(\"top\") = {3};\n", "")).unwrap();
+    std::fs::write(
+        dir.join("file.toml"),
+        "[mesh]\nshape = \"file\"\nfile = \"square.msh\"\ngeometry = \"remesh.geo\"\n\n[material]\nyoung = 1e9\n\
+         poisson = 0.3\n\n[[dirichlet]]\npart = \"bottom\"\nux = 0.0\nuy = 0.0\n\n[[traction]]\npart = \"top\"\n\
+         traction = [1e6, 0.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, text) = run(bin().arg("adapt").arg(dir.join("file.toml")).args(["--target", "0.1", "--out"]).arg(&out));
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("step 0 ") && text.contains("error: ") && text.contains("`top`"), "{text}");
+    let report = json(&out.join("adapt.json"));
+    assert_eq!(report["status"], "failed", "{report}");
+    assert_eq!(report["steps"].as_array().unwrap().len(), 1);
+    assert!(report["failure"].as_str().unwrap().starts_with("step 1 failed"), "{report}");
+    assert!(out.join("step_0/solution.vtu").is_file());
+    let table = std::fs::read_to_string(out.join("adapt.md")).unwrap();
+    assert!(table.contains("then step 1 failed"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -255,6 +255,9 @@ pub enum AdaptStatus {
     MaxSteps,
     /// The size map asked for more than `max_elements` elements.
     ElementLimit,
+    /// A step after the first failed (its solve, the dual's independent check, the estimate,
+    /// or the remeshing): the steps before it are kept, `failure` says why.
+    Failed,
 }
 
 /// The whole run (`adapt.json`).
@@ -273,6 +276,12 @@ pub struct AdaptOutcome {
     /// `adapt_mesh.svg`: the last mesh coloured by the element size, with a zoom on the cell of
     /// largest error (not drawn above [`MESH_PICTURE_CELLS`] cells).
     pub mesh_picture: Option<PathBuf>,
+    /// With [`AdaptStatus::Failed`]: which step failed and the error's text.
+    pub failure: Option<String>,
+    /// With [`AdaptStatus::Failed`]: the error itself, for the caller to report (the CLI exits
+    /// with it after writing the files of the steps that were done).
+    #[serde(skip)]
+    pub error: Option<std::sync::Arc<Error>>,
 }
 
 /// The largest mesh `adapt_mesh.svg` is drawn for (an SVG of about 150 bytes per cell).
@@ -364,30 +373,48 @@ pub fn adapt_inspecting(
     let mut cumulative = 0.0;
     let mut status = AdaptStatus::MaxSteps;
     let mut mesh_picture = None;
+    let mut failure: Option<(usize, Error)> = None;
+    // An error of a step after the first ends the loop with the steps done (status Failed);
+    // the first step's error is the run's.
+    macro_rules! attempt {
+        ($k:expr, $e:expr) => {
+            match $e {
+                Ok(v) => v,
+                Err(e) if steps.is_empty() => return Err(e),
+                Err(e) => {
+                    failure = Some(($k, e));
+                    break;
+                }
+            }
+        };
+    }
     for k in 0..options.max_steps {
         let mut seconds = StepSeconds::default();
         let start = Instant::now();
-        let mut problem = match next_mesh.take() {
-            None => ElasticityProblem::setup_system(session, scene.clone())?,
-            Some(mesh) => ElasticityProblem::setup_with_mesh(session, scene.clone(), mesh)?,
-        };
+        let mut problem = attempt!(
+            k,
+            match next_mesh.take() {
+                None => ElasticityProblem::setup_system(session, scene.clone()),
+                Some(mesh) => ElasticityProblem::setup_with_mesh(session, scene.clone(), mesh),
+            }
+        );
         seconds.mesh = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        problem.assemble()?;
-        problem.solve()?;
-        problem.postprocess()?;
+        attempt!(k, problem.assemble().and_then(|_| problem.solve()).and_then(|_| problem.postprocess()));
         seconds.solve = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        problem.solve_dual()?;
+        attempt!(k, problem.solve_dual());
         seconds.dual = start.elapsed().as_secs_f64();
         let start = Instant::now();
-        problem.estimate()?;
+        attempt!(k, problem.estimate());
         seconds.estimate = start.elapsed().as_secs_f64();
-        let report =
-            problem.estimate.clone().ok_or_else(|| Error::PetscUsage("adapt: the estimate was not computed".into()))?;
+        let report = attempt!(
+            k,
+            problem.estimate.clone().ok_or_else(|| Error::PetscUsage("adapt: the estimate was not computed".into()))
+        );
         let estimate = &report.estimate;
         cumulative += seconds.mesh + seconds.solve + seconds.dual + seconds.estimate;
-        inspect(k, &problem)?;
+        attempt!(k, inspect(k, &problem));
 
         // The size map (also on the last step: its target_size field shows the next mesh).
         let start = Instant::now();
@@ -460,9 +487,13 @@ pub fn adapt_inspecting(
             mesh_picture = Some(path);
         }
         let mut next = None;
+        let mut remesh_failure = None;
         if !reached && !last && !too_many {
             let start = Instant::now();
-            next = Some(remesh(&problem.mesh, &request, &targets)?);
+            match remesh(&problem.mesh, &request, &targets) {
+                Ok(mesh) => next = Some(mesh),
+                Err(e) => remesh_failure = Some(e),
+            }
             seconds.remesh = map_seconds + start.elapsed().as_secs_f64();
         }
         let step = AdaptStep {
@@ -483,6 +514,10 @@ pub fn adapt_inspecting(
         cumulative += seconds.remesh + seconds.output;
         on_step(&step);
         steps.push(step);
+        if let Some(e) = remesh_failure {
+            failure = Some((k + 1, e));
+            break;
+        }
         if reached {
             status = AdaptStatus::Reached;
             break;
@@ -498,6 +533,16 @@ pub fn adapt_inspecting(
         next_mesh = next;
     }
     let final_error_percent = steps.last().map_or(f64::NAN, |s| s.error_percent);
+    let failure = failure.map(|(k, e)| {
+        status = AdaptStatus::Failed;
+        let text = format!("step {k} failed: {e}");
+        warnings.push(format!(
+            "stopped at step {k}: {}; the {} step(s) before it are written",
+            e.to_string().lines().next().unwrap_or(""),
+            steps.len()
+        ));
+        (text, std::sync::Arc::new(e))
+    });
     if status == AdaptStatus::MaxSteps {
         warnings.push(format!(
             "target {:.3} % not reached in {} step(s): the last error is {final_error_percent:.3} %",
@@ -515,5 +560,7 @@ pub fn adapt_inspecting(
         warnings,
         steps,
         mesh_picture,
+        failure: failure.as_ref().map(|(text, _)| text.clone()),
+        error: failure.map(|(_, e)| e),
     })
 }

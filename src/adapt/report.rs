@@ -33,6 +33,11 @@ pub fn status_line(outcome: &AdaptOutcome) -> String {
              element limit",
             outcome.final_error_percent
         ),
+        AdaptStatus::Failed => format!(
+            "target {target:.3} % NOT reached: {:.3} % on {elements} elements, then {}",
+            outcome.final_error_percent,
+            outcome.failure.as_deref().and_then(|f| f.lines().next()).unwrap_or("a step failed")
+        ),
     }
 }
 
@@ -263,6 +268,8 @@ mod tests {
             warnings: vec!["step 2: the error grew".into()],
             steps,
             mesh_picture: None,
+            failure: (status == AdaptStatus::Failed).then(|| "step 1 failed: the dual is refused".to_string()),
+            error: None,
         }
     }
 
@@ -281,6 +288,9 @@ mod tests {
         assert!(status_line(&reached).starts_with("target 5.000 % reached: 4.000 %"));
         let limit = outcome(AdaptStatus::ElementLimit, vec![step(0, 100, 40.0, false)]);
         assert!(status_line(&limit).contains("element limit"));
+        let failed = outcome(AdaptStatus::Failed, vec![step(0, 100, 40.0, false)]);
+        assert!(status_line(&failed).ends_with("then step 1 failed: the dual is refused"), "{}", status_line(&failed));
+        assert!(adapt_table(&failed).contains("then step 1 failed"));
     }
 
     #[test]

@@ -166,7 +166,8 @@ pub fn adapt_and_study_refuse_mesh_files(session: &Session) -> Result<(), String
 /// A mesh file with the Gmsh script it was made from (`geometry = "…"`): adapt remeshes the
 /// script's geometry with the size map, P2, and the mid nodes of the new boundary edges lie on
 /// the script's circle arc (a quarter disc of radius 1 clamped on one straight side, pulled on
-/// the other); a script without the scene's parts is a clear error naming the part; study still
+/// the other); a script without one of the scene's parts stops the loop at the first remesh
+/// with the steps before it kept (status Failed, the error naming the part); study still
 /// refuses the file.
 pub fn adapt_remeshes_a_mesh_file_from_its_geometry_script(session: &Session) -> Result<(), String> {
     let dir = scratch("file-geometry");
@@ -226,10 +227,17 @@ pub fn adapt_remeshes_a_mesh_file_from_its_geometry_script(session: &Session) ->
     // A script that lacks one of the scene's parts.
     std::fs::write(dir.join("quarter.geo"), script.replace("Physical Curve(\"side\") = {3};\n", "")).unwrap();
     let scene = Scene::from_file(&dir.join("quarter.toml")).map_err(|e| e.to_string())?;
-    match adapt(session, &scene, &AdaptOptions::new(&scene, 0.5), &out, &mut |_| {}) {
-        Err(e) if e.to_string().contains("side") => {}
-        other => return Err(format!("a script without the part `side`: {:?}", other.map(|o| o.status))),
-    }
+    // Step 0 (the file's mesh) is kept; step 1's mesh lacks the part: status Failed, the
+    // error kept for the caller.
+    let outcome =
+        adapt(session, &scene, &AdaptOptions::new(&scene, 0.5), &out, &mut |_| {}).map_err(|e| e.to_string())?;
+    ensure(
+        outcome.status == AdaptStatus::Failed
+            && outcome.steps.len() == 1
+            && outcome.failure.as_deref().is_some_and(|f| f.starts_with("step 1 failed") && f.contains("`side`"))
+            && outcome.error.as_deref().is_some_and(|e| matches!(e, Error::Mesh { .. } | Error::Scene { .. })),
+        || format!("{:?} {:?} {:?}", outcome.status, outcome.failure, outcome.error),
+    )?;
     let _ = std::fs::remove_dir_all(&dir);
     Ok(())
 }
