@@ -927,7 +927,7 @@ fn bench_held_writes_both_drives_and_their_ratio() {
 }
 
 /// `bench dual-contact`: the block without its corner in the dual and the primal, with the
-/// estimate, at 1e3 dofs.
+/// estimate, at 1e3 dofs, every strategy (the iterative interior solvers take about 10 s).
 #[test]
 fn bench_dual_contact_writes_its_table() {
     let dir = scratch("bench-dual-contact");
@@ -935,9 +935,15 @@ fn bench_dual_contact_writes_its_table() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let table = std::fs::read_to_string(dir.join("bench_dual_contact.md")).unwrap();
     assert_provenance(&table, "bench dual-contact --max-dofs 2000");
-    let rows = table_rows(&table);
-    assert_eq!(rows.len(), 1, "{table}");
-    assert!(rows[0].contains("MUMPS Schur") && failed_rows(&table).is_empty(), "{table}");
+    // Every strategy is a row or a failed case; the direct ones succeed.
+    let (rows, failed) = (table_rows(&table), failed_rows(&table));
+    for name in signorini::bench::dual_contact::STRATEGIES.iter().map(|s| s.name) {
+        let cell = format!("| {name} |");
+        assert_eq!(rows.iter().chain(&failed).filter(|r| r.contains(&cell)).count(), 1, "{name}: {table}");
+        if name.contains("MUMPS") {
+            assert!(rows.iter().any(|r| r.contains(&cell)), "{name} failed: {table}");
+        }
+    }
     assert!(std::fs::read_to_string(dir.join("bench_dual_contact.svg")).unwrap().contains("<svg"));
 }
 

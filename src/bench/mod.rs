@@ -407,8 +407,8 @@ pub fn write_dual_contact_outputs(
     let strategies = dual_contact::STRATEGIES
         .iter()
         .map(|st| {
-            let points = rows.iter().filter(|r| r.strategy == *st).map(|r| (r.primal_dofs as f64, r.dual_seconds));
-            (format!("dual: {st}"), points.collect())
+            let points = rows.iter().filter(|r| r.strategy == st.name).map(|r| (r.primal_dofs as f64, r.dual_seconds));
+            (format!("dual: {}", st.name), points.collect())
         })
         .collect();
     let primal = once_per_size(rows.iter().map(|r| (r.primal_dofs as f64, r.primal_seconds)));

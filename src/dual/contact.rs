@@ -67,12 +67,13 @@
 //! version of Newton's method", Math. Programming 58 (1993).
 use nalgebra::{DMatrix, DVector};
 
+use super::condensation::{ColumnCondensation, Condensation};
 use super::system::DualSystem;
 use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver, Delassus, FrictionLaw, SolverSettings};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::petsc::schur::SchurFactor;
-use crate::petsc::{Matrix, Session};
+use crate::petsc::{Matrix, Session, SolveStats};
 
 /// One contact point of the dual: one end of a contact edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -180,19 +181,33 @@ pub struct CondensedDual<'s> {
     pub rhs: Vec<f64>,
     /// `ℓ = −A_rz A_zz⁻¹ b_z`, the load condensed onto the contact forces.
     condensed_load: Vec<f64>,
-    factor: SchurFactor<'s>,
+    interior: Interior<'s>,
     /// Seconds: assembly, factorisation with the Schur complement.
     pub assemble_seconds: f64,
     pub factor_seconds: f64,
 }
 
-/// Assemble the dual system with its contact forces and condense it onto them.
+/// How the interior `z` is solved for given forces (see [`super::condensation`]).
+enum Interior<'s> {
+    /// The MUMPS factor of the whole matrix, its Schur block the identity.
+    Schur(SchurFactor<'s>),
+    /// `A_zz` and its linear solver (three-step condensation).
+    Columns(Box<ColumnCondensation<'s>>),
+}
+
+/// Assemble the dual system with its contact forces and condense it onto them, by
+/// `condensation` (the `columns` route reads its linear solver's options under `prefix`);
+/// `progress(done, total)` is told of the flexibility columns.
+#[allow(clippy::too_many_arguments)]
 pub fn condense<'s>(
     session: &'s Session,
     system: &DualSystem,
     mesh: &Mesh,
     points: &[DualContactPoint],
     friction: FrictionLaw,
+    condensation: Condensation,
+    prefix: &str,
+    progress: &mut dyn FnMut(usize, usize),
 ) -> Result<CondensedDual<'s>> {
     if session.size() != 1 {
         return Err(Error::Usage(
@@ -216,33 +231,44 @@ pub fn condense<'s>(
         Matrix::from_csr_rows(session, session.world(), nm, 0, &rows.indptr, &rows.indices, &rows.values, 1, true)?;
     let assemble_seconds = start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
-    let schur_rows: Vec<usize> = (nz..nm).collect();
-    session.prefer_mumps_ordering("", 4)?;
-    let factor = SchurFactor::with_complement(session, &matrix, &schur_rows)?;
-    let factor_seconds = start.elapsed().as_secs_f64();
     let m2 = nm - nz;
-    let s = factor.complement();
-    // MUMPS returns a symmetric Schur complement in one triangle only: mirror the filled one.
-    let upper_empty = (0..m2).all(|i| (i + 1..m2).all(|j| s[i * m2 + j] == 0.0));
-    let lower_empty = (0..m2).all(|i| (0..i).all(|j| s[i * m2 + j] == 0.0));
-    let w = DMatrix::from_fn(m2, m2, |i, j| {
-        let (lo, hi) = (s[i.max(j) * m2 + i.min(j)], s[i.min(j) * m2 + i.max(j)]);
-        match (upper_empty, lower_empty) {
-            (true, false) => lo,
-            (false, true) => hi,
-            _ => 0.5 * (lo + hi),
+    let (w, condensed_load, interior) = match condensation {
+        Condensation::Schur => {
+            let schur_rows: Vec<usize> = (nz..nm).collect();
+            session.prefer_mumps_ordering("", 4)?;
+            let factor = SchurFactor::with_complement(session, &matrix, &schur_rows)?;
+            let s = factor.complement();
+            // MUMPS returns a symmetric Schur complement in one triangle only: mirror the filled one.
+            let upper_empty = (0..m2).all(|i| (i + 1..m2).all(|j| s[i * m2 + j] == 0.0));
+            let lower_empty = (0..m2).all(|i| (0..i).all(|j| s[i * m2 + j] == 0.0));
+            let w = DMatrix::from_fn(m2, m2, |i, j| {
+                let (lo, hi) = (s[i.max(j) * m2 + i.min(j)], s[i.min(j) * m2 + i.max(j)]);
+                match (upper_empty, lower_empty) {
+                    (true, false) => lo,
+                    (false, true) => hi,
+                    _ => 0.5 * (lo + hi),
+                }
+            });
+            // The condensed load from an interior solve with zero forces.
+            let mut glued = rows.rhs.clone();
+            glued[nz..].fill(0.0);
+            let mut b = matrix.create_vector()?;
+            b.set_owned(&glued)?;
+            let mut x = matrix.create_vector()?;
+            factor.solve_interior(&b, &mut x)?;
+            let condensed_load = x.gather_all()?[nz..].to_vec();
+            (w, condensed_load, Interior::Schur(factor))
         }
-    });
-    // The condensed load ℓ = −A_rz A_zz⁻¹ b_z from an interior solve with zero forces; the
-    // unconstrained minimiser (contact glued) has W r_0 = b_r + ℓ, so u_free = −W r_0 = −(b_r + ℓ)
-    // without any solve with W.
-    let mut glued = rows.rhs.clone();
-    glued[nz..].fill(0.0);
-    let mut b = matrix.create_vector()?;
-    b.set_owned(&glued)?;
-    let mut x = matrix.create_vector()?;
-    factor.solve_interior(&b, &mut x)?;
-    let condensed_load = x.gather_all()?[nz..].to_vec();
+        Condensation::Columns => {
+            let mut columns = Box::new(ColumnCondensation::new(session, &rows, nz, prefix)?);
+            let w = columns.flexibility(progress)?;
+            let condensed_load = columns.condensed_load(&rows.rhs[..nz])?;
+            (w, condensed_load, Interior::Columns(columns))
+        }
+    };
+    let factor_seconds = start.elapsed().as_secs_f64();
+    // The unconstrained minimiser (contact glued) has W r_0 = b_r + ℓ, so u_free = −W r_0 =
+    // −(b_r + ℓ) without any solve with W.
     let u_free: Vec<f64> = (0..m2).map(|k| -(rows.rhs[nz + k] + condensed_load[k])).collect();
     let problem = CondensedProblem::new(
         Delassus::Dense(w),
@@ -257,7 +283,7 @@ pub fn condense<'s>(
         matrix,
         rhs: rows.rhs,
         condensed_load,
-        factor,
+        interior,
         assemble_seconds,
         factor_seconds,
     })
@@ -279,9 +305,29 @@ pub struct DualContactAnswer {
 }
 
 impl CondensedDual<'_> {
+    /// The linear solves of the condensation, for the report.
+    pub fn linear_stats(&self, contact_seconds: f64) -> SolveStats {
+        match &self.interior {
+            Interior::Schur(_) => SolveStats {
+                ksp_type: "preonly".into(),
+                pc_type: "cholesky".into(),
+                factor_package: Some("mumps (Schur complement on the contact forces)".into()),
+                iterations: 1,
+                converged_reason: "contact solved on the condensed problem".into(),
+                relative_residual: 0.0,
+                seconds: self.assemble_seconds + self.factor_seconds + contact_seconds,
+            },
+            Interior::Columns(c) => {
+                let mut s = c.stats();
+                s.seconds = self.assemble_seconds + self.factor_seconds + contact_seconds;
+                s
+            }
+        }
+    }
+
     /// Solve the contact problem (with the equilibrium conditions) and recover the field.
     pub fn solve(
-        &self,
+        &mut self,
         system: &DualSystem,
         solver: &ContactSolver,
         settings: &SolverSettings,
@@ -293,19 +339,29 @@ impl CondensedDual<'_> {
         };
         let (solution, rigid, outer_iterations) =
             solve_with_equilibrium(&self.problem, &self.equilibrium, settings, run)?;
-        // z = A_zz⁻¹ (b_z − A_zr r) from one interior solve with the same factor (forces r − ℓ
-        // on the contact rows: see `SchurFactor::solve_interior`), never through W⁻¹.
+        // z = A_zz⁻¹ (b_z − A_zr r), never through W⁻¹: with the Schur factor one interior solve
+        // (forces r − ℓ on the contact rows: see `SchurFactor::solve_interior`), with the
+        // three-step condensation one solve with A_zz.
         let nz = system.affine.num_masters;
-        let mut rhs = self.rhs.clone();
-        for (k, (r, l)) in solution.force.iter().zip(&self.condensed_load).enumerate() {
-            rhs[nz + k] = r - l;
-        }
-        let mut b = self.matrix.create_vector()?;
-        b.set_owned(&rhs)?;
-        let mut x = self.matrix.create_vector()?;
-        self.factor.solve_interior(&b, &mut x)?;
-        let mut reduced = x.gather_all()?;
-        // The contact forces are the solver's exactly (the solve returns them to ε |ℓ|).
+        let mut reduced = match &mut self.interior {
+            Interior::Schur(factor) => {
+                let mut rhs = self.rhs.clone();
+                for (k, (r, l)) in solution.force.iter().zip(&self.condensed_load).enumerate() {
+                    rhs[nz + k] = r - l;
+                }
+                let mut b = self.matrix.create_vector()?;
+                b.set_owned(&rhs)?;
+                let mut x = self.matrix.create_vector()?;
+                factor.solve_interior(&b, &mut x)?;
+                x.gather_all()?
+            }
+            Interior::Columns(columns) => {
+                let mut z = columns.interior(&self.rhs[..nz], &solution.force)?;
+                z.extend_from_slice(&solution.force);
+                z
+            }
+        };
+        // The contact forces are the solver's exactly (the Schur solve returns them to ε |ℓ|).
         reduced[nz..].copy_from_slice(&solution.force);
         // Independent displacement: the contact rows of A x − b, plus the rigid part.
         let mut full = self.matrix.create_vector()?;

@@ -26,6 +26,7 @@
 //!   the same [`crate::contact::CondensedProblem`] as the primal's.
 pub mod boundary;
 pub mod checks;
+pub mod condensation;
 pub mod contact;
 pub mod dofs;
 pub mod saddle_point;

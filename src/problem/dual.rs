@@ -153,7 +153,7 @@ impl<'s> ElasticityProblem<'s> {
         let prefix = if self.displacement.is_some() { DUAL_OPTIONS_PREFIX } else { "" };
         let (phi, stats, contact) = match &side {
             Some(side) => {
-                let (phi, stats, outcome) = self.solve_dual_contact(&system, side)?;
+                let (phi, stats, outcome) = self.solve_dual_contact(&system, side, prefix)?;
                 (phi, stats, Some(outcome))
             }
             None => {

@@ -21,6 +21,7 @@ use super::contact_zones::{ClosedZone, PeakPressure};
 use super::ElasticityProblem;
 use crate::contact::obstacle::Obstacle;
 use crate::contact::{FrictionLaw, PointStatus, SolverSettings};
+use crate::dual::condensation::Condensation;
 use crate::dual::contact::{condense, contact_points, DualContactPoint};
 use crate::dual::{DualData, DualSystem};
 use crate::error::{Error, Result};
@@ -79,6 +80,7 @@ impl ElasticityProblem<'_> {
         &self,
         system: &DualSystem,
         side: &DualContactSide,
+        prefix: &str,
     ) -> Result<(Vec<f64>, SolveStats, DualContactOutcome)> {
         let spec = self.scene.contact.as_ref().expect("contact side without [contact]");
         let points = contact_points(system, &self.mesh, &|x| side.gap(x));
@@ -89,7 +91,13 @@ impl ElasticityProblem<'_> {
                 FrictionLaw::Tresca { threshold: points.iter().map(|p| threshold * p.weight).collect() }
             }
         };
-        let condensed = condense(self.session, system, &self.mesh, &points, friction)?;
+        let condensation = Condensation::from_options(self.session, prefix)?;
+        let progress = self.progress();
+        let mut note_columns = |done: usize, total: usize| {
+            progress.note(&format!("condensing: {done} / {total} flexibility columns"));
+        };
+        let mut condensed =
+            condense(self.session, system, &self.mesh, &points, friction, condensation, prefix, &mut note_columns)?;
         let mut settings = SolverSettings::default();
         if let Some(t) = spec.tolerance {
             settings.tolerance = t;
@@ -137,15 +145,10 @@ impl ElasticityProblem<'_> {
              {equilibrium:.1e}"
         ));
         let report = self.dual_contact_report(&points, &force_check, &status, &residuals, &answer.solution, notes);
-        let stats = SolveStats {
-            ksp_type: "preonly".into(),
-            pc_type: "cholesky".into(),
-            factor_package: Some("mumps (Schur complement on the contact forces)".into()),
-            iterations: answer.outer_iterations,
-            converged_reason: "contact solved on the condensed problem".into(),
-            relative_residual: 0.0,
-            seconds: condensed.assemble_seconds + condensed.factor_seconds + contact_seconds,
-        };
+        let mut stats = condensed.linear_stats(contact_seconds);
+        if condensation == Condensation::Schur {
+            stats.iterations = answer.outer_iterations;
+        }
         let outcome =
             DualContactOutcome { points, force: force_check, displacement: answer.displacement_check, status, report };
         Ok((answer.phi, stats, outcome))

@@ -44,6 +44,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_contact_patch_tests_exact", dual_contact::dual_contact_patch_tests_exact),
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
+    ("dual_contact_condensations_agree", dual_contact::dual_contact_condensations_agree),
     ("dual_contact_estimate_tresca_and_coulomb", dual_contact::dual_contact_estimate_tresca_and_coulomb),
     ("dual_hertz_cylinder", dual_contact::dual_hertz_cylinder),
     ("dual_contact_effectivity_tresca", dual_contact::dual_contact_effectivity_tresca),
