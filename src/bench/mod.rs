@@ -404,13 +404,15 @@ pub fn write_dual_contact_outputs(
     record: &BenchRecord,
     dir: &Path,
 ) -> Result<Vec<PathBuf>> {
-    let strategies = dual_contact::STRATEGIES
+    let mut strategies: Vec<(String, Vec<(f64, f64)>)> = dual_contact::STRATEGIES
         .iter()
         .map(|st| {
             let points = rows.iter().filter(|r| r.strategy == st.name).map(|r| (r.primal_dofs as f64, r.dual_seconds));
             (format!("dual: {}", st.name), points.collect())
         })
         .collect();
+    let p2 = rows.iter().filter_map(|r| r.primal_p2_seconds.map(|t| (r.primal_dofs as f64, t)));
+    strategies.push(("primal P2, same mesh".into(), p2.collect()));
     let primal = once_per_size(rows.iter().map(|r| (r.primal_dofs as f64, r.primal_seconds)));
     write_table_and_plot(
         dir,
@@ -419,7 +421,7 @@ pub fn write_dual_contact_outputs(
         ("Benchmark: contact in the dual formulation against the primal", &dual_contact::dual_contact_table(rows)),
         "Square block (Tresca), dual contact against primal contact",
         strategies,
-        plot::Series { label: "primal, full-space Newton".into(), points: primal },
+        plot::Series { label: "primal P1, full-space Newton".into(), points: primal },
     )
 }
 
