@@ -56,7 +56,7 @@
 //! system). `-contact_full_space_lu` turns it off (MUMPS LU of the mixed Jacobian in `(u, λ)`).
 use nalgebra::{DMatrix, DVector};
 
-use super::contact::flexibility_from_schur;
+use super::condensed_route::flexibility_from_schur;
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::schur::SchurFactor;

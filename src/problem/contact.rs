@@ -35,12 +35,16 @@ use nalgebra::DMatrix;
 
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::obstacle::Obstacle;
-use crate::contact::{self, CondensedProblem, ContactSolver, Delassus, FrictionLaw, PointStatus, SolverSettings};
+use crate::contact::{self, CondensedProblem, Delassus, FrictionLaw, PointStatus, SolverSettings};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::petsc::schur::SchurFactor;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::scene::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
+
+use super::condensed_route::flexibility_from_schur;
+pub(crate) use super::condensed_route::{condensed_solver, tao_box_qp, Factorised};
+pub use super::contact_report::{ContactOutcome, ContactReport, ContactResidualsReport};
 
 /// Total stiffness of the stabilisation springs relative to the largest diagonal entry of K
 /// (shared among the contact nodes). Small enough that the proximal iterations converge fast,
@@ -56,61 +60,6 @@ pub struct ContactSetup {
     pub spring: Option<f64>,
     /// Which rigid motions Dirichlet leaves free (the Unconstrained message), if any.
     pub free_motions: Option<String>,
-}
-
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ContactResidualsReport {
-    pub max_penetration: f64,
-    pub max_wrong_sign_pressure: f64,
-    pub max_cone_violation: f64,
-    pub normal_complementarity: f64,
-    pub tangential_complementarity: f64,
-    pub force_scale: f64,
-    pub displacement_scale: f64,
-}
-
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct ContactReport {
-    pub part: String,
-    pub friction: String,
-    pub solver: String,
-    pub iterations: usize,
-    /// Status changes (open/stick/slip) per iteration of the contact solver.
-    pub status_changes: Vec<usize>,
-    /// The contact solver's residual after each iteration (relative; what `convergence.svg`
-    /// plots).
-    pub residual_history: Vec<f64>,
-    pub notes: Vec<String>,
-    pub points: usize,
-    pub open: usize,
-    pub stick: usize,
-    pub slip: usize,
-    /// Resultant of the contact forces on the body in x and y (N per unit thickness).
-    pub resultant: [f64; 2],
-    /// Sums of the normal and tangential contact forces (local frames).
-    pub normal_resultant: f64,
-    pub tangential_resultant: f64,
-    /// Extent of the closed contact zone along the first point's tangent: [min, max] of x·t.
-    /// Kept for compatibility; `zones` is right for every obstacle.
-    pub zone: Option<[f64; 2]>,
-    /// The largest nodal contact pressure and where it is.
-    pub peak_pressure: Option<super::contact_zones::PeakPressure>,
-    /// Each connected run of closed points, as an interval of arc length along the part.
-    pub zones: Vec<super::contact_zones::ClosedZone>,
-    /// Independent check: relative residuals of (r, B u) with u from the field solve.
-    pub residuals: ContactResidualsReport,
-    /// Resultant of the stabilisation springs at the last proximal iteration (0 when none
-    /// were needed) and the number of proximal iterations.
-    pub stabilisation_force: [f64; 2],
-    pub stabilisation_iterations: usize,
-    /// Linear solves with the factorised stiffness (1 free + columns of W + 1 final).
-    pub linear_solves: usize,
-}
-
-pub struct ContactOutcome {
-    pub force: Vec<f64>,
-    pub status: Vec<PointStatus>,
-    pub report: ContactReport,
 }
 
 pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
@@ -812,141 +761,4 @@ fn proximal_iterations_done(history: &[f64], scale: f64, all_open: bool) -> bool
     let lifted = all_open && n >= 3;
     let stalled = n > 10 && largest > 0.5 * history[n - 6];
     converged || lifted || stalled || n >= 200
-}
-
-/// The flexibility `W = B K⁻¹ Bᵀ` (`2m × 2m`, each point's rows and columns in its frame
-/// `(n, t)`) from a factor with the Schur complement `S` on the contact dofs (every contact
-/// node's two dofs, in point order): `(K⁻¹)_cc = S⁻¹`, `W_ij = R_iᵀ (S⁻¹)_{ij} R_j`,
-/// `R = [n t]`.
-pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBoundary) -> Result<DMatrix<f64>> {
-    let m = b.points();
-    let k = factor.size();
-    if k != 2 * m {
-        return Err(Error::PetscUsage(format!("Schur complement of order {k} for {m} contact points")));
-    }
-    let inverse = DMatrix::from_row_slice(k, k, factor.inverse_block());
-    if (0..k).map(|i| inverse[(i, i)]).any(|d| d.is_nan() || d <= 0.0 || d.is_infinite()) {
-        return Err(Error::Unconstrained(
-            "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
-        ));
-    }
-    let mut w = DMatrix::<f64>::zeros(k, k);
-    for i in 0..m {
-        for j in 0..m {
-            let (ri, rj) = ([b.normal[i], b.tangent[i]], [b.normal[j], b.tangent[j]]);
-            for (a, da) in ri.iter().enumerate() {
-                for (c, dc) in rj.iter().enumerate() {
-                    let mut v = 0.0;
-                    for p in 0..2 {
-                        for q in 0..2 {
-                            v += da[p] * inverse[(2 * i + p, 2 * j + q)] * dc[q];
-                        }
-                    }
-                    w[(2 * i + a, 2 * j + c)] = v;
-                }
-            }
-        }
-    }
-    Ok(w)
-}
-
-/// The factorised stiffness the condensed route solves with: a MUMPS factor with the Schur
-/// complement on the contact dofs, or the configured KSP (any PETSc options, any ranks).
-pub(crate) enum Factorised<'a, 's> {
-    /// The factor and the seconds its factorisation took; the last solve's statistics.
-    Schur(SchurFactor<'s>, f64),
-    Krylov(&'a mut LinearSolver<'s>),
-}
-
-impl<'s> Factorised<'_, 's> {
-    /// Solve `K x = b`; the factor's answers get the same independent residual check as the
-    /// KSP's (‖b − Kx‖/‖b‖ ≤ 1e-6).
-    fn solve(&mut self, matrix: &Matrix<'s>, b: &Vector<'s>, x: &mut Vector<'s>) -> Result<()> {
-        match self {
-            Factorised::Krylov(ksp) => ksp.solve(matrix, b, x).map(|_| ()),
-            Factorised::Schur(factor, _) => {
-                factor.solve(b, x)?;
-                let relative = matrix.relative_residual(x, b)?;
-                if !(relative <= 1e-6) {
-                    return Err(Error::SolverDiverged {
-                        solver: "MUMPS Cholesky with Schur complement".into(),
-                        reason: format!("true relative residual {relative:.3e}"),
-                        iterations: 1,
-                        residual: relative,
-                        tried: "give -ksp_type/-pc_type to use the KSP route instead".into(),
-                    });
-                }
-                Ok(())
-            }
-        }
-    }
-
-    /// What the linear solves were, for the report (the KSP records its own).
-    fn stats(&self) -> Option<SolveStats> {
-        match self {
-            Factorised::Krylov(ksp) => ksp.last_stats(),
-            Factorised::Schur(_, seconds) => Some(SolveStats {
-                ksp_type: "preonly".into(),
-                pc_type: "cholesky".into(),
-                factor_package: Some("mumps (Schur complement on the contact dofs)".into()),
-                iterations: 1,
-                converged_reason: "factorised once; every solve checked (relative residual <= 1e-6)".into(),
-                relative_residual: 0.0,
-                seconds: *seconds,
-            }),
-        }
-    }
-}
-
-/// TAO on the Tresca box QP: min ½ rᵀ W r + rᵀ (u_free − g̃), rN ≤ 0, |rT| ≤ s.
-pub(crate) fn tao_box_qp(session: &Session, problem: &CondensedProblem) -> Result<contact::ContactSolution> {
-    let m = problem.points();
-    let w = match problem.delassus() {
-        Delassus::Dense(w) => w,
-        _ => return Err(Error::Usage("TAO needs the dense flexibility matrix".into())),
-    };
-    let n2 = 2 * m;
-    let h: Vec<f64> = (0..n2 * n2).map(|k| w[(k / n2, k % n2)]).collect();
-    let mut c = problem.free_displacement().to_vec();
-    for i in 0..m {
-        c[2 * i] -= problem.gap()[i];
-    }
-    let thresholds = match problem.friction() {
-        FrictionLaw::Tresca { threshold } => threshold.clone(),
-        _ => return Err(Error::Usage("TAO solves the Tresca problem (friction = \"tresca\")".into())),
-    };
-    let inf = f64::INFINITY;
-    let lower: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { -inf } else { -thresholds[k / 2] }).collect();
-    let upper: Vec<f64> = (0..n2).map(|k| if k % 2 == 0 { 0.0 } else { thresholds[k / 2] }).collect();
-    let mut r = vec![0.0; n2];
-    let run = crate::petsc::bounded::solve_box_qp(session, &h, &c, &lower, &upper, &mut r, "contact_")?;
-    let displacement = problem.displacement(&r)?;
-    let residuals = problem.residuals(&r)?;
-    let status = problem.status(&r)?;
-    Ok(contact::ContactSolution {
-        force: r,
-        displacement,
-        iterations: run.iterations,
-        history: Vec::new(),
-        status,
-        residuals,
-        solver: run.method,
-        notes: vec![run.converged_reason],
-    })
-}
-
-/// The condensed solver of a scene's `solver = ...` (the full-space Newton maps to the condensed
-/// semi-smooth Newton); `None` for the solvers that only run on the full system (SNESVI) or
-/// outside [`contact::solve`] (TAO).
-pub(crate) fn condensed_solver(spec: &ContactSolverSpec) -> Option<ContactSolver> {
-    Some(match spec {
-        ContactSolverSpec::Newton | ContactSolverSpec::FullSpaceNewton => ContactSolver::SemismoothNewton,
-        ContactSolverSpec::Relaxation { omega } => ContactSolver::ProjectedRelaxation { omega: *omega },
-        ContactSolverSpec::DPana => ContactSolver::DPana,
-        ContactSolverSpec::Uzawa => ContactSolver::Uzawa { accelerated: true },
-        ContactSolverSpec::TrescaFixedPoint => {
-            ContactSolver::TrescaFixedPoint { inner: Box::new(ContactSolver::SemismoothNewton) }
-        }
-        ContactSolverSpec::SnesVi | ContactSolverSpec::Tao => return None,
-    })
 }

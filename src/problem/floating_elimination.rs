@@ -48,7 +48,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::block_elimination::{ContactRow, StepRows};
-use super::contact::flexibility_from_schur;
+use super::condensed_route::flexibility_from_schur;
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::schur::SchurFactor;

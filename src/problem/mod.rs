@@ -26,8 +26,10 @@ use std::path::Path;
 
 mod block_elimination;
 mod condensed;
+mod condensed_route;
 mod contact;
 mod contact_curve;
+mod contact_report;
 mod contact_zones;
 mod dual;
 mod dual_contact;
