@@ -186,7 +186,10 @@ impl MortarSide {
         for e in 0..side.edges.len() {
             let edge = side.edge(e);
             let chord = (edge.x[1][0] - edge.x[0][0]).hypot(edge.x[1][1] - edge.x[0][1]);
-            if [0.0, 0.25, 0.5, 0.75, 1.0].iter().any(|&s| !(edge.at(s).length_element > 1e-12 * chord)) {
+            if [0.0, 0.25, 0.5, 0.75, 1.0].iter().any(|&s| {
+                let j = edge.at(s).length_element;
+                j.is_nan() || j <= 1e-12 * chord
+            }) {
                 return Err(Error::mesh(
                     format!("edge {e} (nodes {:?}) of mortar side '{}'", side.edges[e], side.name),
                     "is degenerate (zero length, or a P2 edge folded on itself)",
@@ -266,9 +269,9 @@ impl MortarSide {
         let mut sum = vec![[0.0; 2]; self.nodes.len()];
         for e in 0..self.edges.len() {
             let edge = self.edge(e);
-            for a in 0..edge.len {
-                let n = edge.at(NODE_PARAMETER[a]).normal;
-                let i = self.nodes.binary_search(&edge.nodes[a]).expect("edge node of the side");
+            for (k, &s) in edge.nodes[..edge.len].iter().zip(&NODE_PARAMETER) {
+                let n = edge.at(s).normal;
+                let i = self.nodes.binary_search(k).expect("edge node of the side");
                 sum[i][0] += n[0];
                 sum[i][1] += n[1];
             }
@@ -363,7 +366,7 @@ impl MortarCoupling {
     /// pair consistently; [`Error::Formulation`] for an uncovered slave node with
     /// [`UncoveredNodes::Error`].
     pub fn new(slave: &MortarSide, master: &MortarSide, options: &MortarOptions) -> Result<Self> {
-        if !(options.max_distance > 0.0) {
+        if options.max_distance.is_nan() || options.max_distance <= 0.0 {
             return Err(Error::Usage(format!(
                 "mortar coupling: max_distance is {}, it must be positive (or infinite)",
                 options.max_distance
@@ -393,8 +396,7 @@ impl MortarCoupling {
                             message,
                         )
                     })?;
-            for a in 0..edge.len {
-                let i = local[a];
+            for (a, &i) in local.iter().enumerate().take(edge.len) {
                 weight[i] += integrals.weight[a];
                 gap[i] += integrals.gap[a];
                 for &(j, v) in &integrals.mortar[a] {

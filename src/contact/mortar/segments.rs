@@ -114,7 +114,7 @@ fn newton(mut s: f64, f: impl Fn(f64) -> (f64, f64)) -> Option<f64> {
         }
         let step = value / slope;
         s -= step;
-        if !(s.abs() <= PARAMETER_RANGE) {
+        if !s.is_finite() || s.abs() > PARAMETER_RANGE {
             return None;
         }
         // Quadratic convergence: after a step of 1e-13 the error is at round-off.
@@ -130,7 +130,7 @@ fn newton(mut s: f64, f: impl Fn(f64) -> (f64, f64)) -> Option<f64> {
 fn intersect(edge: &Edge, p: [f64; 2], n: [f64; 2]) -> Option<f64> {
     let chord = sub(edge.x[1], edge.x[0]);
     let den = cross(chord, n);
-    if !(den.abs() > 1e-12 * norm(chord) * norm(n)) {
+    if den.is_nan() || den.abs() <= 1e-12 * norm(chord) * norm(n) {
         return None;
     }
     let eta = cross(sub(p, edge.x[0]), n) / den;
@@ -309,10 +309,8 @@ pub(super) fn add(row: &mut Vec<(usize, f64)>, j: usize, v: f64) {
 fn candidates(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) -> Vec<Candidate> {
     let mut reach = slave.edge.bounding_box();
     if max_distance.is_finite() {
-        for c in 0..2 {
-            reach[0][c] -= max_distance;
-            reach[1][c] += max_distance;
-        }
+        reach[0].iter_mut().for_each(|c| *c -= max_distance);
+        reach[1].iter_mut().for_each(|c| *c += max_distance);
     }
     let mut out = Vec::new();
     for (f, master) in masters.iter().enumerate() {
