@@ -99,16 +99,22 @@ impl SlaveEdge {
             let p = self.edge.at(s);
             let (n, dn) = self.normal_field(s);
             let r = sub(q, p.x);
-            (cross(r, n), cross(r, dn) - cross(p.tangent, n))
+            (cross(r, n), cross(r, dn) - cross(p.tangent, n), (norm(q) + magnitude(&self.edge, s)) * norm(n))
         })
     }
 }
 
-/// Newton's method on a scalar function given as `s -> (f(s), f'(s))`; `None` if it leaves
-/// `[−10, 10]`, meets a zero slope or does not converge.
-fn newton(mut s: f64, f: impl Fn(f64) -> (f64, f64)) -> Option<f64> {
+/// Newton's method on a scalar function given as `s -> (f(s), f'(s), scale)`, `scale` the size
+/// of the terms of `f` (its round-off is a few `ε · scale`). Converged when `|f|` is at
+/// round-off or the step below `1e-13`; `None` if it leaves `[−10, 10]`, meets a zero slope or
+/// does not converge. (On a short edge far from the origin the parameter cannot be resolved
+/// beyond `ε |x| / h`, so a criterion on the step alone could stall.)
+fn newton(mut s: f64, f: impl Fn(f64) -> (f64, f64, f64)) -> Option<f64> {
     for _ in 0..NEWTON_ITERATIONS {
-        let (value, slope) = f(s);
+        let (value, slope, scale) = f(s);
+        if value.abs() <= 16.0 * f64::EPSILON * scale {
+            return Some(s);
+        }
         if !(slope.abs() > 0.0 && value.is_finite()) {
             return None;
         }
@@ -125,6 +131,12 @@ fn newton(mut s: f64, f: impl Fn(f64) -> (f64, f64)) -> Option<f64> {
     None
 }
 
+/// `Σ_a |φ_a(s)| |x_a|`: the size of the terms of `x(s)`, for round-off estimates.
+fn magnitude(edge: &Edge, s: f64) -> f64 {
+    let phi = edge_shape_values(edge.len, s);
+    (0..edge.len).map(|a| phi[a].abs() * norm(edge.x[a])).sum()
+}
+
 /// The parameter `η` of the point of `edge` on the line `p + t n`: the root of
 /// `(x(η) − p) × n = 0`, exact for a P1 edge, by Newton from the chord's intersection for P2.
 fn intersect(edge: &Edge, p: [f64; 2], n: [f64; 2]) -> Option<f64> {
@@ -139,7 +151,7 @@ fn intersect(edge: &Edge, p: [f64; 2], n: [f64; 2]) -> Option<f64> {
     }
     newton(eta, |eta| {
         let q = edge.at(eta);
-        (cross(sub(q.x, p), n), cross(q.tangent, n))
+        (cross(sub(q.x, p), n), cross(q.tangent, n), (norm(p) + magnitude(edge, eta)) * norm(n))
     })
 }
 
@@ -169,8 +181,7 @@ fn pair(slave: &SlaveEdge, s: f64, master: &Edge, max_distance: f64, checked: bo
     Some(Pairing { values: q.values, gap })
 }
 
-/// The part `[lo, hi]` of the slave parameter interval (unclipped) that master edge `master`
-/// faces: between the feet of its end vertices.
+/// The part `[lo, hi]` of the slave parameter interval `[0, 1]` that master edge `master` faces.
 struct Candidate {
     master: usize,
     lo: f64,
@@ -304,14 +315,19 @@ pub(super) fn add(row: &mut Vec<(usize, f64)>, j: usize, v: f64) {
     }
 }
 
-/// The master edges whose end vertices' feet on the slave edge bracket part of `[0, 1]`
-/// (bounding boxes within `max_distance` when it is finite).
+/// The master edges that face part of the slave edge, with the parameter interval they face:
+/// the hull of the slave end points whose normal line meets the edge and of the feet of its
+/// end vertices that fall on the slave edge. (Feet far outside `[0, 1]`, e.g. of a master edge
+/// much longer than the slave edge, are not needed, and not always computable.) Bounding boxes
+/// must be within `max_distance` when it is finite.
 fn candidates(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) -> Vec<Candidate> {
     let mut reach = slave.edge.bounding_box();
     if max_distance.is_finite() {
         reach[0].iter_mut().for_each(|c| *c -= max_distance);
         reach[1].iter_mut().for_each(|c| *c += max_distance);
     }
+    let inside = |t: f64| (-PARAMETER_TOLERANCE..=1.0 + PARAMETER_TOLERANCE).contains(&t);
+    let ends = [0.0, 1.0].map(|s| (s, slave.edge.at(s).x, slave.unit_normal(s)));
     let mut out = Vec::new();
     for (f, master) in masters.iter().enumerate() {
         if max_distance.is_finite() {
@@ -320,9 +336,14 @@ fn candidates(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) -> Vec<Can
                 continue;
             }
         }
-        let (Some(s0), Some(s1)) = (slave.foot(master.x[0]), slave.foot(master.x[1])) else { continue };
-        let (lo, hi) = (s0.min(s1), s0.max(s1));
-        if hi > lo && hi >= -PARAMETER_TOLERANCE && lo <= 1.0 + PARAMETER_TOLERANCE {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let ends_in = ends.iter().filter(|(_, p, n)| intersect(master, *p, *n).is_some_and(inside)).map(|e| e.0);
+        let feet_in = [master.x[0], master.x[1]].into_iter().filter_map(|q| slave.foot(q)).filter(|&s| inside(s));
+        for s in ends_in.chain(feet_in) {
+            lo = lo.min(s.clamp(0.0, 1.0));
+            hi = hi.max(s.clamp(0.0, 1.0));
+        }
+        if hi > lo {
             out.push(Candidate { master: f, lo, hi });
         }
     }
