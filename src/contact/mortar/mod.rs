@@ -49,17 +49,22 @@
 //!
 //! (P2 mid nodes are not drawn; the dotted lines are normal lines of the slave normal field.)
 //!
-//! For each slave edge `e` (parameter `s ∈ [0, 1]`) and each master edge, the master END
-//! vertices are projected onto `e` along the slave normal field: `σ` solves
-//! `(x_m − x_s(σ)) × n(σ) = 0` (Newton; exact in one step on straight sides). The feet of a
-//! master edge's two vertices bracket the part of `[0, 1]` it faces. All feet inside `(0, 1)`
-//! cut the slave edge into segments; each segment is paired with the master edge that faces
-//! its midpoint, that faces the slave side (`n_m·n < 0`), and that is nearest along the normal
-//! (so a master side folding back, or lying farther than `MortarOptions::max_distance`, is
-//! not paired twice). On each segment an 8-point Gauss–Legendre rule (exact to degree 15: the
-//! products `ψ_i φ_j^m` have degree 2, 3, 4 for P1–P1, P1–P2, P2–P2 on straight sides) gives
+//! For each slave edge `e` (parameter `s ∈ [0, 1]`) and each master edge `f`, the part of
+//! `[0, 1]` that `f` faces is the hull of (a) the slave end points `s = 0, 1` whose normal line
+//! meets `f`, and (b) the feet on `e` of the end vertices of `f` that fall in `[0, 1]`: the
+//! foot `σ` of a master vertex `x_m` solves `(x_m − x_s(σ)) × n(σ) = 0`, the slave normal line
+//! through it (Newton from the projection on the chord; exact in one step on straight sides).
+//! (a) covers master edges much longer than the slave edge, whose feet lie far outside.
+//! Feet inside `(0, 1)` cut the slave edge into segments; each segment is paired with the
+//! master edge that faces its midpoint, that faces the slave side (`n_m·n < 0`), and that is
+//! nearest along the normal (so a master side folding back, or lying farther than
+//! `MortarOptions::max_distance`, is not paired twice). On each segment an 8-point
+//! Gauss–Legendre rule (exact to degree 15; on straight sides with centred mid nodes the
+//! products `ψ_i φ_j^m` have degree 2 for P1–P1, 3 for P1–P2 and P2–P1, 4 for P2–P2) gives
 //! the Gauss points `s_q`, whose normal lines `x_s(s_q) + τ n(s_q)` meet the master edge at
-//! `η_q` (Newton on P2 edges). Then `M_ij += w_q |x_s'| ψ_i(s_q) φ_j^m(η_q)` and the gap likewise.
+//! `η_q` (Newton on P2 edges). Then `M_ij += w_q |x_s'(s_q)| ψ_i(s_q) φ_j^m(η_q)` and the gap
+//! likewise. Newton iterations stop when the residual is at its round-off level (on short
+//! edges far from the origin the parameter cannot be resolved beyond `ε |x| / h`).
 //!
 //! **Projection direction.** Everything is projected along the slave normal field, and
 //! integrated over the slave side: the multiplier lives on the slave side, so `ψ_i ds` is the
@@ -124,6 +129,19 @@
 //! only partly faced by the master side (the master side ends inside one of its edges) keeps
 //! its row, with `Σ_j M_ij / D_i ≠ 1` (`ψ_i` changes sign, so the partial integral may be smaller or
 //! larger than `D_i`): it is listed in [`MortarCoupling::partly_covered`].
+//!
+//! ## Accuracy and cost
+//!
+//! Measured in `tests/mortar.rs` on irregular non-matching meshes: constants and linear fields
+//! transfer to `1e-15` on straight interfaces (every pair of orders, sides up to 20 times finer
+//! than the other, and 1500 against 2300 edges), the patch test holds to `4e-16`, matching
+//! meshes give `M_ij / D_i = δ` to `1e-14`. On a curved interface (both sides on one circle),
+//! constants still transfer to `1e-15` (by construction, above); a linear field transfers up to
+//! the weighted normal distance between the two discrete curves, which is also `g0_i`: with
+//! P2 sides (mid nodes on the circle) about `1.6e-3 h⁴ / R³`, with a P1 side (chords) `0.03 to
+//! 0.08 h² / R`, `h` the longest edge. The search examines every pair of slave and master
+//! edges (bounding boxes prune it when `max_distance` is finite): 1500 × 2300 edges take about
+//! 0.7 s; a spatial index would be the next step for much longer interfaces.
 //!
 //! References: B. I. Wohlmuth, "A mortar finite element method using dual spaces for the
 //! Lagrange multiplier", SIAM J. Numer. Anal. 38 (2000) 989–1012 (dual basis, biorthogonality,
