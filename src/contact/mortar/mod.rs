@@ -140,8 +140,8 @@
 //! the weighted normal distance between the two discrete curves, which is also `g0_i`: with
 //! P2 sides (mid nodes on the circle) about `1.6e-3 h⁴ / R³`, with a P1 side (chords) `0.03 to
 //! 0.08 h² / R`, `h` the longest edge. The search examines every pair of slave and master
-//! edges (bounding boxes prune it when `max_distance` is finite): 1500 × 2300 edges take about
-//! 0.7 s; a spatial index would be the next step for much longer interfaces.
+//! edges (bounding boxes prune it when `max_distance` is finite): 1500 × 2300 edges take 0.7 to
+//! 1.3 s (release build, shared machine); a spatial index would be the next step for much longer interfaces.
 //!
 //! References: B. I. Wohlmuth, "A mortar finite element method using dual spaces for the
 //! Lagrange multiplier", SIAM J. Numer. Anal. 38 (2000) 989–1012 (dual basis, biorthogonality,
