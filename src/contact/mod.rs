@@ -71,6 +71,7 @@ pub mod boundary;
 mod box_qp;
 mod dpana;
 mod krylov;
+pub mod mortar;
 pub mod obstacle;
 mod projected_relaxation;
 mod residuals;
