@@ -516,3 +516,17 @@ fn the_example_scenes_make_non_overlapping_unions() {
     let mut union = model.mesh.clone();
     union.validate().unwrap();
 }
+
+#[test]
+fn the_documented_example_is_valid() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-format.md")).unwrap();
+    let section = &doc[doc.find("## Several bodies").unwrap()..];
+    let start = section.find("```toml\n").unwrap() + "```toml\n".len();
+    let text = &section[start..start + section[start..].find("```").unwrap()];
+    let s = parse(text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.bodies.len(), 2);
+    assert_eq!(s.bodies[0].body_force, [0.0, -7.7e4]);
+    assert_eq!(s.contact_pairs[0].max_initial_overlap, Some(1e-9));
+    let model = BodiesModel::build(&s).unwrap();
+    assert_eq!(model.layout.bodies[1].name, "foundation");
+}

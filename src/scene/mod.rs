@@ -44,9 +44,16 @@
 //! once the mesh exists, and so can point conditions (is there a node at the point?):
 //! [`Scene::check_against_mesh`].
 //!
+//! The tables of one body (`[mesh]` ... `[contact]`) are converted by `convert::body_data`,
+//! called for the top level of a single-body scene and for every `[[body]]` of a scene with
+//! several bodies (`bodies`: `[[body]]` and `[[contact_pair]]`, [`Scene::bodies`], and
+//! [`BodiesModel`] for their meshes, their union and the overlap check). Scenes with several
+//! bodies are read and checked, not solved yet.
+//!
 //! Adding a section: a raw struct and its key list in `raw`, a field in [`Scene`], a conversion
 //! function called from [`Scene::from_str`] (in its own file if it is long, like `contact`), and
-//! a table in `docs/scene-format.md`.
+//! a table in `docs/scene-format.md`. A table of one body goes into `convert::BodyTables` and
+//! `raw::RawBody` too, so that every `[[body]]` takes it.
 mod bodies;
 mod builder;
 mod contact;
@@ -467,7 +474,8 @@ impl Scene {
     }
 
     /// Every boundary part the scene names, with where it is named: tractions, Dirichlet
-    /// parts, the contact part, each in file order.
+    /// parts, the contact part, each in file order. For a scene with `[[body]]` tables: its
+    /// first body's (every body's: [`BodySpec::boundary_parts`] of [`Scene::bodies`]).
     pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
         let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
         let d = self.dirichlet.iter().filter_map(|d| match &d.target {
@@ -479,7 +487,8 @@ impl Scene {
     }
 
     /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`,
-    /// and that every point condition's point is a node of `mesh`.
+    /// and that every point condition's point is a node of `mesh`. For a scene with `[[body]]`
+    /// tables this checks the first body only: [`BodiesModel::on_meshes`] checks them all.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
         for (part, at) in self.boundary_parts() {
             boundary_group(mesh, part, at)?;
