@@ -530,3 +530,28 @@ fn the_documented_example_is_valid() {
     let model = BodiesModel::build(&s).unwrap();
     assert_eq!(model.layout.bodies[1].name, "foundation");
 }
+
+#[test]
+fn each_body_gets_the_single_body_checks_of_its_loads() {
+    // A traction whose energy overflows, on the second body, is refused at its line.
+    let text = two_with(
+        "[[body.dirichlet]]\npart = \"bottom\"",
+        "[[body.traction]]\npart = \"right\"\ntraction = [1e200, 0.0]\n\n[[body.dirichlet]]\npart = \"bottom\"",
+    );
+    let (line, message, _) = scene_error(BodiesModel::build(&parse(&text).unwrap()));
+    assert_eq!(line, line_of(&text, "part = \"right\""));
+    assert!(message.contains("would overflow"), "{message}");
+}
+
+#[test]
+fn the_not_solved_error_says_how_many_bodies_and_pairs() {
+    let e = Error::SeveralBodiesNotSolved { scene: "s.toml".into(), bodies: 1, pairs: 0 };
+    let shown = e.to_string();
+    assert!(
+        shown.starts_with(
+            "s.toml: this scene has 1 body and 0 contact pairs: several bodies are parsed and checked but not solved \
+             yet in this version\n  hint: "
+        ),
+        "{shown}"
+    );
+}

@@ -54,8 +54,8 @@ impl BodiesModel {
     }
 
     /// The model on given meshes, one per body of [`Scene::bodies`] in order, each in the body's
-    /// own coordinates: place them, check every body's parts and points against its mesh, the
-    /// contact pairs' parts, and overlaps ([`Error::Scene`] at the table concerned), and unite.
+    /// own coordinates: place them, check every body's parts and points against its mesh and its
+    /// loads' magnitudes ([`Scene::check_magnitudes`]), the contact pairs' parts, and overlaps ([`Error::Scene`] at the table concerned), and unite.
     pub fn on_meshes(scene: &Scene, meshes: Vec<Mesh>) -> Result<BodiesModel> {
         let bodies = scene.bodies().into_owned();
         if meshes.len() != bodies.len() {
@@ -69,6 +69,7 @@ impl BodiesModel {
                 }
             }
             body.check_against_mesh(mesh)?;
+            one_body_scene(scene, body).check_magnitudes(mesh)?;
         }
         let index = |r: &PartRef| bodies.iter().position(|b| b.name == r.body);
         for pair in &scene.contact_pairs {
@@ -97,6 +98,23 @@ impl BodiesModel {
     /// The boundary group of the union mesh holding a body's part (`body.part`).
     pub fn part_group(&self, part: &PartRef) -> Option<usize> {
         self.mesh.group_index(&part.to_string(), 1)
+    }
+}
+
+/// `body` as a single-body scene (for the checks written for one: magnitudes).
+fn one_body_scene(scene: &Scene, body: &BodySpec) -> Scene {
+    Scene {
+        mesh: body.mesh.clone(),
+        order: body.order,
+        element: body.element,
+        material: body.material,
+        body_force: body.body_force,
+        tractions: body.tractions.clone(),
+        dirichlet: body.dirichlet.clone(),
+        contact: body.contact.clone(),
+        bodies: Vec::new(),
+        contact_pairs: Vec::new(),
+        ..scene.clone()
     }
 }
 
