@@ -1142,7 +1142,19 @@ fn several_bodies_are_checked_then_refused_without_an_answer() {
             "{stderr}"
         );
         assert!(!dir.join("report.json").exists() && !dir.join("solution.vtu").exists());
+        // The other commands that solve say the same.
+        let stderr = run_err(bin().arg("export").arg(&path).arg("--out").arg(dir.join("p.hdf5")), 1);
+        assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
     }
+    let stderr = run_err(
+        bin()
+            .args(["adapt", "--target", "5", "--quiet"])
+            .arg(scene("examples/scenes/block_on_block.toml"))
+            .arg("--out")
+            .arg(scratch("bodies-adapt")),
+        1,
+    );
+    assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
     // A mistake found once the meshes exist comes first, with its file and line.
     let dir = scratch("bodies-overlap");
     let text = std::fs::read_to_string(scene("examples/scenes/block_on_block.toml"))

@@ -689,7 +689,7 @@ fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constrain
 /// A scene with `[[body]]` tables is meshed and checked (every mistake in it is reported), then
 /// refused with [`Error::SeveralBodiesNotSolved`]: the single-body fields the solver reads hold
 /// only its first body.
-fn refuse_several_bodies(scene: &Scene) -> Result<()> {
+pub fn refuse_several_bodies(scene: &Scene) -> Result<()> {
     if !scene.has_body_tables() {
         return Ok(());
     }
