@@ -98,6 +98,18 @@ pub enum Error {
     /// obstacle). What and why, and what to do.
     #[error("{message}\n  hint: {hint}")]
     Formulation { message: String, hint: String },
+
+    /// A scene written with `[[body]]` tables: parsed, meshed and checked, but the solver of
+    /// several bodies is not there yet, so nothing is solved (rather than a wrong answer).
+    #[error(
+        "{}: this scene has {bodies} bod{} and {pairs} contact pair{}: several bodies are parsed and checked but \
+         not solved yet in this version\n  hint: the scene is valid; solve one body at a time with a single-body \
+         scene (a [mesh] table, no [[body]] tables), its contact against a rigid [contact] obstacle",
+        scene.display(),
+        if *bodies == 1 { "y" } else { "ies" },
+        if *pairs == 1 { "" } else { "s" }
+    )]
+    SeveralBodiesNotSolved { scene: std::path::PathBuf, bodies: usize, pairs: usize },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

@@ -249,6 +249,8 @@ fn export_command(session: &Session, args: RunArgs) -> Result<(), Error> {
     use signorini::export::{check_friction, write_fclib, FclibInfo};
     let path = args.scene.clone().ok_or_else(|| Error::Usage("signorini export needs a scene".into()))?;
     let scene = Scene::from_file(&path)?;
+    // Several bodies: checked, then refused (their first body's [contact] is not the scene's).
+    signorini::problem::refuse_several_bodies(&scene)?;
     if scene.contact.is_none() {
         return Err(Error::Usage(format!(
             "signorini export: the scene {} has no [contact] section: there is no contact problem to export",

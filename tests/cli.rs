@@ -1174,3 +1174,48 @@ fn gmsh_meshes_come_from_the_mesh_cache_the_second_time() {
     let (_, _, r6) = run("again", &[], None);
     assert_eq!(r6["mesh_cache"]["status"], "hit", "{r6}");
 }
+
+#[test]
+fn several_bodies_are_checked_then_refused_without_an_answer() {
+    // Both example scenes with [[body]] tables: meshed and checked, then a clear error, exit 1,
+    // and no results written.
+    for name in ["block_on_block", "two_cylinders"] {
+        let dir = scratch(&format!("bodies-{name}"));
+        let path = scene(&format!("examples/scenes/{name}.toml"));
+        let stderr = run_err(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&dir), 1);
+        assert!(
+            stderr.contains(&format!(
+                "{}: this scene has 2 bodies and 1 contact pair: several bodies are parsed and checked but not \
+                 solved yet in this version",
+                path.display()
+            )),
+            "{stderr}"
+        );
+        assert!(!dir.join("report.json").exists() && !dir.join("solution.vtu").exists());
+        // The other commands that solve say the same.
+        let stderr = run_err(bin().arg("export").arg(&path).arg("--out").arg(dir.join("p.hdf5")), 1);
+        assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
+    }
+    let stderr = run_err(
+        bin()
+            .args(["adapt", "--target", "5", "--quiet"])
+            .arg(scene("examples/scenes/block_on_block.toml"))
+            .arg("--out")
+            .arg(scratch("bodies-adapt")),
+        1,
+    );
+    assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
+    // A mistake found once the meshes exist comes first, with its file and line.
+    let dir = scratch("bodies-overlap");
+    let text = std::fs::read_to_string(scene("examples/scenes/block_on_block.toml"))
+        .unwrap()
+        .replace("origin = [0.0, 0.0]", "origin = [0.0, -0.005]");
+    let path = dir.join("overlap.toml");
+    std::fs::write(&path, &text).unwrap();
+    let stderr = run_err(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(dir.join("out")), 1);
+    let line = text.lines().position(|l| l.starts_with("[[contact_pair]]")).unwrap() + 1;
+    assert!(
+        stderr.contains(&format!("{}:{line}:1: bodies `block` and `foundation` overlap", path.display())),
+        "{stderr}"
+    );
+}

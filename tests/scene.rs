@@ -939,9 +939,18 @@ fn every_example_parses_and_names_only_parts_of_its_shape() {
     assert!(names.len() >= 6, "{names:?}");
     for path in names {
         let s = Scene::from_file(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let known = parts_of(&s.mesh);
-        for (p, at) in s.boundary_parts() {
-            assert!(known.contains(&p), "{}: {at}: part {p} of a {:?}", path.display(), s.mesh);
+        // Every body of a scene with [[body]] tables, the one body of the others.
+        for body in s.bodies().iter() {
+            let known = parts_of(&body.mesh);
+            for (p, at) in body.boundary_parts() {
+                assert!(known.contains(&p), "{}: {at}: part {p} of a {:?}", path.display(), body.mesh);
+            }
+        }
+        for pair in &s.contact_pairs {
+            for side in [&pair.slave, &pair.master] {
+                let body = &s.bodies[s.body_index(&side.body).unwrap()];
+                assert!(parts_of(&body.mesh).contains(&side.part.as_str()), "{}: {side}", path.display());
+            }
         }
     }
 }

@@ -22,6 +22,7 @@ pub mod gmsh;
 pub mod msh;
 pub mod pieces;
 pub mod structured;
+pub mod union;
 mod validate;
 
 use crate::error::{Error, Result};

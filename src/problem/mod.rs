@@ -184,6 +184,7 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
+        refuse_several_bodies(&scene)?;
         let mut timings = Timings::default();
         let (mesh, file_order, mesh_cache) =
             progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
@@ -197,6 +198,7 @@ impl<'s> ElasticityProblem<'s> {
     /// boundary parts and be of the scene's order.
     pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
         let scene = scene.validated()?;
+        refuse_several_bodies(&scene)?;
         Self::setup_on_mesh(session, scene, mesh, None, Timings::default(), Box::new(NoProgress))
     }
 
@@ -686,12 +688,32 @@ fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constrain
     Ok(())
 }
 
+/// A scene with `[[body]]` tables is meshed and checked (every mistake in it is reported), then
+/// refused with [`Error::SeveralBodiesNotSolved`]: the single-body fields the solver reads hold
+/// only its first body.
+pub fn refuse_several_bodies(scene: &Scene) -> Result<()> {
+    if !scene.has_body_tables() {
+        return Ok(());
+    }
+    scene::BodiesModel::build(scene)?;
+    Err(Error::SeveralBodiesNotSolved {
+        scene: scene.source.clone(),
+        bodies: scene.bodies.len(),
+        pairs: scene.contact_pairs.len(),
+    })
+}
+
 /// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order;
 /// the order of the file's triangles when it was read from one; and for a Gmsh mesh what the
 /// mesh cache did ([`MeshCache::from_env`]: on unless `SIGNORINI_NO_MESH_CACHE` is set).
 pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheReport>)> {
-    let order = scene.order;
-    let (shape, cell_size, refine) = match &scene.mesh {
+    build_mesh_of(&scene.mesh, scene.order)
+}
+
+/// [`build_mesh`] for one mesh description at an order (a body of a scene with several
+/// bodies, before its placement).
+pub fn build_mesh_of(spec: &scene::MeshSpec, order: Order) -> Result<(Mesh, Option<Order>, Option<CacheReport>)> {
+    let (shape, cell_size, refine) = match spec {
         scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Structured, .. } => {
             let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
             return Ok((mesh::structured::rectangle(*origin, *size, nx, ny, order)?, None, None));

@@ -8,6 +8,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use super::bodies::BodySpec;
 use super::contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 use super::{
     DirichletSpec, DirichletTarget, DualConstraints, Formulation, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec,
@@ -63,117 +64,31 @@ impl Scene {
         if let Some(title) = &self.title {
             let _ = writeln!(t, "title = {}", string(title));
         }
-        t.push_str("[mesh]\n");
-        match &self.mesh {
-            MeshSpec::Rectangle { origin, size, cell_size, mesher, refine } => {
-                let _ = writeln!(
-                    t,
-                    "shape = \"rectangle\"\norigin = {}\nsize = {}\ncell_size = {}",
-                    pair(*origin),
-                    pair(*size),
-                    num(*cell_size)
-                );
-                let _ = writeln!(t, "mesher = \"{}\"", if *mesher == Mesher::Gmsh { "gmsh" } else { "structured" });
-                refine_line(&mut t, refine);
-            }
-            MeshSpec::Disc { center, radius, cell_size, refine }
-            | MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
-                let shape = if matches!(self.mesh, MeshSpec::Disc { .. }) { "disc" } else { "half_disc" };
-                let _ = writeln!(
-                    t,
-                    "shape = \"{shape}\"\ncenter = {}\nradius = {}\ncell_size = {}",
-                    pair(*center),
-                    num(*radius),
-                    num(*cell_size)
-                );
-                refine_line(&mut t, refine);
-            }
-            MeshSpec::File { path, geometry } => {
-                // Absolute, so that reading the text back resolves it to the same file.
-                let absolute = |p: &PathBuf| std::path::absolute(p).unwrap_or_else(|_| p.clone());
-                let _ = writeln!(t, "shape = \"file\"\nfile = {}", string(&absolute(path).display().to_string()));
-                if let Some(g) = geometry {
-                    let _ = writeln!(t, "geometry = {}", string(&absolute(g).display().to_string()));
+        match self.has_body_tables() {
+            false => write_body(&mut t, &self.bodies()[0], "", Some((self.formulation, self.dual_constraints))),
+            true => {
+                for b in &self.bodies {
+                    let _ = writeln!(
+                        t,
+                        "[[body]]\nname = {}\nrotate = {}\ntranslate = {}",
+                        string(&b.name),
+                        num(b.placement.rotate),
+                        pair(b.placement.translate)
+                    );
+                    write_body(&mut t, b, "body.", None);
                 }
-            }
-        }
-        let _ = writeln!(
-            t,
-            "[discretization]\norder = {}\nelement = \"{}\"\nformulation = \"{}\"\ndual_constraints = \"{}\"",
-            self.order.degree(),
-            if self.element == Element::P2P0 { "p2p0" } else { "lagrange" },
-            self.formulation.name(),
-            self.dual_constraints.name()
-        );
-        let MaterialSpec { young, poisson, plane } = self.material;
-        let _ = writeln!(
-            t,
-            "[material]\nyoung = {}\npoisson = {}\nplane = \"{}\"",
-            num(young),
-            num(poisson),
-            if plane == PlaneSpec::Stress { "stress" } else { "strain" }
-        );
-        let _ = writeln!(t, "[loads]\nbody_force = {}", pair(self.body_force));
-        for tr in &self.tractions {
-            let _ = writeln!(t, "[[traction]]\npart = {}", string(&tr.part));
-            match tr.load {
-                Load::Traction(v) => {
-                    let _ = writeln!(t, "traction = {}", pair(v));
+                for p in &self.contact_pairs {
+                    let _ = writeln!(
+                        t,
+                        "[[contact_pair]]\nslave = {}\nmaster = {}",
+                        string(&p.slave.to_string()),
+                        string(&p.master.to_string())
+                    );
+                    friction_lines(&mut t, p.friction);
+                    if let Some(overlap) = p.max_initial_overlap {
+                        let _ = writeln!(t, "max_initial_overlap = {}", num(overlap));
+                    }
                 }
-                Load::Pressure(p) => {
-                    let _ = writeln!(t, "pressure = {}", num(p));
-                }
-            }
-        }
-        for d in &self.dirichlet {
-            t.push_str("[[dirichlet]]\n");
-            match &d.target {
-                DirichletTarget::Part(p) => {
-                    let _ = writeln!(t, "part = {}", string(p));
-                }
-                DirichletTarget::Point(p) => {
-                    let _ = writeln!(t, "point = {}", pair(*p));
-                }
-            }
-            for (key, v) in [("ux", d.ux), ("uy", d.uy)] {
-                if let Some(v) = v {
-                    let _ = writeln!(t, "{key} = {}", num(v));
-                }
-            }
-        }
-        if let Some(c) = &self.contact {
-            let _ = writeln!(t, "[contact]\npart = {}", string(&c.part));
-            match &c.obstacle {
-                ObstacleSpec::Line { point, normal } => {
-                    let _ = writeln!(t, "obstacle = \"line\"\npoint = {}\nnormal = {}", pair(*point), pair(*normal));
-                }
-                ObstacleSpec::Circle { center, radius } => {
-                    let _ = writeln!(t, "obstacle = \"circle\"\ncenter = {}\nradius = {}", pair(*center), num(*radius));
-                }
-                ObstacleSpec::Polyline { points } => {
-                    let list: Vec<String> = points.iter().map(|p| pair(*p)).collect();
-                    let _ = writeln!(t, "obstacle = \"polyline\"\npoints = [{}]", list.join(", "));
-                }
-            }
-            let _ = writeln!(t, "gap = {}", num(c.gap));
-            match c.friction {
-                FrictionSpec::None => t.push_str("friction = \"none\"\n"),
-                FrictionSpec::Coulomb { mu } => {
-                    let _ = writeln!(t, "friction = \"coulomb\"\nmu = {}", num(mu));
-                }
-                FrictionSpec::Tresca { threshold } => {
-                    let _ = writeln!(t, "friction = \"tresca\"\nthreshold = {}", num(threshold));
-                }
-            }
-            let _ = writeln!(t, "solver = \"{}\"", c.solver.scene_name());
-            if let ContactSolverSpec::Relaxation { omega } = c.solver {
-                let _ = writeln!(t, "omega = {}", num(omega));
-            }
-            if let Some(tol) = c.tolerance {
-                let _ = writeln!(t, "tolerance = {}", num(tol));
-            }
-            if let Some(n) = c.max_iterations {
-                let _ = writeln!(t, "max_iterations = {n}");
             }
         }
         if !self.petsc_options.is_empty() {
@@ -214,6 +129,131 @@ impl Scene {
                 }
                 other => other,
             })
+    }
+}
+
+/// The tables of one body: the top level of a single-body scene (`prefix` "", with `top` the
+/// scene-wide discretization keys), or the subtables of a `[[body]]` (`prefix` "body.").
+fn write_body(t: &mut String, body: &BodySpec, prefix: &str, top: Option<(Formulation, DualConstraints)>) {
+    let _ = writeln!(t, "[{prefix}mesh]");
+    match &body.mesh {
+        MeshSpec::Rectangle { origin, size, cell_size, mesher, refine } => {
+            let _ = writeln!(
+                t,
+                "shape = \"rectangle\"\norigin = {}\nsize = {}\ncell_size = {}",
+                pair(*origin),
+                pair(*size),
+                num(*cell_size)
+            );
+            let _ = writeln!(t, "mesher = \"{}\"", if *mesher == Mesher::Gmsh { "gmsh" } else { "structured" });
+            refine_line(t, refine);
+        }
+        MeshSpec::Disc { center, radius, cell_size, refine }
+        | MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
+            let shape = if matches!(body.mesh, MeshSpec::Disc { .. }) { "disc" } else { "half_disc" };
+            let _ = writeln!(
+                t,
+                "shape = \"{shape}\"\ncenter = {}\nradius = {}\ncell_size = {}",
+                pair(*center),
+                num(*radius),
+                num(*cell_size)
+            );
+            refine_line(t, refine);
+        }
+        MeshSpec::File { path, geometry } => {
+            // Absolute, so that reading the text back resolves it to the same file.
+            let absolute = |p: &PathBuf| std::path::absolute(p).unwrap_or_else(|_| p.clone());
+            let _ = writeln!(t, "shape = \"file\"\nfile = {}", string(&absolute(path).display().to_string()));
+            if let Some(g) = geometry {
+                let _ = writeln!(t, "geometry = {}", string(&absolute(g).display().to_string()));
+            }
+        }
+    }
+    let _ = writeln!(
+        t,
+        "[{prefix}discretization]\norder = {}\nelement = \"{}\"",
+        body.order.degree(),
+        if body.element == Element::P2P0 { "p2p0" } else { "lagrange" }
+    );
+    if let Some((formulation, dual_constraints)) = top {
+        let _ =
+            writeln!(t, "formulation = \"{}\"\ndual_constraints = \"{}\"", formulation.name(), dual_constraints.name());
+    }
+    let MaterialSpec { young, poisson, plane } = body.material;
+    let _ = writeln!(
+        t,
+        "[{prefix}material]\nyoung = {}\npoisson = {}\nplane = \"{}\"",
+        num(young),
+        num(poisson),
+        if plane == PlaneSpec::Stress { "stress" } else { "strain" }
+    );
+    let _ = writeln!(t, "[{prefix}loads]\nbody_force = {}", pair(body.body_force));
+    for tr in &body.tractions {
+        let _ = writeln!(t, "[[{prefix}traction]]\npart = {}", string(&tr.part));
+        match tr.load {
+            Load::Traction(v) => {
+                let _ = writeln!(t, "traction = {}", pair(v));
+            }
+            Load::Pressure(p) => {
+                let _ = writeln!(t, "pressure = {}", num(p));
+            }
+        }
+    }
+    for d in &body.dirichlet {
+        let _ = writeln!(t, "[[{prefix}dirichlet]]");
+        match &d.target {
+            DirichletTarget::Part(p) => {
+                let _ = writeln!(t, "part = {}", string(p));
+            }
+            DirichletTarget::Point(p) => {
+                let _ = writeln!(t, "point = {}", pair(*p));
+            }
+        }
+        for (key, v) in [("ux", d.ux), ("uy", d.uy)] {
+            if let Some(v) = v {
+                let _ = writeln!(t, "{key} = {}", num(v));
+            }
+        }
+    }
+    if let Some(c) = &body.contact {
+        let _ = writeln!(t, "[{prefix}contact]\npart = {}", string(&c.part));
+        match &c.obstacle {
+            ObstacleSpec::Line { point, normal } => {
+                let _ = writeln!(t, "obstacle = \"line\"\npoint = {}\nnormal = {}", pair(*point), pair(*normal));
+            }
+            ObstacleSpec::Circle { center, radius } => {
+                let _ = writeln!(t, "obstacle = \"circle\"\ncenter = {}\nradius = {}", pair(*center), num(*radius));
+            }
+            ObstacleSpec::Polyline { points } => {
+                let list: Vec<String> = points.iter().map(|p| pair(*p)).collect();
+                let _ = writeln!(t, "obstacle = \"polyline\"\npoints = [{}]", list.join(", "));
+            }
+        }
+        let _ = writeln!(t, "gap = {}", num(c.gap));
+        friction_lines(t, c.friction);
+        let _ = writeln!(t, "solver = \"{}\"", c.solver.scene_name());
+        if let ContactSolverSpec::Relaxation { omega } = c.solver {
+            let _ = writeln!(t, "omega = {}", num(omega));
+        }
+        if let Some(tol) = c.tolerance {
+            let _ = writeln!(t, "tolerance = {}", num(tol));
+        }
+        if let Some(n) = c.max_iterations {
+            let _ = writeln!(t, "max_iterations = {n}");
+        }
+    }
+}
+
+/// The `friction = ...` line of a contact table or pair, with `mu` or `threshold`.
+fn friction_lines(t: &mut String, friction: FrictionSpec) {
+    match friction {
+        FrictionSpec::None => t.push_str("friction = \"none\"\n"),
+        FrictionSpec::Coulomb { mu } => {
+            let _ = writeln!(t, "friction = \"coulomb\"\nmu = {}", num(mu));
+        }
+        FrictionSpec::Tresca { threshold } => {
+            let _ = writeln!(t, "friction = \"tresca\"\nthreshold = {}", num(threshold));
+        }
     }
 }
 
@@ -258,6 +298,8 @@ impl SceneBuilder {
                 contact: None,
                 petsc_options: Vec::new(),
                 output_dir: None,
+                bodies: Vec::new(),
+                contact_pairs: Vec::new(),
             },
         }
     }

@@ -48,9 +48,11 @@
 //!   Bærentzen & Aanæs, *Signed distance computation using the angle weighted pseudonormal*,
 //!   IEEE TVCG 11(3), 2005, whose two weights are equal in 2D), and `ν = ±(x − pj)/|x − pj|`.
 //!   A polyline must not cross itself (not checked) and must not turn back on itself (checked).
+use super::convert::{Scope, Table};
 use super::diagnostic::Source;
+use super::raw::Leaf;
 use super::raw::RawContact;
-use super::{DirichletSpec, DirichletTarget, Table};
+use super::{DirichletSpec, DirichletTarget};
 use crate::error::{Location, Result};
 
 /// Contact of one boundary part with a rigid obstacle (`[contact]`).
@@ -170,9 +172,14 @@ const SOLVERS: &[&str] =
 
 /// Convert and check `[contact]`; `dirichlet` are the scene's `[[dirichlet]]` tables (a clamped
 /// contact part is refused).
-pub(super) fn contact_spec(src: &Source, c: &RawContact, dirichlet: &[DirichletSpec]) -> Result<ContactSpec> {
+pub(super) fn contact_spec(
+    src: &Source,
+    scope: &Scope,
+    c: &RawContact,
+    dirichlet: &[DirichletSpec],
+) -> Result<ContactSpec> {
     let first = c.present_keys().first().map(|(_, s)| s.clone());
-    let table = Table::locate(src, "[contact]", ("contact", false, 0), first, 0..0);
+    let table = scope.table(src, "contact", false, 0, first);
 
     let part_v = table.require(&c.part, "part", "part = \"bottom\" (the boundary part that may touch the obstacle)")?;
     let part = src.nonempty_string(part_v, "part")?.to_string();
@@ -248,7 +255,7 @@ fn obstacle_spec(src: &Source, c: &RawContact, table: &Table, kind: &str) -> Res
         ));
     }
     let table =
-        Table { src: table.src, name: format!("[contact] with obstacle = \"{kind}\""), span: table.span.clone() };
+        Table { src: table.src, name: format!("{} with obstacle = \"{kind}\"", table.name), span: table.span.clone() };
     match kind {
         "line" => {
             let point =
@@ -333,12 +340,18 @@ fn check_polyline(src: &Source, v: &toml::Spanned<toml::Value>, points: &[[f64; 
 }
 
 fn friction_spec(src: &Source, c: &RawContact) -> Result<FrictionSpec> {
-    let kind = c.friction.as_ref().map(|v| src.choice(v, "friction", FRICTIONS)).transpose()?;
+    friction_from(src, &c.friction, &c.mu, &c.threshold)
+}
+
+/// The friction law from the keys `friction`, `mu` and `threshold` of a `[contact]` or a
+/// `[[contact_pair]]` table: `mu` only with Coulomb, `threshold` only with Tresca.
+pub(super) fn friction_from(src: &Source, friction: &Leaf, mu: &Leaf, threshold: &Leaf) -> Result<FrictionSpec> {
+    let kind = friction.as_ref().map(|v| src.choice(v, "friction", FRICTIONS)).transpose()?;
     let named = |k: Option<&str>| match k {
         Some(k) => format!("friction = \"{k}\""),
         None => "the default friction (\"none\")".to_string(),
     };
-    if let (Some(v), false) = (&c.mu, kind == Some("coulomb")) {
+    if let (Some(v), false) = (mu, kind == Some("coulomb")) {
         let hint = match kind {
             Some("tresca") => "Tresca friction takes a fixed slip `threshold` (N/m²): remove `mu`, or write \
                                friction = \"coulomb\" for a friction coefficient"
@@ -347,7 +360,7 @@ fn friction_spec(src: &Source, c: &RawContact) -> Result<FrictionSpec> {
         };
         return Err(src.error(&v.span(), format!("`mu` does not apply to {}", named(kind)), hint));
     }
-    if let (Some(v), false) = (&c.threshold, kind == Some("tresca")) {
+    if let (Some(v), false) = (threshold, kind == Some("tresca")) {
         let hint = match kind {
             Some("coulomb") => "Coulomb friction takes `mu` (its threshold is mu·|σN|): remove `threshold`, or \
                                 write friction = \"tresca\" for a fixed threshold"
@@ -358,11 +371,11 @@ fn friction_spec(src: &Source, c: &RawContact) -> Result<FrictionSpec> {
         };
         return Err(src.error(&v.span(), format!("`threshold` does not apply to {}", named(kind)), hint));
     }
-    let friction_span = c.friction.as_ref().map(|v| v.span()).unwrap_or(0..0);
+    let friction_span = friction.as_ref().map(|v| v.span()).unwrap_or(0..0);
     match kind {
         None | Some("none") => Ok(FrictionSpec::None),
         Some("tresca") => {
-            let Some(v) = &c.threshold else {
+            let Some(v) = threshold else {
                 return Err(src.error(
                     &friction_span,
                     "friction = \"tresca\" needs `threshold`",
@@ -373,7 +386,7 @@ fn friction_spec(src: &Source, c: &RawContact) -> Result<FrictionSpec> {
             Ok(FrictionSpec::Tresca { threshold })
         }
         _ => {
-            let Some(v) = &c.mu else {
+            let Some(v) = mu else {
                 return Err(src.error(
                     &friction_span,
                     "friction = \"coulomb\" needs `mu`",

@@ -42,11 +42,26 @@ impl<'a> Source<'a> {
     /// The span of the `occurrence`-th (0-based) header `[name]` (or `[[name]]` when `array`),
     /// found by scanning line starts. `None` for tables written inline or with dotted keys.
     pub fn table_header(&self, name: &str, array: bool, occurrence: usize) -> Option<Range<usize>> {
+        self.table_header_within(name, array, occurrence, 0..self.text.len())
+    }
+
+    /// [`Source::table_header`] counting only the headers that start inside `within` (the
+    /// text of one `[[body]]`: its `[body.mesh]`, its second `[[body.traction]]`...).
+    pub fn table_header_within(
+        &self,
+        name: &str,
+        array: bool,
+        occurrence: usize,
+        within: Range<usize>,
+    ) -> Option<Range<usize>> {
         let mut seen = 0;
         let mut start = 0;
         for line in self.text.split_inclusive('\n') {
             let here = start;
             start += line.len();
+            if !within.contains(&here) {
+                continue;
+            }
             let trimmed = line.trim_start();
             let indent = line.len() - trimmed.len();
             let body = match array {

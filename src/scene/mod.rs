@@ -44,27 +44,38 @@
 //! once the mesh exists, and so can point conditions (is there a node at the point?):
 //! [`Scene::check_against_mesh`].
 //!
+//! The tables of one body (`[mesh]` ... `[contact]`) are converted by `convert::body_data`,
+//! called for the top level of a single-body scene and for every `[[body]]` of a scene with
+//! several bodies (`bodies`: `[[body]]` and `[[contact_pair]]`, [`Scene::bodies`], and
+//! [`BodiesModel`] for their meshes, their union and the overlap check). Scenes with several
+//! bodies are read and checked, not solved yet.
+//!
 //! Adding a section: a raw struct and its key list in `raw`, a field in [`Scene`], a conversion
 //! function called from [`Scene::from_str`] (in its own file if it is long, like `contact`), and
-//! a table in `docs/scene-format.md`.
+//! a table in `docs/scene-format.md`. A table of one body goes into `convert::BodyTables` and
+//! `raw::RawBody` too, so that every `[[body]]` takes it.
+mod bodies;
 mod builder;
 mod contact;
+mod convert;
 mod diagnostic;
 mod magnitudes;
+mod model;
 mod raw;
 
+pub use bodies::{BodySpec, ContactPairSpec, PartRef, Placement, SINGLE_BODY_NAME};
 pub use builder::{SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
+pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
 use crate::error::{Error, Location, Result};
 use crate::fem::Element;
 use crate::mesh::{Mesh, Order};
-use diagnostic::{closest, describe, Source};
-use raw::{first_span, Leaf, RawDirichlet, RawMesh, RawRefine, RawScene, RawTraction};
+use convert::{body_data, petsc_options, BodyData, BodyTables, Scope};
+use diagnostic::{closest, Source};
+use raw::RawScene;
 use std::fmt;
-use std::ops::Range;
 use std::path::{Path, PathBuf};
-use toml::{Spanned, Value};
 
 /// The text of the built-in scene (`examples/scenes/default.toml`).
 pub const DEFAULT_SCENE_TOML: &str = include_str!("../../examples/scenes/default.toml");
@@ -109,6 +120,14 @@ pub struct Scene {
     pub petsc_options: Vec<String>,
     /// `[output] dir` as written (relative to the current directory, not to the scene).
     pub output_dir: Option<PathBuf>,
+    /// The `[[body]]` tables, in file order; empty for a single-body scene (the fields above
+    /// describe its one body). A scene with `[[body]]` tables has its first body's data in the
+    /// single-body fields above (`mesh`, `order`, ..., `contact`), only so that code reading one
+    /// body finds a valid one: [`Scene::bodies`] is the view of every scene as bodies, and the
+    /// solver refuses scenes with `[[body]]` tables (see [`Scene::has_body_tables`]).
+    pub bodies: Vec<BodySpec>,
+    /// The `[[contact_pair]]` tables, in file order (only with `[[body]]` tables).
+    pub contact_pairs: Vec<ContactPairSpec>,
 }
 
 /// Which field the scene is solved for.
@@ -366,24 +385,29 @@ impl Scene {
         let scene_dir = source.parent().unwrap_or(Path::new(""));
 
         let title = raw.title.as_ref().map(|v| src.string(v, "title").map(str::to_string)).transpose()?;
-        let Some(raw_mesh) = &raw.mesh else {
-            return Err(src.error(
-                &(0..0),
-                "the scene has no [mesh] table",
-                "add a [mesh] table, e.g. [mesh] shape = \"rectangle\", size = [1.0, 0.2], cell_size = 0.02",
-            ));
+        // One body at the top level, or several in [[body]] tables (`bodies`); the top-level
+        // fields of a scene with [[body]] tables are those of its first body.
+        let (data, bodies, contact_pairs) = match raw.body.is_empty() {
+            true => {
+                bodies::refuse_pairs_without_bodies(&src, &raw)?;
+                let tables = BodyTables {
+                    mesh: raw.mesh.as_ref(),
+                    discretization: raw.discretization.as_ref(),
+                    material: raw.material.as_ref(),
+                    loads: raw.loads.as_ref(),
+                    traction: &raw.traction,
+                    dirichlet: &raw.dirichlet,
+                    contact: raw.contact.as_ref(),
+                };
+                (body_data(&src, &Scope::top_level(text), &tables, scene_dir)?, Vec::new(), Vec::new())
+            }
+            false => {
+                bodies::refuse_top_level_body_tables(&src, &raw)?;
+                let bodies = bodies::body_specs(&src, &raw.body, scene_dir)?;
+                let pairs = bodies::contact_pair_specs(&src, &raw.contact_pair, &bodies)?;
+                (bodies[0].data(), bodies, pairs)
+            }
         };
-        let mesh = mesh_spec(&src, raw_mesh, scene_dir)?;
-        let order = order(&src, raw.discretization.as_ref().and_then(|d| d.order.as_ref()))?;
-        let Some(raw_material) = &raw.material else {
-            return Err(src.error(
-                &(0..0),
-                "the scene has no [material] table",
-                "add a [material] table, e.g. [material] young = 210e9, poisson = 0.3",
-            ));
-        };
-        let material = material_spec(&src, raw_material)?;
-        let element = element(&src, raw.discretization.as_ref().and_then(|d| d.element.as_ref()), order, &material)?;
         let formulation = match raw.discretization.as_ref().and_then(|d| d.formulation.as_ref()) {
             Some(v) => match src.choice(v, "formulation", &["primal", "dual"])? {
                 "dual" => Formulation::Dual,
@@ -414,15 +438,6 @@ impl Scene {
                 },
             },
         };
-        let body_force = match raw.loads.as_ref().and_then(|l| l.body_force.as_ref()) {
-            Some(v) => src.vector(v, "body_force")?,
-            None => [0.0; 2],
-        };
-        let tractions =
-            raw.traction.iter().enumerate().map(|(i, t)| traction_spec(&src, t, i)).collect::<Result<Vec<_>>>()?;
-        let dirichlet =
-            raw.dirichlet.iter().enumerate().map(|(i, d)| dirichlet_spec(&src, d, i)).collect::<Result<Vec<_>>>()?;
-        let contact = raw.contact.as_ref().map(|c| contact::contact_spec(&src, c, &dirichlet)).transpose()?;
         let petsc_options = match raw.solver.as_ref().and_then(|s| s.petsc_options.as_ref()) {
             Some(v) => petsc_options(&src, v)?,
             None => Vec::new(),
@@ -431,6 +446,7 @@ impl Scene {
             Some(v) => Some(PathBuf::from(src.nonempty_string(v, "dir")?)),
             None => None,
         };
+        let BodyData { mesh, order, element, material, body_force, tractions, dirichlet, contact } = data;
         Ok(Scene {
             source: source.to_path_buf(),
             title,
@@ -447,6 +463,8 @@ impl Scene {
             contact,
             petsc_options,
             output_dir,
+            bodies,
+            contact_pairs,
         })
     }
 
@@ -458,7 +476,8 @@ impl Scene {
     }
 
     /// Every boundary part the scene names, with where it is named: tractions, Dirichlet
-    /// parts, the contact part, each in file order.
+    /// parts, the contact part, each in file order. For a scene with `[[body]]` tables: its
+    /// first body's (every body's: [`BodySpec::boundary_parts`] of [`Scene::bodies`]).
     pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
         let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
         let d = self.dirichlet.iter().filter_map(|d| match &d.target {
@@ -470,7 +489,8 @@ impl Scene {
     }
 
     /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`,
-    /// and that every point condition's point is a node of `mesh`.
+    /// and that every point condition's point is a node of `mesh`. For a scene with `[[body]]`
+    /// tables this checks the first body only: [`BodiesModel::on_meshes`] checks them all.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
         for (part, at) in self.boundary_parts() {
             boundary_group(mesh, part, at)?;
@@ -482,348 +502,4 @@ impl Scene {
         }
         Ok(())
     }
-}
-
-// ---- conversion, one function per table -------------------------------------------------------
-
-/// A table being converted: its display name and where to point when a key is missing.
-struct Table<'s, 'a> {
-    src: &'s Source<'a>,
-    name: String,
-    span: Range<usize>,
-}
-
-impl<'s, 'a> Table<'s, 'a> {
-    /// `header` is found as `[header]` (or `[[header]]`, the `occurrence`-th); a table written
-    /// inline or with dotted keys is located by its first key, else by `fallback`.
-    fn locate(
-        src: &'s Source<'a>,
-        name: impl Into<String>,
-        header: (&str, bool, usize),
-        first_key: Option<Range<usize>>,
-        fallback: Range<usize>,
-    ) -> Self {
-        let span = src.table_header(header.0, header.1, header.2).or(first_key).unwrap_or(fallback);
-        Table { src, name: name.into(), span }
-    }
-
-    fn require<'v>(&self, leaf: &'v Leaf, key: &str, example: &str) -> Result<&'v Spanned<Value>> {
-        leaf.as_ref().ok_or_else(|| {
-            self.src.error(&self.span, format!("{} is missing `{key}`", self.name), format!("add `{example}`"))
-        })
-    }
-}
-
-const SHAPES: &[&str] = &["rectangle", "disc", "half_disc", "file"];
-const MESHERS: &[&str] = &["structured", "gmsh"];
-const RECTANGLE_KEYS: &[&str] = &["shape", "origin", "size", "cell_size", "mesher", "refine"];
-const DISC_KEYS: &[&str] = &["shape", "center", "radius", "cell_size", "refine"];
-const FILE_KEYS: &[&str] = &["shape", "file", "geometry"];
-
-fn mesh_spec(src: &Source, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
-    let table = Table::locate(src, "[mesh]", ("mesh", false, 0), m.first_span(), 0..0);
-    let shape_v = table.require(&m.shape, "shape", "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"file\")")?;
-    let shape = src.choice(shape_v, "shape", SHAPES)?;
-    let allowed = match shape {
-        "rectangle" => RECTANGLE_KEYS,
-        "disc" | "half_disc" => DISC_KEYS,
-        _ => FILE_KEYS,
-    };
-    if let Some((key, span)) = m.present_keys().into_iter().find(|(k, _)| !allowed.contains(k)) {
-        let hint = match (shape, key) {
-            ("file", _) => format!("a mesh file is used as it is: remove `{key}` (refine the mesh in gmsh instead)"),
-            (_, "mesher") => "disc and half_disc meshes are always made by gmsh: remove `mesher`".to_string(),
-            _ => format!("remove `{key}`; shape = \"{shape}\" takes {}", allowed.join(", ")),
-        };
-        return Err(src.error(&span, format!("`{key}` does not apply to shape = \"{shape}\""), hint));
-    }
-    let table = Table { name: format!("[mesh] with shape = \"{shape}\""), ..table };
-
-    if shape == "file" {
-        let v = table.require(&m.file, "file", "file = \"part.msh\" (a Gmsh MSH 4.1 file)")?;
-        let name = src.nonempty_string(v, "file")?;
-        let path = scene_dir.join(name);
-        if !path.is_file() {
-            let what = if path.is_dir() { "is a directory" } else { "does not exist" };
-            return Err(src.error(
-                &v.span(),
-                format!("mesh file `{name}` {what} (looked for {})", path.display()),
-                "check the name; a relative path is read from the scene file's directory",
-            ));
-        }
-        let geometry = match &m.geometry {
-            None => None,
-            Some(v) => {
-                let name = src.nonempty_string(v, "geometry")?;
-                let geometry = scene_dir.join(name);
-                if !geometry.is_file() {
-                    return Err(src.error(
-                        &v.span(),
-                        format!("geometry script `{name}` does not exist (looked for {})", geometry.display()),
-                        "give the Gmsh .geo script the mesh file was made from; a relative path is read from the \
-                         scene file's directory",
-                    ));
-                }
-                Some(geometry)
-            }
-        };
-        return Ok(MeshSpec::File { path, geometry });
-    }
-
-    let cell_v = table.require(&m.cell_size, "cell_size", "cell_size = 0.05 (target edge length)")?;
-    let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
-    let vector_or_zero = |leaf: &Leaf, key| leaf.as_ref().map(|v| src.vector(v, key)).transpose();
-    let mut spec = match shape {
-        "rectangle" => {
-            let origin = vector_or_zero(&m.origin, "origin")?.unwrap_or([0.0; 2]);
-            let size_v = table.require(&m.size, "size", "size = [width, height]")?;
-            let size = src.vector(size_v, "size")?;
-            if size[0] <= 0.0 || size[1] <= 0.0 {
-                return Err(src.error(
-                    &size_v.span(),
-                    format!("`size` must be positive in both directions, found {}", src.written(size_v)),
-                    "write size = [width, height] with width > 0 and height > 0 (use `origin` to place the corner)",
-                ));
-            }
-            let mesher = match &m.mesher {
-                Some(v) if src.choice(v, "mesher", MESHERS)? == "gmsh" => Mesher::Gmsh,
-                _ => Mesher::Structured,
-            };
-            MeshSpec::Rectangle { origin, size, cell_size, mesher, refine: None }
-        }
-        _ => {
-            let center = vector_or_zero(&m.center, "center")?.unwrap_or([0.0; 2]);
-            let radius_v = table.require(&m.radius, "radius", "radius = 1.0")?;
-            let radius = src.positive(radius_v, "radius", "a radius")?;
-            match shape {
-                "disc" => MeshSpec::Disc { center, radius, cell_size, refine: None },
-                _ => MeshSpec::HalfDisc { center, radius, cell_size, refine: None },
-            }
-        }
-    };
-    let area = match &spec {
-        MeshSpec::Rectangle { size, .. } => size[0] * size[1],
-        MeshSpec::Disc { radius, .. } => std::f64::consts::PI * radius * radius,
-        MeshSpec::HalfDisc { radius, .. } => std::f64::consts::PI * radius * radius / 2.0,
-        MeshSpec::File { .. } => 0.0,
-    };
-    check_cell_count(src, cell_v, "cell_size", cell_size, area)?;
-    if let Some(r) = &m.refine {
-        let fallback = table.span.clone();
-        let rt = Table::locate(src, "mesh.refine", ("mesh.refine", false, 0), r.first_span(), fallback);
-        if let MeshSpec::Rectangle { mesher: Mesher::Structured, .. } = spec {
-            return Err(src.error(
-                &rt.span,
-                "`refine` needs mesher = \"gmsh\"",
-                "the structured mesher makes a uniform grid: add mesher = \"gmsh\" to [mesh], or remove refine",
-            ));
-        }
-        let parsed = refine_spec(src, r, rt, cell_size)?;
-        match &mut spec {
-            MeshSpec::Rectangle { refine, .. } | MeshSpec::Disc { refine, .. } | MeshSpec::HalfDisc { refine, .. } => {
-                *refine = Some(parsed)
-            }
-            MeshSpec::File { .. } => {}
-        }
-    }
-    Ok(spec)
-}
-
-fn refine_spec(src: &Source, r: &RawRefine, table: Table, mesh_cell_size: f64) -> Result<RefineSpec> {
-    let point = src.vector(table.require(&r.point, "point", "point = [x, y]")?, "point")?;
-    let cell_v = table.require(&r.cell_size, "cell_size", "cell_size = 0.01 (the edge length near point)")?;
-    let cell_size = src.positive(cell_v, "cell_size", "a target edge length")?;
-    if cell_size > mesh_cell_size {
-        return Err(src.error(
-            &cell_v.span(),
-            format!(
-                "refine's `cell_size` ({}) is larger than the mesh's cell_size ({mesh_cell_size})",
-                src.written(cell_v)
-            ),
-            "a refinement needs a smaller cell_size than [mesh] cell_size",
-        ));
-    }
-    let radius_v = table.require(&r.radius, "radius", "radius = 0.1 (the size of the refined zone)")?;
-    let radius = src.positive(radius_v, "radius", "the radius of the refined zone")?;
-    let area = std::f64::consts::PI * radius * radius;
-    check_cell_count(src, cell_v, "refine's cell_size", cell_size, area)?;
-    Ok(RefineSpec { point, cell_size, radius })
-}
-
-fn check_cell_count(src: &Source, cell_v: &Spanned<Value>, key: &str, cell_size: f64, area: f64) -> Result<()> {
-    let estimate = 2.0 * area / (cell_size * cell_size);
-    if estimate > MAX_TRIANGLES {
-        return Err(src.error(
-            &cell_v.span(),
-            format!("{key} = {} would make about {estimate:.1e} triangles", src.written(cell_v)),
-            format!(
-                "use a larger {key} (at most {MAX_TRIANGLES:.0e} triangles are accepted: 2·area / cell_size² ≤ {MAX_TRIANGLES:.0e})"
-            ),
-        ));
-    }
-    Ok(())
-}
-
-fn order(src: &Source, v: Option<&Spanned<Value>>) -> Result<Order> {
-    match v.map(|v| (v, v.get_ref())) {
-        None => Ok(Order::P1),
-        Some((_, Value::Integer(1))) => Ok(Order::P1),
-        Some((_, Value::Integer(2))) => Ok(Order::P2),
-        Some((v, other)) => Err(src.error(
-            &v.span(),
-            format!("`order` must be 1 or 2, found {}", describe(other)),
-            "write order = 1 for linear (P1) triangles or order = 2 for quadratic (P2) triangles",
-        )),
-    }
-}
-
-/// `[discretization] element`: "lagrange" (default) or "p2p0", the latter only with `order = 2`
-/// in plane strain (P1 cells have a constant divergence already, and plane stress does not lock).
-fn element(src: &Source, v: Option<&Spanned<Value>>, order: Order, material: &MaterialSpec) -> Result<Element> {
-    let Some(v) = v else {
-        return Ok(Element::Lagrange);
-    };
-    if src.choice(v, "element", &["lagrange", "p2p0"])? == "lagrange" {
-        return Ok(Element::Lagrange);
-    }
-    if order != Order::P2 {
-        return Err(src.error(
-            &v.span(),
-            "element = \"p2p0\" needs quadratic triangles, but the scene uses order = 1",
-            "add order = 2 to [discretization] (P2 displacements with a cell-wise constant pressure)",
-        ));
-    }
-    if material.plane == PlaneSpec::Stress {
-        return Err(src.error(
-            &v.span(),
-            "element = \"p2p0\" is for plane strain, but [material] plane = \"stress\"",
-            "remove `element` (plane stress does not lock: its in-plane Lamé constant stays below E), or use plane = \"strain\"",
-        ));
-    }
-    Ok(Element::P2P0)
-}
-
-fn material_spec(src: &Source, m: &raw::RawMaterial) -> Result<MaterialSpec> {
-    let first = first_span(&[&m.young, &m.poisson, &m.plane]);
-    let table = Table::locate(src, "[material]", ("material", false, 0), first, 0..0);
-    let young_v = table.require(&m.young, "young", "young = 210e9 (Young's modulus in Pa)")?;
-    let young = src.number(young_v, "young")?;
-    if young <= 0.0 {
-        return Err(src.error(
-            &young_v.span(),
-            format!("`young` must be positive, found {}", src.written(young_v)),
-            "Young's modulus is in Pa and must be > 0, e.g. young = 210e9 for steel, 70e9 for aluminium",
-        ));
-    }
-    let poisson_v = table.require(&m.poisson, "poisson", "poisson = 0.3 (Poisson's ratio, in (-1, 0.5))")?;
-    let poisson = src.number(poisson_v, "poisson")?;
-    if poisson >= 0.5 {
-        return Err(src.error(
-            &poisson_v.span(),
-            format!("`poisson` must be below 0.5, found {}", src.written(poisson_v)),
-            "0.5 is an incompressible material, which a displacement formulation cannot represent: use a \
-             value < 0.5 (nearly incompressible, e.g. 0.4999: use order = 2 with element = \"p2p0\", since P1 \
-             and P2 displacements lock)",
-        ));
-    }
-    if poisson <= -1.0 {
-        return Err(src.error(
-            &poisson_v.span(),
-            format!("`poisson` must be above -1, found {}", src.written(poisson_v)),
-            "a stable isotropic material has -1 < poisson < 0.5 (metals: about 0.3)",
-        ));
-    }
-    let plane = match &m.plane {
-        Some(v) if src.choice(v, "plane", &["strain", "stress"])? == "stress" => PlaneSpec::Stress,
-        _ => PlaneSpec::Strain,
-    };
-    Ok(MaterialSpec { young, poisson, plane })
-}
-
-fn part_name(src: &Source, table: &Table, leaf: &Leaf) -> Result<(String, Location)> {
-    let v = table.require(leaf, "part", "part = \"left\" (a boundary physical name of the mesh)")?;
-    Ok((src.nonempty_string(v, "part")?.to_string(), src.location(v.span().start)))
-}
-
-fn traction_spec(src: &Source, t: &RawTraction, index: usize) -> Result<TractionSpec> {
-    let first = first_span(&[&t.part, &t.traction, &t.pressure]);
-    let table = Table::locate(src, "this [[traction]] table", ("traction", true, index), first, 0..0);
-    let (part, at) = part_name(src, &table, &t.part)?;
-    let load = match (&t.traction, &t.pressure) {
-        (Some(v), None) => Load::Traction(src.vector(v, "traction")?),
-        (None, Some(v)) => Load::Pressure(src.number(v, "pressure")?),
-        (Some(_), Some(p)) => {
-            return Err(src.error(
-                &p.span(),
-                format!("the [[traction]] on `{part}` gives both `traction` and `pressure`"),
-                "keep one (write a second [[traction]] table on the same part to add the other)",
-            ))
-        }
-        (None, None) => {
-            return Err(src.error(
-                &table.span,
-                format!("the [[traction]] on `{part}` has neither `traction` nor `pressure`"),
-                "add traction = [tx, ty] (force per area, N/m²) or pressure = p (normal, positive pushes \
-                 into the body)",
-            ))
-        }
-    };
-    Ok(TractionSpec { part, load, at })
-}
-
-fn dirichlet_spec(src: &Source, d: &RawDirichlet, index: usize) -> Result<DirichletSpec> {
-    let first = first_span(&[&d.part, &d.point, &d.ux, &d.uy]);
-    let table = Table::locate(src, "this [[dirichlet]] table", ("dirichlet", true, index), first, 0..0);
-    let (target, at) = match (&d.part, &d.point) {
-        (Some(_), None) => {
-            let (part, at) = part_name(src, &table, &d.part)?;
-            (DirichletTarget::Part(part), at)
-        }
-        (None, Some(v)) => (DirichletTarget::Point(src.vector(v, "point")?), src.location(v.span().start)),
-        (Some(part), Some(point)) => {
-            let later = if part.span().start > point.span().start { part } else { point };
-            return Err(src.error(
-                &later.span(),
-                "this [[dirichlet]] table gives both `part` and `point`",
-                "a [[dirichlet]] table fixes either a boundary part or one node: keep one (write a second \
-                 [[dirichlet]] table for the other)",
-            ));
-        }
-        (None, None) => {
-            return Err(src.error(
-                &table.span,
-                "this [[dirichlet]] table has neither `part` nor `point`",
-                "add part = \"left\" (a boundary physical name of the mesh) or point = [x, y] (the mesh node \
-                 at that point)",
-            ))
-        }
-    };
-    let ux = d.ux.as_ref().map(|v| src.number(v, "ux")).transpose()?;
-    let uy = d.uy.as_ref().map(|v| src.number(v, "uy")).transpose()?;
-    if ux.is_none() && uy.is_none() {
-        let on = match &target {
-            DirichletTarget::Part(part) => format!("on `{part}`"),
-            point => format!("at {point}"),
-        };
-        return Err(src.error(
-            &table.span,
-            format!("the [[dirichlet]] {on} fixes neither `ux` nor `uy`"),
-            "add ux = 0.0 and/or uy = 0.0 (the prescribed displacement components, in m)",
-        ));
-    }
-    Ok(DirichletSpec { target, ux, uy, at })
-}
-
-fn petsc_options(src: &Source, v: &Spanned<Value>) -> Result<Vec<String>> {
-    let options: Vec<String> = src.string(v, "petsc_options")?.split_whitespace().map(str::to_string).collect();
-    if let Some(first) = options.first() {
-        if !first.starts_with('-') {
-            return Err(src.error(
-                &v.span(),
-                format!("`petsc_options` must start with an option name, found `{first}`"),
-                "PETSc options are written as on a command line, e.g. petsc_options = \"-ksp_type cg -pc_type gamg\"",
-            ));
-        }
-    }
-    Ok(options)
 }

@@ -32,6 +32,41 @@ pub(super) struct RawScene {
     pub solver: Option<RawSolver>,
     pub output: Option<RawOutput>,
     pub estimate: Option<RawEstimate>,
+    #[serde(default)]
+    pub body: Vec<RawBody>,
+    #[serde(default)]
+    pub contact_pair: Vec<RawContactPair>,
+}
+
+/// One `[[body]]` table: a name, a placement, and the tables of a single-body scene under
+/// `body.` (`[body.mesh]`, `[[body.traction]]`...).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [[body]] table")]
+pub(super) struct RawBody {
+    pub name: Leaf,
+    pub rotate: Leaf,
+    pub translate: Leaf,
+    pub mesh: Option<RawMesh>,
+    pub discretization: Option<RawDiscretization>,
+    pub material: Option<RawMaterial>,
+    pub loads: Option<RawLoads>,
+    #[serde(default)]
+    pub traction: Vec<RawTraction>,
+    #[serde(default)]
+    pub dirichlet: Vec<RawDirichlet>,
+    pub contact: Option<RawContact>,
+}
+
+/// One `[[contact_pair]]` table: contact between a part of one body and a part of another.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a [[contact_pair]] table")]
+pub(super) struct RawContactPair {
+    pub slave: Leaf,
+    pub master: Leaf,
+    pub friction: Leaf,
+    pub mu: Leaf,
+    pub threshold: Leaf,
+    pub max_initial_overlap: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -153,8 +188,26 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "solver",
             "output",
             "estimate",
+            "body",
+            "contact_pair",
         ],
     ),
+    (
+        "[[body]]",
+        &[
+            "name",
+            "rotate",
+            "translate",
+            "mesh",
+            "discretization",
+            "material",
+            "loads",
+            "traction",
+            "dirichlet",
+            "contact",
+        ],
+    ),
+    ("[[contact_pair]]", &["slave", "master", "friction", "mu", "threshold", "max_initial_overlap"]),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "geometry", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
     ("[discretization]", &["order", "element", "formulation", "dual_constraints"]),
@@ -228,6 +281,19 @@ impl RawMesh {
 impl RawRefine {
     pub fn first_span(&self) -> Option<Range<usize>> {
         first_span(&[&self.point, &self.cell_size, &self.radius])
+    }
+}
+
+impl RawBody {
+    /// The span of the first leaf key written directly in the `[[body]]` table.
+    pub fn first_span(&self) -> Option<Range<usize>> {
+        first_span(&[&self.name, &self.rotate, &self.translate])
+    }
+}
+
+impl RawContactPair {
+    pub fn first_span(&self) -> Option<Range<usize>> {
+        first_span(&[&self.slave, &self.master, &self.friction, &self.mu, &self.threshold, &self.max_initial_overlap])
     }
 }
 
