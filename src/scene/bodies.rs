@@ -108,31 +108,52 @@ pub struct BodySpec {
     pub at: Location,
 }
 
+/// The boundary parts named by a body's tables, with where: tractions, Dirichlet parts, the
+/// rigid contact part, each in file order (a body's or a single-body scene's).
+pub(super) fn named_parts<'a>(
+    tractions: &'a [TractionSpec],
+    dirichlet: &'a [DirichletSpec],
+    contact: Option<&'a ContactSpec>,
+) -> impl Iterator<Item = (&'a str, &'a Location)> {
+    let t = tractions.iter().map(|t| (t.part.as_str(), &t.at));
+    let d = dirichlet.iter().filter_map(|d| match &d.target {
+        DirichletTarget::Part(part) => Some((part.as_str(), &d.at)),
+        DirichletTarget::Point(_) => None,
+    });
+    let c = contact.into_iter().map(|c| (c.part.as_str(), &c.at));
+    t.chain(d).chain(c)
+}
+
+/// Every part named is a boundary part of `mesh`, every point condition has a node of `mesh`
+/// at its point.
+pub(super) fn check_named_against_mesh(
+    mesh: &Mesh,
+    tractions: &[TractionSpec],
+    dirichlet: &[DirichletSpec],
+    contact: Option<&ContactSpec>,
+) -> Result<()> {
+    for (part, at) in named_parts(tractions, dirichlet, contact) {
+        boundary_group(mesh, part, at)?;
+    }
+    for d in dirichlet {
+        if let DirichletTarget::Point(point) = d.target {
+            node_at(mesh, point, &d.at)?;
+        }
+    }
+    Ok(())
+}
+
 impl BodySpec {
     /// Every boundary part the body's tables name, with where: tractions, Dirichlet parts, the
     /// rigid contact part, each in file order.
     pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
-        let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
-        let d = self.dirichlet.iter().filter_map(|d| match &d.target {
-            DirichletTarget::Part(part) => Some((part.as_str(), &d.at)),
-            DirichletTarget::Point(_) => None,
-        });
-        let c = self.contact.iter().map(|c| (c.part.as_str(), &c.at));
-        t.chain(d).chain(c)
+        named_parts(&self.tractions, &self.dirichlet, self.contact.as_ref())
     }
 
     /// Check the body's tables against its placed mesh: every part named is a boundary part of
     /// `mesh`, every point condition has a node of `mesh` at its point.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
-        for (part, at) in self.boundary_parts() {
-            boundary_group(mesh, part, at)?;
-        }
-        for d in &self.dirichlet {
-            if let DirichletTarget::Point(point) = d.target {
-                node_at(mesh, point, &d.at)?;
-            }
-        }
-        Ok(())
+        check_named_against_mesh(mesh, &self.tractions, &self.dirichlet, self.contact.as_ref())
     }
 
     pub(super) fn data(&self) -> BodyData {

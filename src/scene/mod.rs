@@ -479,27 +479,13 @@ impl Scene {
     /// parts, the contact part, each in file order. For a scene with `[[body]]` tables: its
     /// first body's (every body's: [`BodySpec::boundary_parts`] of [`Scene::bodies`]).
     pub fn boundary_parts(&self) -> impl Iterator<Item = (&str, &Location)> {
-        let t = self.tractions.iter().map(|t| (t.part.as_str(), &t.at));
-        let d = self.dirichlet.iter().filter_map(|d| match &d.target {
-            DirichletTarget::Part(part) => Some((part.as_str(), &d.at)),
-            DirichletTarget::Point(_) => None,
-        });
-        let c = self.contact.iter().map(|c| (c.part.as_str(), &c.at));
-        t.chain(d).chain(c)
+        bodies::named_parts(&self.tractions, &self.dirichlet, self.contact.as_ref())
     }
 
     /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`,
     /// and that every point condition's point is a node of `mesh`. For a scene with `[[body]]`
     /// tables this checks the first body only: [`BodiesModel::on_meshes`] checks them all.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
-        for (part, at) in self.boundary_parts() {
-            boundary_group(mesh, part, at)?;
-        }
-        for d in &self.dirichlet {
-            if let DirichletTarget::Point(point) = d.target {
-                node_at(mesh, point, &d.at)?;
-            }
-        }
-        Ok(())
+        bodies::check_named_against_mesh(mesh, &self.tractions, &self.dirichlet, self.contact.as_ref())
     }
 }
