@@ -180,8 +180,11 @@ fn keep(pc: sys::PC, e: Error) {
     }
 }
 
-/// The preconditioning matrix of `pc` as a full CSR (order, indptr, indices, values).
-fn read_matrix(pc: sys::PC) -> Result<(usize, Vec<usize>, Vec<usize>, Vec<f64>)> {
+/// A full CSR matrix: order, indptr, column indices, values.
+type OwnedCsr = (usize, Vec<usize>, Vec<usize>, Vec<f64>);
+
+/// The preconditioning matrix of `pc` as a full CSR.
+fn read_matrix(pc: sys::PC) -> Result<OwnedCsr> {
     let (mut amat, mut pmat): (sys::Mat, sys::Mat) = (std::ptr::null_mut(), std::ptr::null_mut());
     petsc!(PCGetOperators(pc, &mut amat, &mut pmat))?;
     let (mut rows, mut cols): (sys::PetscInt, sys::PetscInt) = (0, 0);

@@ -144,7 +144,7 @@ fn scale_matrix(a: &CsrMatrix) -> Result<Scaled> {
     // Rows sorted, explicit zeros removed.
     let mut rows: Vec<Vec<(usize, f64)>> = Vec::with_capacity(n);
     let mut diag = vec![0.0; n];
-    for i in 0..n {
+    for (i, d) in diag.iter_mut().enumerate() {
         let span = a.indptr[i]..a.indptr[i + 1];
         let mut row: Vec<(usize, f64)> = a.indices[span.clone()]
             .iter()
@@ -164,7 +164,7 @@ fn scale_matrix(a: &CsrMatrix) -> Result<Scaled> {
                 return Err(refuse(format!("entry ({i}, {c}) is not finite ({v})")));
             }
             if c == i {
-                diag[i] = v;
+                *d = v;
             }
         }
         rows.push(row);

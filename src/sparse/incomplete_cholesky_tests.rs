@@ -35,9 +35,9 @@ impl Owned {
     }
     fn dense(&self) -> Vec<Vec<f64>> {
         let mut d = vec![vec![0.0; self.n]; self.n];
-        for i in 0..self.n {
+        for (i, row) in d.iter_mut().enumerate() {
             for p in self.indptr[i]..self.indptr[i + 1] {
-                d[i][self.indices[p]] = self.values[p];
+                row[self.indices[p]] = self.values[p];
             }
         }
         d
@@ -233,10 +233,10 @@ fn shift_cures_a_breakdown_on_an_spd_matrix_that_is_not_an_m_matrix() {
     let n = 4 * blocks;
     let mut rows = vec![Vec::new(); n];
     for b in 0..blocks {
-        for i in 0..4 {
-            for j in 0..4 {
-                if k[i][j] != 0.0 {
-                    rows[4 * b + i].push((4 * b + j, k[i][j] + if i == j { 0.2 } else { 0.0 }));
+        for (i, ki) in k.iter().enumerate() {
+            for (j, &kij) in ki.iter().enumerate() {
+                if kij != 0.0 {
+                    rows[4 * b + i].push((4 * b + j, kij + if i == j { 0.2 } else { 0.0 }));
                 }
             }
         }
