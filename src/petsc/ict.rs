@@ -9,8 +9,10 @@
 //! callback (an unsymmetric matrix, a non-positive diagonal) is kept in the context and
 //! returned by `LinearSolver::solve` as the typed error, instead of PETSc's generic one.
 //!
-//! Options (any prefix): `-{prefix}pc_ict_drop_tolerance τ` (default 1e-3) and
-//! `-{prefix}pc_ict_fill p` (keep at most n_j + p entries per column; default: no limit).
+//! Options (any prefix): `-{prefix}pc_ict_drop_tolerance τ` (default 1e-3),
+//! `-{prefix}pc_ict_fill p` (keep at most n_j + p entries per column; default: no limit) and
+//! `-{prefix}pc_ict_ordering natural|rcm` (factor the matrix in its own order, the default, or
+//! in reverse Cuthill–McKee order, the default).
 //! Sequential only: on more than one process `-pc_type ict` is refused with a typed error that
 //! names the parallel alternatives (hypre's Euclid/PILUT, block Jacobi + ICC).
 use std::ffi::c_void;
@@ -73,6 +75,22 @@ pub(crate) fn options_from_database(session: &Session, prefix: &str) -> Result<I
             }
         }
     }
+    let ordering_name = format!("-{prefix}pc_ict_ordering");
+    if let Some(v) = session.option(&ordering_name)? {
+        options.reverse_cuthill_mckee = match v.trim() {
+            "natural" => false,
+            "rcm" => true,
+            _ => {
+                return Err(Error::PetscOption {
+                    message: format!(
+                        "{ordering_name} {v}: the ordering of -{prefix}pc_type ict is rcm (reverse Cuthill–McKee, \
+                         the default) or natural (the matrix's own)"
+                    ),
+                    option: ordering_name,
+                })
+            }
+        };
+    }
     Ok(options)
 }
 
@@ -134,6 +152,9 @@ pub(crate) fn describe(pc: sys::PC) -> Result<Option<String>> {
     let mut parts = vec![format!("drop tolerance {:e}", c.options.drop_tolerance)];
     if let Some(p) = c.options.fill {
         parts.push(format!("fill limit {p}"));
+    }
+    if c.options.reverse_cuthill_mckee {
+        parts.push("RCM order".into());
     }
     if let Some(f) = &c.factor {
         if f.shift() > 0.0 {

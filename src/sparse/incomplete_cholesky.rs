@@ -17,6 +17,13 @@
 //! counting as 0 on the other (assembly may leave rounding noise where a coupling cancels). The
 //! factor reads the upper triangle (row j right of the diagonal = column j below it).
 //!
+//! 0. **Ordering** (default on, [`IctOptions::reverse_cuthill_mckee`]). Factor P A Pᵀ, P the
+//!    reverse Cuthill–McKee order of A's pattern ([`super::ordering`]). A factor by values keeps
+//!    the large entries of the exact factor, which fills the profile: a small profile gives a
+//!    cheaper factorisation and a better preconditioner for the same τ. Measured on the
+//!    cantilever scene (`signorini run examples/scenes/cantilever.toml`, Gmsh's node order):
+//!    at τ = 1e-3, 24 712 P1 dofs, 97 → 82 CG iterations and 1.05 s → 0.11 s setup; on the
+//!    dual HCT system of 18 470 unknowns, 187 → 42 iterations and 13.6 s → 0.10 s setup.
 //! 1. **Scaling.** With D = diag(a_ii)^{-1/2}, factor Ã = D A D, whose diagonal is 1. The drop
 //!    rule below is then invariant under a diagonal scaling of A (units of the unknowns: a
 //!    displacement and a rotation, a value and a derivative of the HCT stress function).
@@ -48,8 +55,8 @@
 //!    in column j (Lin–Moré): p = 0 gives the memory of IC(0) with the entries chosen by size,
 //!    and the limit adapts to the column lengths of the matrix (P2 and HCT columns are long).
 //!
-//! The preconditioner is M = D⁻¹ L Lᵀ D⁻¹ ≈ A (L the factor of Ã + αI), applied as
-//! z = M⁻¹ r = D L⁻ᵀ L⁻¹ D r: a forward solve with L, a backward solve with Lᵀ, both by columns.
+//! The preconditioner is M = Pᵀ D⁻¹ L Lᵀ D⁻¹ P ≈ A (L the factor of Ã + αI, Ã = D P A Pᵀ D),
+//! applied as z = M⁻¹ r = Pᵀ D L⁻ᵀ L⁻¹ D P r: a forward solve with L, a backward solve with Lᵀ, both by columns.
 //! [`IncompleteCholesky::lower_factor`] gives D⁻¹L, the factor of A itself (exact when τ = 0 and
 //! α = 0).
 use crate::error::{Error, Result};
@@ -84,11 +91,16 @@ pub struct IctOptions {
     /// How many times a breakdown may restart the factorisation with a doubled shift; 0 makes
     /// a breakdown an error.
     pub max_restarts: usize,
+    /// Factor P A Pᵀ with P the reverse Cuthill–McKee order of A's pattern
+    /// ([`super::ordering`]) instead of A in its own order (the default: on the cantilever
+    /// it cut the setup time 10–100× and the iterations up to 4×, see step 0 of the module
+    /// documentation).
+    pub reverse_cuthill_mckee: bool,
 }
 
 impl Default for IctOptions {
     fn default() -> Self {
-        IctOptions { drop_tolerance: 1e-3, fill: None, max_restarts: 60 }
+        IctOptions { drop_tolerance: 1e-3, fill: None, max_restarts: 60, reverse_cuthill_mckee: true }
     }
 }
 
@@ -97,7 +109,9 @@ impl Default for IctOptions {
 #[derive(Debug, Clone)]
 pub struct IncompleteCholesky {
     n: usize,
-    /// d_i = a_ii^{-1/2}.
+    /// `perm[new] = old` when the matrix was reordered.
+    perm: Option<Vec<usize>>,
+    /// d_i = a_ii^{-1/2} (in the factor's order).
     scale: Vec<f64>,
     diag: Vec<f64>,
     col_start: Vec<usize>,
@@ -109,6 +123,7 @@ pub struct IncompleteCholesky {
 
 /// The scaled matrix, rows sorted, explicit zeros removed.
 struct Scaled {
+    perm: Option<Vec<usize>>,
     scale: Vec<f64>,
     /// Strictly upper part of each row of Ã = strictly lower part of each column.
     upper_start: Vec<usize>,
@@ -122,8 +137,8 @@ fn refuse(message: String) -> Error {
     Error::Factorization { method: METHOD, message }
 }
 
-/// Check the matrix and scale it to unit diagonal.
-fn scale_matrix(a: &CsrMatrix) -> Result<Scaled> {
+/// Check the matrix, scale it to unit diagonal and (optionally) reorder it.
+fn scale_matrix(a: &CsrMatrix, reorder: bool) -> Result<Scaled> {
     let n = a.num_rows;
     if a.num_cols != n {
         return Err(refuse(format!("the matrix is not square ({} × {})", a.num_rows, a.num_cols)));
@@ -223,24 +238,41 @@ fn scale_matrix(a: &CsrMatrix) -> Result<Scaled> {
         }
     }
     let scale: Vec<f64> = diag.iter().map(|d| 1.0 / d.sqrt()).collect();
+    let perm = reorder.then(|| {
+        let adjacency: Vec<Vec<usize>> = rows.iter().map(|r| r.iter().map(|e| e.0).collect()).collect();
+        super::ordering::reverse_cuthill_mckee(&adjacency)
+    });
+    let mut inverse: Vec<usize> = (0..n).collect();
+    if let Some(p) = &perm {
+        for (new, &old) in p.iter().enumerate() {
+            inverse[old] = new;
+        }
+    }
     let mut upper_start = Vec::with_capacity(n + 1);
     let (mut upper_cols, mut upper_vals) = (Vec::new(), Vec::new());
     let mut col_norm = Vec::with_capacity(n);
+    let mut new_scale = Vec::with_capacity(n);
+    let mut upper: Vec<(usize, f64)> = Vec::new();
     upper_start.push(0);
-    for (i, row) in rows.iter().enumerate() {
+    for new in 0..n {
+        let old = perm.as_ref().map_or(new, |p| p[new]);
         let mut norm2 = 0.0;
-        for &(c, v) in row {
-            let s = v * scale[i] * scale[c];
+        upper.clear();
+        for &(c, v) in &rows[old] {
+            let s = v * scale[old] * scale[c];
             norm2 += s * s;
-            if c > i {
-                upper_cols.push(c);
-                upper_vals.push(s);
+            if inverse[c] > new {
+                upper.push((inverse[c], s));
             }
         }
+        upper.sort_unstable_by_key(|e| e.0);
+        upper_cols.extend(upper.iter().map(|e| e.0));
+        upper_vals.extend(upper.iter().map(|e| e.1));
         upper_start.push(upper_cols.len());
         col_norm.push(norm2.sqrt());
+        new_scale.push(scale[old]);
     }
-    Ok(Scaled { scale, upper_start, upper_cols, upper_vals, col_norm })
+    Ok(Scaled { perm, scale: new_scale, upper_start, upper_cols, upper_vals, col_norm })
 }
 
 /// A non-positive pivot: (column, pivot).
@@ -258,7 +290,7 @@ impl IncompleteCholesky {
                 options.drop_tolerance
             )));
         }
-        let scaled = scale_matrix(a)?;
+        let scaled = scale_matrix(a, options.reverse_cuthill_mckee)?;
         let mut shift = 0.0f64;
         let mut restarts = 0;
         loop {
@@ -266,6 +298,7 @@ impl IncompleteCholesky {
                 Ok((diag, col_start, rows, vals)) => {
                     return Ok(IncompleteCholesky {
                         n: a.num_rows,
+                        perm: scaled.perm,
                         scale: scaled.scale,
                         diag,
                         col_start,
@@ -317,32 +350,56 @@ impl IncompleteCholesky {
                 self.n
             )));
         }
-        for ((zi, ri), si) in z.iter_mut().zip(r).zip(&self.scale) {
-            *zi = ri * si;
-        }
-        // Forward: L y = z, by columns.
+        let mut permuted = Vec::new();
+        let y: &mut [f64] = match &self.perm {
+            Some(p) => {
+                permuted.extend(p.iter().zip(&self.scale).map(|(&old, si)| r[old] * si));
+                &mut permuted
+            }
+            None => {
+                for ((zi, ri), si) in z.iter_mut().zip(r).zip(&self.scale) {
+                    *zi = ri * si;
+                }
+                &mut *z
+            }
+        };
+        // Forward: L y = D r, by columns.
         for j in 0..self.n {
-            let yj = z[j] / self.diag[j];
-            z[j] = yj;
+            let yj = y[j] / self.diag[j];
+            y[j] = yj;
             for p in self.col_start[j]..self.col_start[j + 1] {
-                z[self.rows[p]] -= self.vals[p] * yj;
+                y[self.rows[p]] -= self.vals[p] * yj;
             }
         }
         // Backward: Lᵀ x = y; row j of Lᵀ is column j of L.
         for j in (0..self.n).rev() {
-            let mut s = z[j];
+            let mut s = y[j];
             for p in self.col_start[j]..self.col_start[j + 1] {
-                s -= self.vals[p] * z[self.rows[p]];
+                s -= self.vals[p] * y[self.rows[p]];
             }
-            z[j] = s / self.diag[j];
+            y[j] = s / self.diag[j];
         }
-        for (zi, si) in z.iter_mut().zip(&self.scale) {
-            *zi *= si;
+        match &self.perm {
+            Some(p) => {
+                for ((&old, yi), si) in p.iter().zip(permuted.iter()).zip(&self.scale) {
+                    z[old] = yi * si;
+                }
+            }
+            None => {
+                for (zi, si) in z.iter_mut().zip(&self.scale) {
+                    *zi *= si;
+                }
+            }
         }
         Ok(())
     }
 
-    /// The factor of A itself, D⁻¹L, by columns (CSC: `col_start`, row indices, values; the
+    /// `perm[new] = old` when the factor is of the reordered P A Pᵀ.
+    pub fn permutation(&self) -> Option<&[usize]> {
+        self.perm.as_deref()
+    }
+
+    /// The factor of A itself (of P A Pᵀ when reordered), D⁻¹L, by columns (CSC: `col_start`, row indices, values; the
     /// diagonal entry first in each column, then the rows below it in increasing order).
     /// L Lᵀ = A + α D⁻² − (dropped terms).
     pub fn lower_factor(&self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {

@@ -165,7 +165,7 @@ fn pcg_iterations(a: &Owned, f: &IncompleteCholesky, b: &[f64], max: usize) -> O
 }
 
 fn exact() -> IctOptions {
-    IctOptions { drop_tolerance: 0.0, fill: None, ..IctOptions::default() }
+    IctOptions { drop_tolerance: 0.0, fill: None, reverse_cuthill_mckee: false, ..IctOptions::default() }
 }
 
 #[test]
@@ -189,6 +189,30 @@ fn tau_zero_gives_the_exact_cholesky_factor_of_a_random_spd_matrix() {
     assert_eq!(f.shift(), 0.0);
     let err = factor_error(&a, &f);
     assert!(err < 1e-12, "L Lᵀ − A: {err:e}");
+}
+
+#[test]
+fn reverse_cuthill_mckee_order_gives_the_exact_factor_of_the_permuted_matrix() {
+    let a = random_spd(120, 3, 11);
+    let f = IncompleteCholesky::factor(&a.view(), &IctOptions { reverse_cuthill_mckee: true, ..exact() }).unwrap();
+    let perm = f.permutation().expect("reordered").to_vec();
+    // P A Pᵀ in owned CSR.
+    let d = a.dense();
+    let permuted = Owned::from_rows(
+        (0..a.n)
+            .map(|i| (0..a.n).filter(|&j| d[perm[i]][perm[j]] != 0.0).map(|j| (j, d[perm[i]][perm[j]])).collect())
+            .collect(),
+    );
+    let err = factor_error(&permuted, &f);
+    assert!(err < 1e-12, "L Lᵀ − P A Pᵀ: {err:e}");
+    // Applied to A (in its own order), one application solves the system.
+    let b: Vec<f64> = (0..a.n).map(|i| (i as f64).cos()).collect();
+    assert_eq!(pcg_iterations(&a, &f, &b, 5), Some(1));
+    // On a grid it keeps fewer entries than the natural order for the same τ.
+    let grid = laplacian(30);
+    let natural = IncompleteCholesky::factor(&grid.view(), &exact()).unwrap();
+    let rcm = IncompleteCholesky::factor(&grid.view(), &IctOptions { reverse_cuthill_mckee: true, ..exact() }).unwrap();
+    assert!(rcm.nnz() <= natural.nnz(), "RCM {} entries, natural {}", rcm.nnz(), natural.nnz());
 }
 
 #[test]
@@ -247,7 +271,7 @@ fn shift_cures_a_breakdown_on_an_spd_matrix_that_is_not_an_m_matrix() {
     }
     let a = Owned::from_rows(rows);
     // IC(0)-like: no fill beyond A's count per column, no restart: breakdown, a typed error.
-    let ic0 = IctOptions { drop_tolerance: 0.0, fill: Some(0), max_restarts: 0 };
+    let ic0 = IctOptions { drop_tolerance: 0.0, fill: Some(0), max_restarts: 0, reverse_cuthill_mckee: false };
     match IncompleteCholesky::factor(&a.view(), &ic0) {
         Err(Error::Factorization { message, .. }) => assert!(message.contains("breakdown"), "{message}"),
         other => panic!("expected a breakdown, got {other:?}"),
