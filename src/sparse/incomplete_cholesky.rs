@@ -21,9 +21,10 @@
 //!    reverse Cuthill–McKee order of A's pattern ([`super::ordering`]). A factor by values keeps
 //!    the large entries of the exact factor, which fills the profile: a small profile gives a
 //!    cheaper factorisation and a better preconditioner for the same τ. Measured on the
-//!    cantilever scene (`signorini run examples/scenes/cantilever.toml`, Gmsh's node order):
-//!    at τ = 1e-3, 24 712 P1 dofs, 97 → 82 CG iterations and 1.05 s → 0.11 s setup; on the
-//!    dual HCT system of 18 470 unknowns, 187 → 42 iterations and 13.6 s → 0.10 s setup.
+//!    cantilever scene (`signorini run examples/scenes/cantilever.toml`, Gmsh's node order
+//!    against RCM) at τ = 1e-3: 24 712 P1 dofs, 97 → 82 CG iterations and 0.16 s → 0.07 s
+//!    setup; the dual HCT system of 18 470 unknowns (`--formulation dual`), 187 → 42
+//!    iterations, 6.0 s → 0.10 s setup and 2.6 s → 0.07 s solve.
 //! 1. **Scaling.** With D = diag(a_ii)^{-1/2}, factor Ã = D A D, whose diagonal is 1. The drop
 //!    rule below is then invariant under a diagonal scaling of A (units of the unknowns: a
 //!    displacement and a rotation, a value and a derivative of the HCT stress function).
@@ -45,8 +46,9 @@
 //!    doubling ends. The α used is reported ([`IncompleteCholesky::shift`]).
 //! 5. **Column of L.** l_jj = √w_j, l_ij = w_i / l_jj for i > j.
 //! 6. **Drop by size.** Drop l_ij when |l_ij| < τ ‖ã_{:,j}‖₂, the 2-norm of column j of the
-//!    scaled matrix (Saad's ILUT rule τ_j = τ‖a_j‖, applied to columns; it is also the rule of
-//!    hypre's PILUT, so τ means the same for `-pc_type ict` and `-pc_hypre_type pilut`). With a
+//!    scaled matrix (Saad's ILUT rule τ_j = τ‖a_j‖, applied to columns; hypre's PILUT drops
+//!    relative to the row's 2-norm too, on the unscaled matrix, so `-pc_hypre_pilut_tol` is
+//!    comparable to τ on a matrix with an even diagonal). With a
 //!    unit diagonal ‖ã_{:,j}‖₂ ≥ 1, so this drops at least what the rule |l_ij| < τ√(a_ii a_jj)
 //!    (Munksgaard) would, and more in columns with many large couplings (the ones that fill
 //!    most). τ = 0 keeps everything: the exact Cholesky factor.
@@ -56,9 +58,9 @@
 //!    and the limit adapts to the column lengths of the matrix (P2 and HCT columns are long).
 //!
 //! The preconditioner is M = Pᵀ D⁻¹ L Lᵀ D⁻¹ P ≈ A (L the factor of Ã + αI, Ã = D P A Pᵀ D),
-//! applied as z = M⁻¹ r = Pᵀ D L⁻ᵀ L⁻¹ D P r: a forward solve with L, a backward solve with Lᵀ, both by columns.
-//! [`IncompleteCholesky::lower_factor`] gives D⁻¹L, the factor of A itself (exact when τ = 0 and
-//! α = 0).
+//! applied as z = M⁻¹ r = Pᵀ D L⁻ᵀ L⁻¹ D P r: a forward solve with L, a backward solve with Lᵀ,
+//! both by columns. [`IncompleteCholesky::lower_factor`] gives D⁻¹L, the factor of P A Pᵀ
+//! (exact when τ = 0 and α = 0; P = I with `reverse_cuthill_mckee: false`).
 use crate::error::{Error, Result};
 
 const METHOD: &str = "incomplete Cholesky (ict)";
@@ -93,7 +95,7 @@ pub struct IctOptions {
     pub max_restarts: usize,
     /// Factor P A Pᵀ with P the reverse Cuthill–McKee order of A's pattern
     /// ([`super::ordering`]) instead of A in its own order (the default: on the cantilever
-    /// it cut the setup time 10–100× and the iterations up to 4×, see step 0 of the module
+    /// it cut the setup time 2–60× and the iterations up to 4×, see step 0 of the module
     /// documentation).
     pub reverse_cuthill_mckee: bool,
 }
