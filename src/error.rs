@@ -76,6 +76,11 @@ pub enum Error {
     #[error("{path}: cannot write output: {message}")]
     Output { path: PathBuf, message: String },
 
+    /// A factorisation (e.g. the incomplete Cholesky of `-pc_type ict`) refused its matrix or
+    /// broke down: which method, and what is wrong with which row, column or entry.
+    #[error("{method}: {message}")]
+    Factorization { method: &'static str, message: String },
+
     /// Bad command-line usage.
     #[error("{0}")]
     Usage(String),

@@ -11,6 +11,7 @@
 //! - [`output`]: `.vtu` for ParaView and meshio, `report.json`.
 //! - [`export`]: the condensed contact problem in the FCLIB format (HDF5), for other solvers.
 //! - [`problem`]: the driver, whose methods read like the algorithm.
+//! - [`sparse`]: sparse-matrix algorithms in Rust (threshold incomplete Cholesky, `-pc_type ict`).
 //!
 //! The library never prints or exits; the `signorini` binary does.
 #![deny(unsafe_code)]
@@ -30,5 +31,6 @@ pub mod petsc;
 pub mod problem;
 pub mod resources;
 pub mod scene;
+pub mod sparse;
 
 pub use error::{Error, Result};

@@ -1219,3 +1219,54 @@ fn several_bodies_are_checked_then_refused_without_an_answer() {
         "{stderr}"
     );
 }
+
+#[test]
+fn ict_preconditioner_from_the_command_line() {
+    let cantilever = scene("examples/scenes/cantilever.toml");
+    let reference = scratch("ict-ref");
+    run_ok(bin().arg("run").arg(&cantilever).args(["--quiet", "--out"]).arg(&reference));
+    let dir = scratch("ict");
+    run_ok(bin().arg("run").arg(&cantilever).args(["--quiet", "--out"]).arg(&dir).args([
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "ict",
+        "-pc_ict_drop_tolerance",
+        "1e-3",
+    ]));
+    let r = report(&dir);
+    let pc = r["solver"]["pc_type"].as_str().unwrap_or_default();
+    assert!(pc.starts_with("ict (drop tolerance 1e-3"), "pc_type {pc}");
+    assert_eq!(r["solver"]["ksp_type"], "cg");
+    assert!(r["solver"]["iterations"].as_u64().unwrap() > 1, "{r}");
+    let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
+    assert!(d < 1e-6, "relative difference {d:e} from the scene's solver");
+    // A bad value names the option.
+    let err = run_err(
+        bin().arg("run").arg(&cantilever).args(["--quiet", "--out"]).arg(scratch("ict-bad")).args([
+            "-pc_type",
+            "ict",
+            "-pc_ict_drop_tolerance",
+            "abc",
+        ]),
+        1,
+    );
+    assert!(err.contains("-pc_ict_drop_tolerance abc"), "{err}");
+    // On two processes: a typed error naming the parallel alternatives.
+    let out = Command::new("mpirun")
+        .args(["-n", "2", "--oversubscribe"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .arg(env!("CARGO_BIN_EXE_signorini"))
+        .arg("run")
+        .arg(&cantilever)
+        .args(["--quiet", "--out"])
+        .arg(scratch("ict-mpi"))
+        .args(["-pc_type", "ict"])
+        .output()
+        .expect("mpirun (openmpi-bin, installed by ./setup.sh)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("-pc_type ict runs on one process"), "{stderr}");
+}

@@ -10,8 +10,8 @@
 //!
 //! The strategies ([`STRATEGIES`]) are the source talk's: the condensation by MUMPS with the
 //! Schur complement, the three-step condensation ([`crate::dual::condensation`]) with a direct
-//! or an iterative solver of the interior (incomplete Cholesky by fill level, SSOR, hypre's
-//! PILUT; SYMMLQ for the talk's "brute" condensation), and the condensed contact solvers
+//! or an iterative solver of the interior (incomplete Cholesky by fill level and by drop
+//! tolerance, SSOR, hypre's PILUT; SYMMLQ for the talk's "brute" condensation), and the condensed contact solvers
 //! (semi-smooth Newton, projected relaxation, D-PANA, Uzawa) on the same flexibility. The
 //! iterative interior solvers need thousands of iterations on the HCT system: they run at 1e3
 //! only.
@@ -65,6 +65,16 @@ pub static STRATEGIES: &[DualContactStrategy] = &[
     DualContactStrategy {
         name: "three-step, CG + SSOR",
         options: &[("-dual_ksp_type", Some("cg")), ("-dual_pc_type", Some("sor")), ("-dual_pc_sor_symmetric", None)],
+        contact_solver: "newton",
+        max_dofs: SMALL,
+    },
+    DualContactStrategy {
+        name: "three-step, CG + ICT(1e-3)",
+        options: &[
+            ("-dual_ksp_type", Some("cg")),
+            ("-dual_pc_type", Some("ict")),
+            ("-dual_pc_ict_drop_tolerance", Some("1e-3")),
+        ],
         contact_solver: "newton",
         max_dofs: SMALL,
     },

@@ -9,6 +9,12 @@
 //! return a wrong answer). The default MUMPS factorisation uses the AMF ordering
 //! (`-mat_mumps_icntl_7 2`), about twice as fast as Debian's fallback PORD (no METIS there).
 //!
+//! `-pc_type ict` (any prefix) is our threshold incomplete Cholesky
+//! ([`crate::sparse::incomplete_cholesky`]) as a PCSHELL: `-pc_ict_drop_tolerance τ` (default
+//! 1e-3), `-pc_ict_fill p` (default: no limit); one process only (see `super::ict`). Like any
+//! non-direct `-pc_type` it gets CG when `-ksp_type` is not given; the report's `pc_type` reads
+//! "ict (drop tolerance …)".
+//!
 //! Every solve is checked twice: PETSc's converged reason (a negative reason is
 //! [`Error::SolverDiverged`]) and, independently, the true relative residual ‖b − Ax‖/‖b‖
 //! computed after the solve, which must not exceed `max(1e-6, 100·rtol)`.
@@ -18,7 +24,7 @@
 //! `fix_symmlq_tolerance`.
 use std::marker::PhantomData;
 
-use super::{cstring, from_c, petsc, Comm, Matrix, Session, Vector};
+use super::{cstring, from_c, ict, petsc, Comm, Matrix, Session, Vector};
 use crate::error::{Error, Result};
 use signorini_sys as sys;
 
@@ -38,6 +44,7 @@ pub struct SolveStats {
 
 pub struct LinearSolver<'s> {
     raw: sys::KSP,
+    comm: Comm,
     last: Option<SolveStats>,
     prefix: String,
     session: &'s Session,
@@ -59,6 +66,7 @@ impl<'s> LinearSolver<'s> {
         petsc!(KSPCreate(comm.raw(), &mut raw))?;
         let ksp = LinearSolver {
             raw,
+            comm,
             last: None,
             prefix: prefix.to_string(),
             session,
@@ -96,6 +104,18 @@ impl<'s> LinearSolver<'s> {
         let user_pc = self.session.option(&pc_opt)?;
         let mut pc: sys::PC = std::ptr::null_mut();
         petsc!(KSPGetPC(self.raw, &mut pc))?;
+        // `-pc_type ict` is ours: PETSc sees `shell` in KSPSetFromOptions, then the shell is
+        // made the ICT preconditioner (the options are read and checked first).
+        let ict_options = if user_pc.as_deref() == Some(ict::NAME) {
+            if self.comm.size()? > 1 {
+                return Err(Error::PetscOption { option: pc_opt, message: ict::parallel_message() });
+            }
+            let options = ict::options_from_database(self.session, &self.prefix)?;
+            self.session.set_option(&pc_opt, Some("shell"))?;
+            Some(options)
+        } else {
+            None
+        };
         match (&user_ksp, &user_pc) {
             (None, Some(p)) if !DIRECT_PCS.contains(&p.as_str()) => {
                 let krylov = if self.indefinite { c"symmlq" } else { c"cg" };
@@ -111,8 +131,15 @@ impl<'s> LinearSolver<'s> {
         }
         // Tight default tolerances for iterative methods: answers must agree across solvers.
         petsc!(KSPSetTolerances(self.raw, 1e-10, 1e-50, 1e8, 10000))?;
-        petsc!(KSPSetFromOptions(self.raw))?;
-        Ok(())
+        let from_options = petsc!(KSPSetFromOptions(self.raw));
+        if let Some(options) = ict_options {
+            // Put the user's choice back (for the next solver with this prefix), marked used.
+            self.session.set_option(&pc_opt, Some(ict::NAME))?;
+            self.session.option(&pc_opt)?;
+            from_options?;
+            return ict::install(pc, options);
+        }
+        from_options
     }
 
     /// PETSc 3.18's SYMMLQ measures its iteration-0 residual on another scale than the later
@@ -154,7 +181,12 @@ impl<'s> LinearSolver<'s> {
         petsc!(KSPGetPC(self.raw, &mut pc))?;
         let mut pt: sys::PCType = std::ptr::null();
         petsc!(PCGetType(pc, &mut pt))?;
-        let (k, p) = (from_c(kt), from_c(pt));
+        let (k, mut p) = (from_c(kt), from_c(pt));
+        if p == "shell" {
+            if let Some(described) = ict::describe(pc)? {
+                p = described;
+            }
+        }
         let pkg = if DIRECT_PCS.contains(&p.as_str()) {
             let mut st: sys::MatSolverType = std::ptr::null();
             petsc!(PCFactorGetMatSolverType(pc, &mut st))?;
@@ -171,8 +203,13 @@ impl<'s> LinearSolver<'s> {
             return Err(Error::PetscUsage("solve: vector sizes differ from the matrix order".into()));
         }
         let start = std::time::Instant::now();
-        self.fix_symmlq_tolerance(b)?;
-        petsc!(KSPSolve(self.raw, b.raw, x.raw))?;
+        let run = self.fix_symmlq_tolerance(b).and_then(|_| petsc!(KSPSolve(self.raw, b.raw, x.raw)));
+        if let Err(e) = run {
+            // A failure inside our own preconditioner (ict) has a typed error of its own.
+            let mut pc: sys::PC = std::ptr::null_mut();
+            petsc!(KSPGetPC(self.raw, &mut pc))?;
+            return Err(ict::take_error(pc).unwrap_or(e));
+        }
         let seconds = start.elapsed().as_secs_f64();
         let mut reason = sys::KSPConvergedReason(0);
         petsc!(KSPGetConvergedReason(self.raw, &mut reason))?;

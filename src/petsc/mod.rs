@@ -23,12 +23,14 @@ use crate::error::{Error, Result};
 use signorini_sys as sys;
 
 pub mod bounded;
+mod ict;
 mod linear_solver;
 mod matrix;
 pub mod nonlinear;
 pub mod schur;
 mod vector;
 
+pub use ict::{DEFAULT_DROP_TOLERANCE as ICT_DEFAULT_DROP_TOLERANCE, NAME as ICT_NAME};
 pub use linear_solver::{LinearSolver, SolveStats};
 pub use matrix::Matrix;
 pub use vector::Vector;

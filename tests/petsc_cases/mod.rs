@@ -16,6 +16,7 @@ mod contact;
 mod dual;
 mod dual_contact;
 mod export;
+mod ict;
 mod locking;
 mod progress;
 
@@ -90,6 +91,10 @@ pub const TESTS: &[(&str, Case)] = &[
     ("contact_patch_near_incompressible_p2p0_exact", locking::contact_patch_near_incompressible_p2p0_exact),
     ("fclib_export_square_block_reads_back", export::fclib_export_square_block_reads_back),
     ("fclib_export_refuses_what_it_cannot_hold", export::fclib_export_refuses_what_it_cannot_hold),
+    ("pc_ict_cg_solves_the_cantilever", ict::ict_cg_solves_the_cantilever),
+    ("pc_ict_tiny_tolerance_is_a_direct_solve", ict::ict_tiny_tolerance_is_a_direct_solve),
+    ("pc_ict_needs_fewer_iterations_than_icc0", ict::ict_needs_fewer_iterations_than_icc0),
+    ("pc_ict_bad_options_and_matrices_are_typed_errors", ict::ict_bad_options_and_matrices_are_typed_errors),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
