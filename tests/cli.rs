@@ -4,6 +4,18 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// `mpirun -n 2 signorini` (as root in containers, one thread per rank).
+fn mpirun_two() -> Command {
+    let mut c = Command::new("mpirun");
+    c.args(["-n", "2", "--oversubscribe"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMP_NUM_THREADS", "1")
+        .env("OPENBLAS_NUM_THREADS", "1")
+        .arg(env!("CARGO_BIN_EXE_signorini"));
+    c
+}
+
 fn bin() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_signorini"));
     c.env("OMP_NUM_THREADS", "1").env("OPENBLAS_NUM_THREADS", "1");
@@ -164,13 +176,7 @@ fn mpirun_two_ranks_equals_serial() {
         ("cg-bjacobi-icc", &["-ksp_type", "cg", "-pc_type", "bjacobi", "-sub_pc_type", "icc"][..]),
     ] {
         let parallel = scratch(&format!("mpi-{name}"));
-        let out = Command::new("mpirun")
-            .args(["-n", "2", "--oversubscribe"])
-            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-            .env("OMP_NUM_THREADS", "1")
-            .env("OPENBLAS_NUM_THREADS", "1")
-            .arg(env!("CARGO_BIN_EXE_signorini"))
+        let out = mpirun_two()
             .arg("run")
             .arg(&cantilever)
             .args(["--quiet", "--out"])
@@ -195,18 +201,8 @@ fn mpirun_two_ranks_contact_equals_serial() {
         let serial = scratch(&format!("mpi-contact-serial-{name}"));
         run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
         let parallel = scratch(&format!("mpi-contact-{name}"));
-        let out = Command::new("mpirun")
-            .args(["-n", "2", "--oversubscribe"])
-            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-            .env("OMP_NUM_THREADS", "1")
-            .arg(env!("CARGO_BIN_EXE_signorini"))
-            .arg("run")
-            .arg(&path)
-            .args(["--quiet", "--out"])
-            .arg(&parallel)
-            .output()
-            .expect("mpirun");
+        let out =
+            mpirun_two().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
         let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
         assert!(d < 1e-8, "{name}: MPI differs from serial by {d:e}");
@@ -619,13 +615,7 @@ fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
     let err: f64 = out.trim().parse().unwrap();
     assert!(err < 1e-6, "P2-P0 patch stress error {err:e} (relative to p)");
     let parallel = dir.join("parallel");
-    let out = Command::new("mpirun")
-        .args(["-n", "2", "--oversubscribe"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .arg(env!("CARGO_BIN_EXE_signorini"))
+    let out = mpirun_two()
         .arg("run")
         .arg(&path)
         .args(["--quiet", "--out"])
@@ -706,13 +696,7 @@ fn dual_saddle_point_route_serial_mpi_and_its_own_options() {
     assert!((e - reference).abs() < 1e-6 * reference, "{e} vs {reference}");
     // Two MPI ranks: the same estimate.
     let parallel = scratch("kkt-mpi");
-    let out = Command::new("mpirun")
-        .args(["-n", "2", "--oversubscribe"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .arg(env!("CARGO_BIN_EXE_signorini"))
+    let out = mpirun_two()
         .arg("run")
         .arg(&cantilever)
         .args(["--quiet", "--estimate", "--dual-constraints", "multipliers", "--out"])
@@ -1253,13 +1237,7 @@ fn ict_preconditioner_from_the_command_line() {
     );
     assert!(err.contains("-pc_ict_drop_tolerance abc"), "{err}");
     // On two processes: a typed error naming the parallel alternatives.
-    let out = Command::new("mpirun")
-        .args(["-n", "2", "--oversubscribe"])
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .arg(env!("CARGO_BIN_EXE_signorini"))
+    let out = mpirun_two()
         .arg("run")
         .arg(&cantilever)
         .args(["--quiet", "--out"])
