@@ -305,14 +305,15 @@ pub struct DualContactAnswer {
 }
 
 impl CondensedDual<'_> {
-    /// The linear solves of the condensation, for the report.
-    pub fn linear_stats(&self, contact_seconds: f64) -> SolveStats {
+    /// The linear solves of the condensation, for the report (`outer_iterations`: the Newton
+    /// steps on the rigid displacements, the Schur route's iteration count).
+    pub fn linear_stats(&self, contact_seconds: f64, outer_iterations: usize) -> SolveStats {
         match &self.interior {
             Interior::Schur(_) => SolveStats {
                 ksp_type: "preonly".into(),
                 pc_type: "cholesky".into(),
                 factor_package: Some("mumps (Schur complement on the contact forces)".into()),
-                iterations: 1,
+                iterations: outer_iterations,
                 converged_reason: "contact solved on the condensed problem".into(),
                 relative_residual: 0.0,
                 seconds: self.assemble_seconds + self.factor_seconds + contact_seconds,

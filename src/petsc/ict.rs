@@ -184,11 +184,7 @@ fn guarded(pc: sys::PC, body: impl FnOnce(&mut IctShell) -> Result<()>) -> sys::
             CALLBACK_FAILED
         }
         Err(panic) => {
-            let message = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "unknown panic".into());
+            let message = super::panic_message(panic.as_ref());
             keep(pc, Error::PetscUsage(format!("the ict preconditioner panicked: {message}")));
             CALLBACK_FAILED
         }

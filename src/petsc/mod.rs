@@ -602,3 +602,12 @@ mod tests {
         assert!(!is_option_name("cg"));
     }
 }
+
+/// The message of a panic caught at a PETSc callback boundary (`catch_unwind`'s payload).
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into())
+}

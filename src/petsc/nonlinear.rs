@@ -498,11 +498,7 @@ fn guarded(ctx: *mut c_void, body: impl FnOnce(&mut Context) -> Result<()>) -> s
         Ok(Ok(())) => 0,
         Ok(Err(e)) => context.keep(e),
         Err(panic) => {
-            let message = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "unknown panic".into());
+            let message = super::panic_message(panic.as_ref());
             context.keep(Error::PetscUsage(format!("a nonlinear-system callback panicked: {message}")))
         }
     }

@@ -145,10 +145,7 @@ impl ElasticityProblem<'_> {
              {equilibrium:.1e}"
         ));
         let report = self.dual_contact_report(&points, &force_check, &status, &residuals, &answer.solution, notes);
-        let mut stats = condensed.linear_stats(contact_seconds);
-        if condensation == Condensation::Schur {
-            stats.iterations = answer.outer_iterations;
-        }
+        let stats = condensed.linear_stats(contact_seconds, answer.outer_iterations);
         let outcome =
             DualContactOutcome { points, force: force_check, displacement: answer.displacement_check, status, report };
         Ok((answer.phi, stats, outcome))
