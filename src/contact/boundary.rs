@@ -140,6 +140,20 @@ pub struct ContactBoundary {
     /// Nodes of the part that are not contact points (both components prescribed, or the free
     /// one tangent to the obstacle), with the contact direction and gap to check them with.
     pub left_out: Vec<LeftOutNode>,
+    /// For contact between two bodies: the nodes of the other (master) side of each point and
+    /// their entries in the point's two rows of `B` (empty against a rigid obstacle, else one
+    /// list per point). See [`ContactBoundary::from_mortar`].
+    pub coupled: Vec<Vec<CoupledNode>>,
+}
+
+/// A node of the other body in the rows of a contact point between two bodies: `B_N` has
+/// `normal` and `B_T` has `tangent` on its two dofs (`−(M_ij/D_i) n_i` and `−(M_ij/D_i) t_i`
+/// for the mortar coupling).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoupledNode {
+    pub node: usize,
+    pub normal: [f64; 2],
+    pub tangent: [f64; 2],
 }
 
 /// A node of the contact part left out of the contact points, to be checked for penetration.
@@ -336,7 +350,17 @@ impl ContactBoundary {
                 }
             }
         }
-        Ok(ContactBoundary { nodes, normal, tangent, gap, weight, edges, prescribed: fixed, left_out })
+        Ok(ContactBoundary {
+            nodes,
+            normal,
+            tangent,
+            gap,
+            weight,
+            edges,
+            prescribed: fixed,
+            left_out,
+            coupled: Vec::new(),
+        })
     }
 
     /// The largest penetration `n·u − g0` of the left-out nodes (0 when none penetrates), and
@@ -364,16 +388,22 @@ impl ContactBoundary {
     /// If `u` is shorter than `2·(largest contact node + 1)`.
     pub fn gather(&self, u: &[f64]) -> Vec<f64> {
         let mut out = Vec::with_capacity(2 * self.points());
-        for ((&k, n), t) in self.nodes.iter().zip(&self.normal).zip(&self.tangent) {
+        for (i, ((&k, n), t)) in self.nodes.iter().zip(&self.normal).zip(&self.tangent).enumerate() {
             let (ux, uy) = (u[2 * k], u[2 * k + 1]);
-            out.push(n[0] * ux + n[1] * uy);
-            out.push(t[0] * ux + t[1] * uy);
+            let (mut un, mut ut) = (n[0] * ux + n[1] * uy, t[0] * ux + t[1] * uy);
+            for c in self.coupled_to(i) {
+                let (vx, vy) = (u[2 * c.node], u[2 * c.node + 1]);
+                un += c.normal[0] * vx + c.normal[1] * vy;
+                ut += c.tangent[0] * vx + c.tangent[1] * vy;
+            }
+            out.push(un);
+            out.push(ut);
         }
         out
     }
 
     /// `f += Bᵀ r`: adds the contact forces `r = (rN_0, rT_0, …)` to a global force vector,
-    /// `f[2k + c] += n_c rN + t_c rT`.
+    /// `f[2k + c] += n_c rN + t_c rT` (and the coupled nodes' entries, between two bodies).
     ///
     /// # Panics
     /// If `r` does not hold `2m` values or `f` is too short for the contact nodes.
@@ -383,19 +413,53 @@ impl ContactBoundary {
             let (rn, rt) = (r[2 * i], r[2 * i + 1]);
             f[2 * k] += n[0] * rn + t[0] * rt;
             f[2 * k + 1] += n[1] * rn + t[1] * rt;
+            for c in self.coupled_to(i) {
+                f[2 * c.node] += c.normal[0] * rn + c.tangent[0] * rt;
+                f[2 * c.node + 1] += c.normal[1] * rn + c.tangent[1] * rt;
+            }
         }
     }
 
     /// The sparse row `j` of `B` (contact unknown `j`: `N_i` for `j = 2i`, `T_i` for
-    /// `j = 2i + 1`): the two `(dof, coefficient)` pairs, x then y.
+    /// `j = 2i + 1`): `(dof, coefficient)` pairs by increasing dof; against a rigid obstacle the
+    /// two dofs of the point's node, x then y.
     ///
     /// # Panics
     /// If `j ≥ 2m`.
-    pub fn b_row(&self, j: usize) -> [(usize, f64); 2] {
+    pub fn b_row(&self, j: usize) -> Vec<(usize, f64)> {
         let i = j / 2;
         let k = self.nodes[i];
-        let v = if j.is_multiple_of(2) { self.normal[i] } else { self.tangent[i] };
-        [(2 * k, v[0]), (2 * k + 1, v[1])]
+        let normal_row = j.is_multiple_of(2);
+        let v = if normal_row { self.normal[i] } else { self.tangent[i] };
+        let mut row = vec![(2 * k, v[0]), (2 * k + 1, v[1])];
+        for c in self.coupled_to(i) {
+            let w = if normal_row { c.normal } else { c.tangent };
+            row.push((2 * c.node, w[0]));
+            row.push((2 * c.node + 1, w[1]));
+        }
+        row.sort_by_key(|&(dof, _)| dof);
+        row
+    }
+
+    /// The other body's nodes in the rows of point `i` (none against a rigid obstacle).
+    pub fn coupled_to(&self, i: usize) -> &[CoupledNode] {
+        self.coupled.get(i).map_or(&[], |c| c.as_slice())
+    }
+
+    /// Whether the points are coupled to another body (a contact pair) rather than to a rigid
+    /// obstacle, for some point.
+    pub fn is_coupled(&self) -> bool {
+        self.coupled.iter().any(|c| !c.is_empty())
+    }
+
+    /// Every node whose dofs some row of `B` touches: the contact nodes and the coupled nodes,
+    /// increasing, each once.
+    pub fn support_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> =
+            self.nodes.iter().copied().chain(self.coupled.iter().flatten().map(|c| c.node)).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
     }
 
     /// Nodal pressures `p_i = −rN_i / w_i` and friction tractions `rT_i / w_i` (force per unit

@@ -62,7 +62,7 @@ use std::borrow::Cow;
 use std::ops::Range;
 
 use super::lagrange::{self, MAX_CELL_NODES};
-use super::material::Material;
+use super::material::{CellMaterials, Material};
 use super::mixed_pressure::{Element, MixedKernel};
 use super::quadrature;
 use crate::error::{Error, Result};
@@ -497,14 +497,21 @@ pub fn residual_forces(mesh: &Mesh, material: &Material, u: &[f64]) -> Vec<f64> 
 
 /// [`residual_forces`] with the stiffness of `element` (e.g. the condensed P2–P0 element).
 pub fn residual_forces_with(mesh: &Mesh, material: &Material, element: Element, u: &[f64]) -> Vec<f64> {
-    let kernel = StiffnessKernel::new(material);
+    residual_forces_cells(mesh, &CellMaterials::uniform(*material), element, u)
+}
+
+/// [`residual_forces_with`] with a material per cell (several bodies).
+pub fn residual_forces_cells(mesh: &Mesh, materials: &CellMaterials, element: Element, u: &[f64]) -> Vec<f64> {
+    let kernels: Vec<StiffnessKernel> = materials.materials().iter().map(StiffnessKernel::new).collect();
     let mut y = vec![0.0; 2 * mesh.num_nodes()];
     match (mesh.order, element) {
-        (Order::P1, _) => apply_cells::<3>(mesh, u, &mut y, |x| kernel.p1(x)),
-        (Order::P2, Element::Lagrange) => apply_cells::<6>(mesh, u, &mut y, |x| kernel.p2(x)),
+        (Order::P1, _) => apply_cells::<3>(mesh, u, &mut y, |c, x| kernels[materials.index_of(c)].p1(x)),
+        (Order::P2, Element::Lagrange) => {
+            apply_cells::<6>(mesh, u, &mut y, |c, x| kernels[materials.index_of(c)].p2(x))
+        }
         (Order::P2, Element::P2P0) => {
-            let mixed = MixedKernel::new(material);
-            apply_cells::<6>(mesh, u, &mut y, |x| mixed.p2(x))
+            let mixed: Vec<MixedKernel> = materials.materials().iter().map(MixedKernel::new).collect();
+            apply_cells::<6>(mesh, u, &mut y, |c, x| mixed[materials.index_of(c)].p2(x))
         }
     }
     y
@@ -514,11 +521,11 @@ fn apply_cells<const N: usize>(
     mesh: &Mesh,
     u: &[f64],
     y: &mut [f64],
-    element: impl Fn(&[[f64; 2]; N]) -> [[Block; N]; N],
+    element: impl Fn(usize, &[[f64; 2]; N]) -> [[Block; N]; N],
 ) {
-    for nodes in mesh.cells.chunks_exact(N) {
+    for (cell, nodes) in mesh.cells.chunks_exact(N).enumerate() {
         let x: [[f64; 2]; N] = std::array::from_fn(|k| mesh.nodes[nodes[k]]);
-        let k = element(&x);
+        let k = element(cell, &x);
         for a in 0..N {
             let (mut y0, mut y1) = (0.0, 0.0);
             for b in 0..N {
@@ -629,6 +636,19 @@ pub fn assemble_with(
     loads: &Loads,
     rows: Range<usize>,
 ) -> LinearSystem {
+    assemble_cells(mesh, &CellMaterials::uniform(*material), element, constraints, loads, rows)
+}
+
+/// [`assemble_with`] with a material per cell (several bodies). The Dirichlet rows get the
+/// largest Young's modulus as their diagonal.
+pub fn assemble_cells(
+    mesh: &Mesh,
+    materials: &CellMaterials,
+    element: Element,
+    constraints: &Constraints,
+    loads: &Loads,
+    rows: Range<usize>,
+) -> LinearSystem {
     let num_dofs = 2 * mesh.num_nodes();
     let end = rows.end.min(num_dofs);
     let start = rows.start.min(end);
@@ -670,7 +690,7 @@ pub fn assemble_with(
     }
     let mut values = vec![0.0; nnz];
     let mut rhs = vec![0.0; num_rows];
-    let young = material.young;
+    let young = materials.max_young();
     for i in start..end {
         if let Some(g) = fixed[i] {
             values[indptr[i - start]] = young;
@@ -679,15 +699,15 @@ pub fn assemble_with(
     }
 
     // Element matrices, scattered into the owned free rows.
-    let kernel = StiffnessKernel::new(material);
+    let kernels: Vec<StiffnessKernel> = materials.materials().iter().map(StiffnessKernel::new).collect();
     let mut scatter =
         Scatter { pattern: &pattern, fixed, start, end, indptr: &indptr, values: &mut values, rhs: &mut rhs };
     match (mesh.order, element) {
-        (Order::P1, _) => scatter.cells::<3>(mesh, |x| kernel.p1(x)),
-        (Order::P2, Element::Lagrange) => scatter.cells::<6>(mesh, |x| kernel.p2(x)),
+        (Order::P1, _) => scatter.cells::<3>(mesh, |c, x| kernels[materials.index_of(c)].p1(x)),
+        (Order::P2, Element::Lagrange) => scatter.cells::<6>(mesh, |c, x| kernels[materials.index_of(c)].p2(x)),
         (Order::P2, Element::P2P0) => {
-            let mixed = MixedKernel::new(material);
-            scatter.cells::<6>(mesh, |x| mixed.p2(x))
+            let mixed: Vec<MixedKernel> = materials.materials().iter().map(MixedKernel::new).collect();
+            scatter.cells::<6>(mesh, |c, x| mixed[materials.index_of(c)].p2(x))
         }
     }
 
@@ -717,19 +737,19 @@ struct Scatter<'a> {
 }
 
 impl Scatter<'_> {
-    fn cells<const N: usize>(&mut self, mesh: &Mesh, element: impl Fn(&[[f64; 2]; N]) -> [[Block; N]; N]) {
+    fn cells<const N: usize>(&mut self, mesh: &Mesh, element: impl Fn(usize, &[[f64; 2]; N]) -> [[Block; N]; N]) {
         let (lo, hi) = (self.pattern.node_lo, self.pattern.node_hi);
         if lo == hi {
             return;
         }
         let whole = lo == 0 && hi == mesh.num_nodes();
-        for nodes in mesh.cells.chunks_exact(N) {
+        for (cell, nodes) in mesh.cells.chunks_exact(N).enumerate() {
             let nodes: &[usize; N] = nodes.try_into().unwrap_or(&[0; N]);
             if !whole && !nodes.iter().any(|&n| n >= lo && n < hi) {
                 continue;
             }
             let x: [[f64; 2]; N] = std::array::from_fn(|k| mesh.nodes[nodes[k]]);
-            let k = element(&x);
+            let k = element(cell, &x);
             self.add::<N>(nodes, &k);
         }
     }

@@ -56,6 +56,57 @@ pub struct Material {
     pub plane: PlaneModel,
 }
 
+/// The material of every cell of a mesh: one for all cells (a single body), or one per body of
+/// a scene with several bodies (the union mesh of [`crate::mesh::union`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellMaterials {
+    materials: Vec<Material>,
+    /// Index into `materials` of each cell; empty when there is one material.
+    of_cell: Vec<usize>,
+}
+
+impl CellMaterials {
+    /// Every cell of `material`.
+    pub fn uniform(material: Material) -> Self {
+        CellMaterials { materials: vec![material], of_cell: Vec::new() }
+    }
+
+    /// Cell `c` of `materials[of_cell[c]]`. Errors when an index is out of range or no
+    /// material is given.
+    pub fn per_cell(materials: Vec<Material>, of_cell: Vec<usize>) -> crate::error::Result<Self> {
+        if materials.is_empty() {
+            return Err(crate::error::Error::Usage("CellMaterials::per_cell: no material".into()));
+        }
+        if let Some((cell, &k)) = of_cell.iter().enumerate().find(|(_, &k)| k >= materials.len()) {
+            return Err(crate::error::Error::Usage(format!(
+                "CellMaterials::per_cell: cell {cell} has material {k}, but only {} are given",
+                materials.len()
+            )));
+        }
+        Ok(CellMaterials { materials, of_cell })
+    }
+
+    /// The distinct materials, in order.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// The index (in [`CellMaterials::materials`]) of the material of `cell`.
+    pub fn index_of(&self, cell: usize) -> usize {
+        self.of_cell.get(cell).copied().unwrap_or(0)
+    }
+
+    /// The material of `cell`.
+    pub fn of(&self, cell: usize) -> &Material {
+        &self.materials[self.index_of(cell)]
+    }
+
+    /// The largest Young's modulus (the scale of the Dirichlet rows).
+    pub fn max_young(&self) -> f64 {
+        self.materials.iter().map(|m| m.young).fold(0.0, f64::max)
+    }
+}
+
 impl Material {
     pub fn new(young: f64, poisson: f64, plane: PlaneModel) -> Self {
         Material { young, poisson, plane }

@@ -68,7 +68,7 @@
 //! Quadrature: straight cells 3 points (degree 2, exact for `Bᵀ C_dev B` and for `b_E`), curved
 //! (isoparametric) cells 6 points (degree 4), as for P2 in [`super::assembly`].
 use super::lagrange::{self, MAX_CELL_NODES};
-use super::material::{Material, PlaneModel};
+use super::material::{CellMaterials, Material, PlaneModel};
 use super::quadrature;
 use crate::mesh::{Mesh, Order};
 
@@ -300,13 +300,26 @@ fn stress_at(
 /// a node of each cell's stress at that node (as [`super::postprocess::nodal_stress`]). For
 /// [`Element::P2P0`] the stress of the mixed solution (module doc), otherwise Hooke's law.
 pub fn nodal_stress(mesh: &Mesh, material: &Material, element: Element, u: &[f64]) -> (Vec<[f64; 3]>, Vec<f64>) {
-    let pressure = cell_pressure(mesh, material, element, u);
+    nodal_stress_cells(mesh, &CellMaterials::uniform(*material), element, u)
+}
+
+/// [`nodal_stress`] with a material per cell (several bodies; the bodies' meshes are disjoint,
+/// so no node averages two materials).
+pub fn nodal_stress_cells(
+    mesh: &Mesh,
+    materials: &CellMaterials,
+    element: Element,
+    u: &[f64],
+) -> (Vec<[f64; 3]>, Vec<f64>) {
+    let per_material: Vec<Vec<f64>> =
+        materials.materials().iter().map(|m| cell_pressure(mesh, m, element, u)).collect();
+    let pressure: Vec<f64> = (0..mesh.num_cells()).map(|c| per_material[materials.index_of(c)][c]).collect();
     let mut sum = vec![[0.0; 4]; mesh.num_nodes()];
     let mut count = vec![0usize; mesh.num_nodes()];
     let reference = lagrange::reference_nodes(mesh.order);
     for c in 0..mesh.num_cells() {
         for (k, &n) in mesh.cell(c).iter().enumerate() {
-            let (s, zz) = stress_at(mesh, material, element, &pressure, u, c, reference[k]);
+            let (s, zz) = stress_at(mesh, materials.of(c), element, &pressure, u, c, reference[k]);
             for i in 0..3 {
                 sum[n][i] += s[i];
             }

@@ -25,6 +25,6 @@ pub use assembly::{
     assemble, element_stiffness, load_vector, residual_forces, Constraints, CsrRows, EdgeLoad, LinearSystem, Loads,
     Traction,
 };
-pub use material::{Material, PlaneModel};
+pub use material::{CellMaterials, Material, PlaneModel};
 pub use mixed_pressure::Element;
 pub use postprocess::{cell_stress, energy_error, energy_norm, l2_error, nodal_stress};

@@ -33,9 +33,9 @@ impl<'s> ElasticityProblem<'s> {
         })?;
         let start = std::time::Instant::now();
         let system = self.with_loads(|loads| {
-            assembly::assemble_with(
+            assembly::assemble_cells(
                 &self.mesh,
-                &self.material,
+                &self.cell_materials,
                 self.scene.element,
                 &self.constraints,
                 loads,

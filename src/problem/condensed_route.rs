@@ -11,14 +11,19 @@ use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::scene::ContactSolverSpec;
 
 /// The flexibility `W = B K⁻¹ Bᵀ` (`2m × 2m`, each point's rows and columns in its frame
-/// `(n, t)`) from a factor with the Schur complement `S` on the contact dofs (every contact
-/// node's two dofs, in point order): `(K⁻¹)_cc = S⁻¹`, `W_ij = R_iᵀ (S⁻¹)_{ij} R_j`,
-/// `R = [n t]`.
+/// `(n, t)`) from a factor with the Schur complement `S` on the dofs `B` touches
+/// ([`schur_dofs`]: both dofs of every node of [`ContactBoundary::support_nodes`], in that
+/// order): `(K⁻¹)_ss = S⁻¹` and `W = B_s S⁻¹ B_sᵀ`, `B_s` the columns of `B` on those dofs
+/// (against a rigid obstacle, `W_ij = R_iᵀ (S⁻¹)_{ij} R_j` with `R = [n t]`).
 pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBoundary) -> Result<DMatrix<f64>> {
     let m = b.points();
+    let dofs = schur_dofs(b);
     let k = factor.size();
-    if k != 2 * m {
-        return Err(Error::PetscUsage(format!("Schur complement of order {k} for {m} contact points")));
+    if k != dofs.len() {
+        return Err(Error::PetscUsage(format!(
+            "Schur complement of order {k} for {} dofs touched by {m} contact points",
+            dofs.len()
+        )));
     }
     let inverse = DMatrix::from_row_slice(k, k, factor.inverse_block());
     if (0..k).map(|i| inverse[(i, i)]).any(|d| d.is_nan() || d <= 0.0 || d.is_infinite()) {
@@ -26,24 +31,36 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
             "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
         ));
     }
-    let mut w = DMatrix::<f64>::zeros(k, k);
-    for i in 0..m {
-        for j in 0..m {
-            let (ri, rj) = ([b.normal[i], b.tangent[i]], [b.normal[j], b.tangent[j]]);
-            for (a, da) in ri.iter().enumerate() {
-                for (c, dc) in rj.iter().enumerate() {
-                    let mut v = 0.0;
-                    for p in 0..2 {
-                        for q in 0..2 {
-                            v += da[p] * inverse[(2 * i + p, 2 * j + q)] * dc[q];
-                        }
-                    }
-                    w[(2 * i + a, 2 * j + c)] = v;
+    // Rows of B on the Schur dofs' positions.
+    let rows: Vec<Vec<(usize, f64)>> = (0..2 * m)
+        .map(|j| {
+            b.b_row(j)
+                .into_iter()
+                .filter(|&(_, c)| c != 0.0)
+                .filter_map(|(dof, c)| dofs.binary_search(&dof).ok().map(|p| (p, c)))
+                .collect()
+        })
+        .collect();
+    let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
+    for a in 0..2 * m {
+        for c in 0..=a {
+            let mut v = 0.0;
+            for &(p, bp) in &rows[a] {
+                for &(q, bq) in &rows[c] {
+                    v += bp * inverse[(p, q)] * bq;
                 }
             }
+            w[(a, c)] = v;
+            w[(c, a)] = v;
         }
     }
     Ok(w)
+}
+
+/// The dofs of the Schur complement of the condensed route: both dofs of every node `B`
+/// touches, increasing.
+pub(super) fn schur_dofs(b: &ContactBoundary) -> Vec<usize> {
+    b.support_nodes().into_iter().flat_map(|k| [2 * k, 2 * k + 1]).collect()
 }
 
 /// The factorised stiffness the condensed route solves with: a MUMPS factor with the Schur

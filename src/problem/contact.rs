@@ -42,8 +42,8 @@ use crate::petsc::schur::SchurFactor;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::scene::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
-use super::condensed_route::flexibility_from_schur;
 pub(crate) use super::condensed_route::{condensed_solver, tao_box_qp, Factorised};
+use super::condensed_route::{flexibility_from_schur, schur_dofs};
 pub use super::contact_report::{ContactOutcome, ContactReport, ContactResidualsReport};
 
 /// Total stiffness of the stabilisation springs relative to the largest diagonal entry of K
@@ -60,6 +60,11 @@ pub struct ContactSetup {
     pub spring: Option<f64>,
     /// Which rigid motions Dirichlet leaves free (the Unconstrained message), if any.
     pub free_motions: Option<String>,
+    /// The dofs the stabilisation springs act on: the free dofs of the nodes `B` touches.
+    pub spring_dofs: Vec<usize>,
+    /// With several bodies: the contact parts (pairs and rigid obstacles) the points come from,
+    /// each with its friction law; `None` for one body (its friction is `spec.friction`).
+    pub parts: Option<super::bodies::ContactParts>,
 }
 
 pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
@@ -80,32 +85,49 @@ impl ContactSetup {
         let group = mesh.require_group(&spec.part, 1)?;
         let obstacle = obstacle_of(&spec.obstacle)?;
         let boundary = ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, prescribed)?;
-        Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions })
+        let spring_dofs = spring_dofs(&boundary, prescribed);
+        Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions, spring_dofs, parts: None })
+    }
+
+    /// The friction law of point `i`.
+    fn point_friction(&self, i: usize) -> FrictionSpec {
+        match &self.parts {
+            Some(parts) => parts.friction_of_point(i),
+            None => self.spec.friction,
+        }
     }
 
     pub fn friction_law(&self) -> FrictionLaw {
         let m = self.boundary.points();
-        match self.spec.friction {
-            FrictionSpec::None => FrictionLaw::None,
-            // A point with a prescribed component gets no friction: its support carries the
-            // tangential force (ContactBoundary module documentation).
-            FrictionSpec::Coulomb { mu } => FrictionLaw::Coulomb {
-                mu: (0..m).map(|i| if self.boundary.prescribed[i].is_some() { 0.0 } else { mu }).collect(),
-            },
-            // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
-            FrictionSpec::Tresca { threshold } => {
-                FrictionLaw::Tresca {
-                    threshold: (0..m)
-                        .map(|i| {
-                            if self.boundary.prescribed[i].is_some() {
-                                0.0
-                            } else {
-                                threshold * self.boundary.weight[i]
-                            }
-                        })
-                        .collect(),
-                }
+        // The law of the whole problem: Coulomb or Tresca if some point has it (several bodies
+        // mix them only with frictionless parts, ContactParts checks that), else none.
+        let laws: Vec<FrictionSpec> = (0..m).map(|i| self.point_friction(i)).collect();
+        let coulomb = laws.iter().any(|l| matches!(l, FrictionSpec::Coulomb { .. }));
+        let tresca = laws.iter().any(|l| matches!(l, FrictionSpec::Tresca { .. }));
+        // A point with a prescribed component gets no friction: its support carries the
+        // tangential force (ContactBoundary module documentation).
+        let free = |i: usize| self.boundary.prescribed[i].is_none();
+        if coulomb {
+            FrictionLaw::Coulomb {
+                mu: (0..m)
+                    .map(|i| match laws[i] {
+                        FrictionSpec::Coulomb { mu } if free(i) => mu,
+                        _ => 0.0,
+                    })
+                    .collect(),
             }
+        } else if tresca {
+            // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
+            FrictionLaw::Tresca {
+                threshold: (0..m)
+                    .map(|i| match laws[i] {
+                        FrictionSpec::Tresca { threshold } if free(i) => threshold * self.boundary.weight[i],
+                        _ => 0.0,
+                    })
+                    .collect(),
+            }
+        } else {
+            FrictionLaw::None
         }
     }
 
@@ -117,26 +139,18 @@ impl ContactSetup {
     }
 
     pub(super) fn friction_name(&self) -> String {
-        match self.spec.friction {
-            FrictionSpec::None => "none".into(),
-            FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
-            FrictionSpec::Tresca { threshold } => format!("Tresca, threshold = {threshold} N/m"),
+        if let Some(parts) = &self.parts {
+            return parts.friction_name();
         }
+        super::bodies::friction_text(self.spec.friction)
     }
 
     /// The owned load `f + S anchor`: the springs pull towards the previous iterate.
     fn anchored_load(&self, f: &[f64], anchor: &[f64], rows: std::ops::Range<usize>) -> Vec<f64> {
         let mut load = f.to_vec();
         if let Some(k) = self.spring {
-            for (&node, fixed) in self.boundary.nodes.iter().zip(&self.boundary.prescribed) {
-                for dof in [2 * node, 2 * node + 1] {
-                    if fixed.is_some_and(|(c, _)| dof == 2 * node + c) {
-                        continue;
-                    }
-                    if rows.contains(&dof) {
-                        load[dof - rows.start] += k * anchor[dof];
-                    }
-                }
+            for &dof in self.spring_dofs.iter().filter(|d| rows.contains(d)) {
+                load[dof - rows.start] += k * anchor[dof];
             }
         }
         load
@@ -185,23 +199,16 @@ impl ContactSetup {
         indices: &[usize],
         values: &mut [f64],
     ) -> Result<()> {
-        for (&node, fixed) in self.boundary.nodes.iter().zip(&self.boundary.prescribed) {
-            for comp in 0..2 {
-                // A prescribed dof keeps its Dirichlet row.
-                if fixed.is_some_and(|(c, _)| c == comp) {
-                    continue;
-                }
-                let row = 2 * node + comp;
-                if row < first_row || row >= first_row + indptr.len() - 1 {
-                    continue;
-                }
-                let r = row - first_row;
-                let cols = &indices[indptr[r]..indptr[r + 1]];
-                let k_pos = cols
-                    .binary_search(&row)
-                    .map_err(|_| Error::PetscUsage(format!("no diagonal entry in row {row}")))?;
-                values[indptr[r] + k_pos] += k;
+        // A prescribed dof keeps its Dirichlet row: spring_dofs holds free dofs only.
+        for &row in &self.spring_dofs {
+            if row < first_row || row >= first_row + indptr.len() - 1 {
+                continue;
             }
+            let r = row - first_row;
+            let cols = &indices[indptr[r]..indptr[r + 1]];
+            let k_pos =
+                cols.binary_search(&row).map_err(|_| Error::PetscUsage(format!("no diagonal entry in row {row}")))?;
+            values[indptr[r] + k_pos] += k;
         }
         Ok(())
     }
@@ -463,12 +470,10 @@ impl ContactSetup {
             outcome.report.status_changes = all_changes.clone();
             let Some(k) = self.spring else { return Ok((u, outcome, linear.stats())) };
             let (mut spring, mut largest) = ([0.0f64; 2], 0.0f64);
-            for &node in &b.nodes {
-                for c in 0..2 {
-                    let fc = -k * (u[2 * node + c] - anchor[2 * node + c]);
-                    spring[c] += fc;
-                    largest = largest.max(fc.abs());
-                }
+            for &dof in &self.spring_dofs {
+                let fc = -k * (u[dof] - anchor[dof]);
+                spring[dof % 2] += fc;
+                largest = largest.max(fc.abs());
             }
             let scale = outcome.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             history.push(largest);
@@ -502,7 +507,7 @@ impl ContactSetup {
         let m = b.points();
         let rows = matrix.owned_rows();
         let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
-        let schur_rows: Vec<usize> = b.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
+        let schur_rows = schur_dofs(b);
         let default_solver = !session.has_option("-ksp_type")? && !session.has_option("-pc_type")?;
         let applicable = session.size() == 1 && default_solver;
         let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
@@ -754,6 +759,19 @@ impl ContactSetup {
 /// contact after three iterations (the body lifts off), when the force no longer halves over
 /// five iterations (the body slides), or after 200 iterations; the caller's equilibrium check
 /// tells these apart.
+/// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two
+/// bodies the coupled nodes of the other side), increasing: where the stabilisation springs act.
+pub(super) fn spring_dofs(boundary: &ContactBoundary, prescribed: &dyn Fn(usize) -> [Option<f64>; 2]) -> Vec<usize> {
+    boundary
+        .support_nodes()
+        .into_iter()
+        .flat_map(|k| {
+            let fixed = prescribed(k);
+            (0..2).filter(move |&c| fixed[c].is_none()).map(move |c| 2 * k + c)
+        })
+        .collect()
+}
+
 fn proximal_iterations_done(history: &[f64], scale: f64, all_open: bool) -> bool {
     let n = history.len();
     let largest = history[n - 1];

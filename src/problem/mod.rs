@@ -25,6 +25,8 @@ use std::ops::Range;
 use std::path::Path;
 
 mod block_elimination;
+mod bodies;
+mod bodies_report;
 mod condensed;
 mod condensed_route;
 mod contact;
@@ -38,6 +40,8 @@ mod full_space;
 mod output_files;
 mod progress;
 mod warnings;
+pub use bodies::{ContactPart, ContactParts};
+pub use bodies_report::{BodiesReport, BodyReport, ContactPartReport};
 pub use contact::{ContactOutcome, ContactReport, ContactSetup};
 pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
 pub use contact_zones::{ClosedZone, PeakPressure};
@@ -48,7 +52,7 @@ pub use warnings::Warning;
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
-use crate::fem::material::{Material, PlaneModel};
+use crate::fem::material::{CellMaterials, Material, PlaneModel};
 use crate::fem::mixed_pressure;
 use crate::mesh::cache::{CacheReport, MeshCache};
 use crate::mesh::{self, Mesh, Order};
@@ -95,6 +99,9 @@ pub struct Report {
     /// The error in the constitutive relation (with `--estimate`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub estimate: Option<EstimateReport>,
+    /// Several bodies: each body's equilibrium and each contact part's checks.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<BodiesReport>,
     /// Physics warnings (see `problem::warnings`): the answer is right for the model, the
     /// model may not be.
     pub warnings: Vec<Warning>,
@@ -136,6 +143,11 @@ pub struct ElasticityProblem<'s> {
     pub scene: Scene,
     pub mesh: Mesh,
     pub material: Material,
+    /// The material of every cell (one for a single body; one per body with several).
+    pub cell_materials: CellMaterials,
+    /// With several bodies: each body's mesh, ranges in [`ElasticityProblem::mesh`] (their
+    /// union) and tables.
+    pub bodies: Option<scene::BodiesModel>,
     pub constraints: Constraints,
     /// Global dof rows owned by this rank.
     pub rows: Range<usize>,
@@ -149,6 +161,8 @@ pub struct ElasticityProblem<'s> {
     /// The whole displacement vector (dof = 2·node + component), on every rank.
     pub displacement: Option<Vec<f64>>,
     pub results: Option<Results>,
+    /// Several bodies: the checks of each body and contact part ([`ElasticityProblem::postprocess`]).
+    pub bodies_report: Option<BodiesReport>,
     pub contact: Option<ContactSetup>,
     pub contact_outcome: Option<ContactOutcome>,
     /// The dual solution, when solved ([`ElasticityProblem::solve_dual`]).
@@ -184,8 +198,13 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
-        refuse_several_bodies(&scene)?;
         let mut timings = Timings::default();
+        if scene.has_body_tables() {
+            let model = progress::in_phase(&*progress, Phase::Mesh, || {
+                timings.time("mesh", || scene::BodiesModel::build(&scene))
+            })?;
+            return Self::setup_on_bodies(session, scene, model, timings, progress);
+        }
         let (mesh, file_order, mesh_cache) =
             progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
         let mut problem = Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)?;
@@ -245,16 +264,69 @@ impl<'s> ElasticityProblem<'s> {
                 None => None,
             },
         };
+        timings.add("setup", start.elapsed().as_secs_f64());
+        let cell_materials = CellMaterials::uniform(material);
+        Self::from_parts(
+            session,
+            scene,
+            mesh,
+            (material, cell_materials, None),
+            constraints,
+            contact,
+            file_order,
+            timings,
+            progress,
+        )
+    }
+
+    /// [`ElasticityProblem::setup_system`] for a scene with several bodies, on their model.
+    fn setup_on_bodies(
+        session: &'s Session,
+        scene: Scene,
+        model: scene::BodiesModel,
+        mut timings: Timings,
+        progress: Box<dyn Progress>,
+    ) -> Result<Self> {
+        let start = std::time::Instant::now();
+        let setup = bodies::setup_bodies(scene, model)?;
+        let mesh = consistent_across_ranks(session, setup.mesh)?;
+        timings.add("setup", start.elapsed().as_secs_f64());
+        Self::from_parts(
+            session,
+            setup.scene,
+            mesh,
+            (setup.material, setup.cell_materials, Some(setup.model)),
+            setup.constraints,
+            setup.contact,
+            None,
+            timings,
+            progress,
+        )
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn from_parts(
+        session: &'s Session,
+        scene: Scene,
+        mesh: Mesh,
+        (material, cell_materials, bodies): (Material, CellMaterials, Option<scene::BodiesModel>),
+        constraints: Constraints,
+        contact: Option<ContactSetup>,
+        file_order: Option<Order>,
+        timings: Timings,
+        progress: Box<dyn Progress>,
+    ) -> Result<Self> {
         let initial_warnings =
             warnings::before_solving(&mesh, scene.element, material.poisson, material.plane, file_order);
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
         let rows = dof_ranges(mesh.num_nodes(), session.size())[session.rank()].clone();
-        timings.add("setup", start.elapsed().as_secs_f64());
         Ok(ElasticityProblem {
             session,
             scene,
             mesh,
             material,
+            cell_materials,
+            bodies,
             constraints,
             rows,
             timings,
@@ -264,6 +336,7 @@ impl<'s> ElasticityProblem<'s> {
             stats: None,
             displacement: None,
             results: None,
+            bodies_report: None,
             contact,
             contact_outcome: None,
             dual: None,
@@ -320,7 +393,14 @@ impl<'s> ElasticityProblem<'s> {
         let start = std::time::Instant::now();
         let mut system = self.with_loads(|loads| {
             let element = self.scene.element;
-            assembly::assemble_with(&self.mesh, &self.material, element, &self.constraints, loads, self.rows.clone())
+            assembly::assemble_cells(
+                &self.mesh,
+                &self.cell_materials,
+                element,
+                &self.constraints,
+                loads,
+                self.rows.clone(),
+            )
         })?;
         if let Some(contact) = self.contact.as_mut().filter(|c| c.spec.solver == ContactSolverSpec::FullSpaceNewton) {
             // The full-space route keeps K unmodified (its springs live in the Jacobian only,
@@ -484,7 +564,8 @@ impl<'s> ElasticityProblem<'s> {
             .displacement
             .as_ref()
             .ok_or_else(|| Error::PetscUsage("postprocess() called before solve()".into()))?;
-        let (nodal_stress, sigma_zz) = mixed_pressure::nodal_stress(&self.mesh, &self.material, self.scene.element, u);
+        let (nodal_stress, sigma_zz) =
+            mixed_pressure::nodal_stress_cells(&self.mesh, &self.cell_materials, self.scene.element, u);
         let von_mises: Vec<f64> =
             nodal_stress.iter().zip(&sigma_zz).map(|(s, zz)| mixed_pressure::von_mises(*s, *zz)).collect();
         let max_displacement = u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
@@ -492,7 +573,7 @@ impl<'s> ElasticityProblem<'s> {
 
         // Reactions: r = K u − f on the fixed dofs, from unconstrained operators.
         let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
-        let ku = assembly::residual_forces_with(&self.mesh, &self.material, self.scene.element, u);
+        let ku = assembly::residual_forces_cells(&self.mesh, &self.cell_materials, self.scene.element, u);
         let applied_force = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
         // Reactions per prescribed component: a condition's reaction holds only the components it
         // prescribes (a node listed by two conditions gives each its own components; a
@@ -528,9 +609,12 @@ impl<'s> ElasticityProblem<'s> {
         // Independent equilibrium check: the applied loads must balance the reactions and the
         // contact forces, relative to the magnitudes of those forces (never to their sum, which
         // vanishes when the answer is right).
-        if let Some(outcome) = &self.contact_outcome {
-            total_reaction[0] += outcome.report.resultant[0];
-            total_reaction[1] += outcome.report.resultant[1];
+        // The contact forces enter as Bᵀ r: between two bodies both sides count (they cancel).
+        if let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) {
+            let mut on_dofs = vec![0.0; u.len()];
+            c.boundary.scatter_add(&outcome.force, &mut on_dofs);
+            total_reaction[0] += on_dofs.iter().step_by(2).sum::<f64>();
+            total_reaction[1] += on_dofs.iter().skip(1).step_by(2).sum::<f64>();
             magnitude += outcome.report.resultant[0].hypot(outcome.report.resultant[1]);
         }
         // With no load and no contact force (a body moved rigidly, a gap that stays open) every
@@ -581,6 +665,8 @@ impl<'s> ElasticityProblem<'s> {
                 });
             }
         }
+        let bodies_report = self.check_bodies(u, &f, &ku)?;
+        self.bodies_report = bodies_report;
         self.warnings.extend(warnings::after_solving(&self.mesh, u));
         self.results = Some(Results {
             nodal_stress,
@@ -610,6 +696,7 @@ impl<'s> ElasticityProblem<'s> {
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
         let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
         Ok(Report {
+            bodies: self.bodies_report.clone(),
             program: format!("signorini {} ({})", env!("CARGO_PKG_VERSION"), env!("SIGNORINI_COMMIT")),
             scene: self.scene.source.display().to_string(),
             title: self.scene.title.clone(),

@@ -1,0 +1,133 @@
+//! The contact points of a mortar coupling as a [`ContactBoundary`], so that the condensed
+//! problem, its solvers and the independent checks of a rigid obstacle serve two bodies too,
+//! and the merge of several contact boundaries (pairs and rigid obstacles) into one.
+//!
+//! Point `i` of a coupling is slave node `k`; its rows of `B` are `n_iᵀ` (`t_iᵀ`) on `k` and
+//! `−(M_ij/D_i) n_iᵀ` (`t_iᵀ`) on every master node `j` ([`super`]): the [`CoupledNode`]s. Its
+//! weight is `D_i = ∫ φ_i ds`, so that `−rN_i / D_i` is the pressure, as against an obstacle.
+//!
+//! Slave nodes with prescribed displacement components are treated as in
+//! [`crate::contact::boundary`]: a prescribed component `u_c = u0` leaves the slave entries of
+//! that component out of the rows and moves `n_c u0` into the gap, and the point gets no
+//! friction (the support carries its tangential force); the master entries stay, since the
+//! master side still moves. A point whose rows are then empty (both slave components
+//! prescribed and no master node) is left out.
+use crate::contact::boundary::{ContactBoundary, CoupledNode};
+use crate::error::Result;
+
+use super::MortarCoupling;
+
+impl ContactBoundary {
+    /// The contact points of `coupling` (see the module documentation). `edges` are the mesh
+    /// edges of the slave side (for the pressure recovery and the contact zones);
+    /// `prescribed(node)` the prescribed displacement components of a node.
+    pub fn from_mortar(
+        coupling: &MortarCoupling,
+        edges: Vec<usize>,
+        prescribed: &dyn Fn(usize) -> [Option<f64>; 2],
+    ) -> Result<Self> {
+        let m = coupling.points();
+        let mut b = ContactBoundary {
+            nodes: Vec::with_capacity(m),
+            normal: Vec::with_capacity(m),
+            tangent: Vec::with_capacity(m),
+            gap: Vec::with_capacity(m),
+            weight: Vec::with_capacity(m),
+            edges,
+            prescribed: Vec::with_capacity(m),
+            left_out: Vec::new(),
+            coupled: Vec::with_capacity(m),
+        };
+        for i in 0..m {
+            let k = coupling.nodes[i];
+            let (mut n, mut t) = (coupling.normal[i], coupling.tangent[i]);
+            let mut gap = coupling.gap[i];
+            let coupled: Vec<CoupledNode> = coupling
+                .transfer(i)
+                .map(|(j, c)| CoupledNode {
+                    node: j,
+                    normal: [-c * coupling.normal[i][0], -c * coupling.normal[i][1]],
+                    tangent: [-c * coupling.tangent[i][0], -c * coupling.tangent[i][1]],
+                })
+                .collect();
+            let fixed = prescribed(k);
+            let mut first_fixed = None;
+            for comp in 0..2 {
+                if let Some(u0) = fixed[comp] {
+                    gap -= n[comp] * u0;
+                    n[comp] = 0.0;
+                    t[comp] = 0.0;
+                    first_fixed.get_or_insert((comp, u0));
+                }
+            }
+            if fixed.iter().all(Option::is_some) && coupled.is_empty() {
+                continue;
+            }
+            b.nodes.push(k);
+            b.normal.push(n);
+            b.tangent.push(t);
+            b.gap.push(gap);
+            b.weight.push(coupling.weight[i]);
+            b.prescribed.push(first_fixed);
+            b.coupled.push(coupled);
+        }
+        Ok(b)
+    }
+
+    /// One boundary with the points of every part, ordered by node (stable: a node in two
+    /// parts keeps its parts' order); also the part of each point, in the new order.
+    pub fn merge(parts: Vec<ContactBoundary>) -> (ContactBoundary, Vec<usize>) {
+        let mut all = ContactBoundary {
+            nodes: Vec::new(),
+            normal: Vec::new(),
+            tangent: Vec::new(),
+            gap: Vec::new(),
+            weight: Vec::new(),
+            edges: Vec::new(),
+            prescribed: Vec::new(),
+            left_out: Vec::new(),
+            coupled: Vec::new(),
+        };
+        let any_coupled = parts.iter().any(|p| p.is_coupled());
+        let mut part_of = Vec::new();
+        for (p, mut b) in parts.into_iter().enumerate() {
+            let m = b.points();
+            if any_coupled && b.coupled.is_empty() {
+                b.coupled = vec![Vec::new(); m];
+            }
+            all.nodes.extend(b.nodes);
+            all.normal.extend(b.normal);
+            all.tangent.extend(b.tangent);
+            all.gap.extend(b.gap);
+            all.weight.extend(b.weight);
+            all.edges.extend(b.edges);
+            all.prescribed.extend(b.prescribed);
+            all.left_out.extend(b.left_out);
+            all.coupled.extend(b.coupled);
+            part_of.extend(std::iter::repeat_n(p, m));
+        }
+        let mut order: Vec<usize> = (0..all.nodes.len()).collect();
+        order.sort_by_key(|&i| all.nodes[i]);
+        pick(&mut all.nodes, &order);
+        pick(&mut all.normal, &order);
+        pick(&mut all.tangent, &order);
+        pick(&mut all.gap, &order);
+        pick(&mut all.weight, &order);
+        pick(&mut all.prescribed, &order);
+        pick(&mut part_of, &order);
+        if !all.coupled.is_empty() {
+            let old = std::mem::take(&mut all.coupled);
+            let mut old: Vec<Option<Vec<CoupledNode>>> = old.into_iter().map(Some).collect();
+            all.coupled = order.iter().map(|&i| old[i].take().unwrap_or_default()).collect();
+        }
+        all.edges.sort_unstable();
+        all.edges.dedup();
+        (all, part_of)
+    }
+}
+
+/// Reorder `v` so that its `i`-th entry is the old `v[order[i]]`.
+fn pick<T: Copy>(v: &mut Vec<T>, order: &[usize]) {
+    let old = std::mem::take(v);
+    *v = order.iter().map(|&i| old[i]).collect();
+}

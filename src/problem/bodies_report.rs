@@ -1,0 +1,234 @@
+//! The independent checks of a solution with several bodies, body by body and pair by pair
+//! (`report.json` → `bodies`), made from the displacement field and the contact forces alone.
+//!
+//! ```text
+//! body b:   F_b = Σ_{dofs of b} f            (loads)
+//!           R_b = Σ_{fixed dofs of b} (K u − f)   (reactions of its supports)
+//!           C_b = Σ_{dofs of b} (Bᵀ r)        (contact forces on its nodes, every pair and obstacle)
+//!           equilibrium_residual = |F_b + R_b + C_b| / (|F_b| + |R_b| + Σ_parts |C_part,b| + E' max|u_b|·…)
+//! pair p:   S_p = Σ over its points of the slave side's force (n rN + t rT)
+//!           M_p = Σ over its points of the master side's force (the coupled nodes' entries of Bᵀ r)
+//!           action_reaction_residual = |S_p + M_p| / |S_p|
+//!           and the residuals of contact/residuals.rs on its points alone (same scales as the
+//!           whole problem's check)
+//! ```
+//!
+//! With the dual (biorthogonal) mortar basis `Σ_j M_ij = D_i` on every fully covered slave
+//! node, so `S_p + M_p` vanishes to round-off; partly covered slave nodes (at the end of the
+//! master side) transmit only the covered fraction, and the residual says how much.
+use crate::contact::{self, FrictionLaw, PointStatus};
+use crate::error::{Error, Result};
+
+use super::{ContactSetup, ElasticityProblem, EQUILIBRIUM_CHECK};
+
+/// The checks of every body and every contact part.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BodiesReport {
+    pub bodies: Vec<BodyReport>,
+    pub contacts: Vec<ContactPartReport>,
+}
+
+/// One body's equilibrium.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BodyReport {
+    pub name: String,
+    pub nodes: usize,
+    pub elements: usize,
+    pub applied_force: [f64; 2],
+    pub reaction: [f64; 2],
+    pub contact_force: [f64; 2],
+    pub max_displacement: f64,
+    /// `|F + R + C|` relative to the forces involved (module documentation).
+    pub equilibrium_residual: f64,
+}
+
+/// One contact part (a pair, or a body's rigid obstacle).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ContactPartReport {
+    pub name: String,
+    pub friction: String,
+    pub points: usize,
+    pub open: usize,
+    pub stick: usize,
+    pub slip: usize,
+    /// The force the part's contact exerts on its slave body (N/m).
+    pub slave_resultant: [f64; 2],
+    /// On the master body (pairs; absent for a rigid obstacle).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub master_resultant: Option<[f64; 2]>,
+    /// `|S + M| / |S|` (pairs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub action_reaction_residual: Option<f64>,
+    pub residuals: super::contact_report::ContactResidualsReport,
+}
+
+impl ElasticityProblem<'_> {
+    /// The checks of a solution with several bodies (module documentation); an error when a
+    /// body is not in equilibrium.
+    pub(super) fn check_bodies(&self, u: &[f64], f: &[f64], ku: &[f64]) -> Result<Option<BodiesReport>> {
+        let Some(model) = &self.bodies else { return Ok(None) };
+        let contact = self.contact.as_ref().zip(self.contact_outcome.as_ref());
+        // Bᵀ r split by contact part, slave and master sides apart.
+        let parts = contact.and_then(|(c, _)| c.parts.as_ref());
+        let num_parts = parts.map_or(0, |p| p.parts.len());
+        let n = u.len();
+        let mut on_dofs = vec![vec![0.0; n]; num_parts];
+        let mut slave_force = vec![[0.0f64; 2]; num_parts];
+        let mut master_force = vec![[0.0f64; 2]; num_parts];
+        if let (Some((c, outcome)), Some(parts)) = (contact, parts) {
+            let b = &c.boundary;
+            for i in 0..b.points() {
+                let p = parts.part_of[i];
+                let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
+                let k = b.nodes[i];
+                for comp in 0..2 {
+                    let v = b.normal[i][comp] * rn + b.tangent[i][comp] * rt;
+                    on_dofs[p][2 * k + comp] += v;
+                    slave_force[p][comp] += v;
+                }
+                for cn in b.coupled_to(i) {
+                    for comp in 0..2 {
+                        let v = cn.normal[comp] * rn + cn.tangent[comp] * rt;
+                        on_dofs[p][2 * cn.node + comp] += v;
+                        master_force[p][comp] += v;
+                    }
+                }
+            }
+        }
+        let plane_modulus = self.cell_materials.materials().iter().map(|m| m.plane_modulus()).fold(0.0, f64::max);
+        let mut bodies = Vec::new();
+        for (b, body) in model.bodies.iter().enumerate() {
+            let range = &model.layout.bodies[b];
+            let dofs = range.dofs();
+            let (mut applied, mut reaction, mut contact_force) = ([0.0f64; 2], [0.0f64; 2], [0.0f64; 2]);
+            let mut contact_magnitude = 0.0;
+            for dof in dofs.clone() {
+                applied[dof % 2] += f[dof];
+                if self.constraints.is_fixed(dof) {
+                    reaction[dof % 2] += ku[dof] - f[dof];
+                }
+            }
+            for part in &on_dofs {
+                let mut c = [0.0f64; 2];
+                for dof in dofs.clone() {
+                    c[dof % 2] += part[dof];
+                }
+                contact_force[0] += c[0];
+                contact_force[1] += c[1];
+                contact_magnitude += c[0].hypot(c[1]);
+            }
+            let max_displacement = u[dofs.clone()].chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
+            let magnitude = (applied[0].hypot(applied[1]) + reaction[0].hypot(reaction[1]) + contact_magnitude)
+                .max(plane_modulus * max_displacement);
+            let imbalance =
+                (applied[0] + reaction[0] + contact_force[0]).hypot(applied[1] + reaction[1] + contact_force[1]);
+            let residual = if magnitude > 0.0 { imbalance / magnitude } else { 0.0 };
+            if !(residual <= EQUILIBRIUM_CHECK) {
+                return Err(Error::SolverDiverged {
+                    solver: "the independent check of the answer".into(),
+                    reason: format!(
+                        "body `{}` is not in equilibrium: loads ({:.4e}, {:.4e}) + reactions ({:.4e}, {:.4e}) + contact \
+                         forces ({:.4e}, {:.4e}) leave {imbalance:.3e} against forces of {magnitude:.3e}",
+                        body.name,
+                        applied[0],
+                        applied[1],
+                        reaction[0],
+                        reaction[1],
+                        contact_force[0],
+                        contact_force[1]
+                    ),
+                    iterations: self.stats.as_ref().map_or(0, |s| s.iterations),
+                    residual,
+                    tried: self.stats.as_ref().map_or_else(String::new, |s| format!("{} + {}", s.ksp_type, s.pc_type)),
+                });
+            }
+            bodies.push(BodyReport {
+                name: body.name.clone(),
+                nodes: range.nodes.len(),
+                elements: range.cells.len(),
+                applied_force: applied,
+                reaction,
+                contact_force,
+                max_displacement,
+                equilibrium_residual: residual,
+            });
+        }
+        let mut contacts = Vec::new();
+        if let (Some((c, outcome)), Some(parts)) = (contact, parts) {
+            contacts = part_reports(
+                c,
+                &outcome.force,
+                &outcome.status,
+                u,
+                &outcome.report,
+                parts,
+                &slave_force,
+                &master_force,
+            );
+        }
+        Ok(Some(BodiesReport { bodies, contacts }))
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn part_reports(
+    c: &ContactSetup,
+    force: &[f64],
+    status: &[PointStatus],
+    u: &[f64],
+    whole: &super::ContactReport,
+    parts: &super::ContactParts,
+    slave_force: &[[f64; 2]],
+    master_force: &[[f64; 2]],
+) -> Vec<ContactPartReport> {
+    let b = &c.boundary;
+    let uc = b.gather(u);
+    let law = c.friction_law();
+    let scale =
+        contact::ResidualScale { force: whole.residuals.force_scale, displacement: whole.residuals.displacement_scale };
+    let mut out = Vec::new();
+    for (p, part) in parts.parts.iter().enumerate() {
+        let points: Vec<usize> = (0..b.points()).filter(|&i| parts.part_of[i] == p).collect();
+        let pick = |v: &[f64]| points.iter().flat_map(|&i| [v[2 * i], v[2 * i + 1]]).collect::<Vec<f64>>();
+        let (r, d) = (pick(force), pick(&uc));
+        let gap: Vec<f64> = points.iter().map(|&i| b.gap[i]).collect();
+        let threshold = |k: usize, rn: f64| match &law {
+            FrictionLaw::None => 0.0,
+            FrictionLaw::Tresca { threshold } => threshold[points[k]],
+            FrictionLaw::Coulomb { mu } => mu[points[k]] * (-rn).max(0.0),
+        };
+        let residuals = contact::evaluate_residuals(&r, &d, &gap, &threshold, scale);
+        let count = |s: PointStatus| points.iter().filter(|&&i| status[i] == s).count();
+        let s = slave_force[p];
+        let (master_resultant, action_reaction_residual) = match part.master_body {
+            Some(_) => {
+                let m = master_force[p];
+                let size = s[0].hypot(s[1]);
+                let residual = if size > 0.0 { (s[0] + m[0]).hypot(s[1] + m[1]) / size } else { 0.0 };
+                (Some(m), Some(residual))
+            }
+            None => (None, None),
+        };
+        out.push(ContactPartReport {
+            name: part.name.clone(),
+            friction: super::bodies::friction_text(part.friction),
+            points: points.len(),
+            open: count(PointStatus::Open),
+            stick: count(PointStatus::Stick),
+            slip: count(PointStatus::Slip),
+            slave_resultant: s,
+            master_resultant,
+            action_reaction_residual,
+            residuals: super::contact_report::ContactResidualsReport {
+                max_penetration: residuals.max_penetration,
+                max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,
+                max_cone_violation: residuals.max_cone_violation,
+                normal_complementarity: residuals.normal_complementarity,
+                tangential_complementarity: residuals.tangential_complementarity,
+                force_scale: residuals.scale.force,
+                displacement_scale: residuals.scale.displacement,
+            },
+        });
+    }
+    out
+}
