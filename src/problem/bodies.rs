@@ -48,6 +48,10 @@ use crate::scene::{
 
 use super::contact::{obstacle_of, spring_dofs, ContactSetup};
 
+/// Slave points farther from the master side than this fraction of the smaller side's extent
+/// are not paired (see [`contact_of_bodies`]).
+pub const PAIRING_DISTANCE: f64 = 0.1;
+
 /// The contact parts of a scene with several bodies: pairs between bodies and rigid obstacles
 /// of single bodies, each with its friction law, and the part of every contact point.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,6 +83,9 @@ impl ContactParts {
 
     /// Every part's friction law, for the report.
     pub fn friction_name(&self) -> String {
+        if let [one] = self.parts.as_slice() {
+            return friction_text(one.friction);
+        }
         self.parts.iter().map(|p| format!("{}: {}", p.name, friction_text(p.friction))).collect::<Vec<_>>().join("; ")
     }
 }
@@ -244,8 +251,11 @@ fn contact_of_bodies(
         let (slave_group, master_group) = (group_of(&pair.slave)?, group_of(&pair.master)?);
         let slave = MortarSide::from_mesh(mesh, slave_group)?;
         let master = MortarSide::from_mesh(mesh, master_group)?;
-        // Slave nodes that do not face the master side cannot touch it (small sliding).
-        let options = MortarOptions { uncovered: UncoveredNodes::LeaveOut, ..MortarOptions::default() };
+        // Slave nodes that do not face the master side, or face it from farther than a tenth
+        // of the smaller side's extent, cannot touch it (small sliding); pairing far-away
+        // points would only make the curved sides' normal lines cross each other.
+        let extent = side_extent(mesh, slave_group).min(side_extent(mesh, master_group));
+        let options = MortarOptions { uncovered: UncoveredNodes::LeaveOut, max_distance: PAIRING_DISTANCE * extent };
         let coupling = MortarCoupling::new(&slave, &master, &options).map_err(|e| in_pair(e, pair))?;
         if coupling.points() == 0 {
             return Err(Error::Scene {
@@ -341,6 +351,20 @@ fn contact_of_bodies(
         spring_dofs,
         parts: Some(ContactParts { parts, part_of }),
     }))
+}
+
+/// The diagonal of the bounding box of a boundary part's nodes.
+fn side_extent(mesh: &Mesh, group: usize) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for e in mesh.edges_in_group(group) {
+        for &k in mesh.edge(e) {
+            for c in 0..2 {
+                lo[c] = lo[c].min(mesh.nodes[k][c]);
+                hi[c] = hi[c].max(mesh.nodes[k][c]);
+            }
+        }
+    }
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
 }
 
 /// An error of the mortar coupling, located at the pair's table.
