@@ -173,6 +173,24 @@ fn edge_quadrature(coords: &[[f64; 2]]) -> impl Iterator<Item = ([f64; 3], f64)>
     })
 }
 
+/// The consistent weights `w_k = ∫ φ_k ds` of the nodes of boundary edges `edges` (module
+/// documentation), as `(node, w_k)` by increasing node.
+pub fn edge_weights(mesh: &Mesh, edges: &[usize]) -> Vec<(usize, f64)> {
+    let mut weights: std::collections::BTreeMap<usize, f64> = std::collections::BTreeMap::new();
+    let mut coords = Vec::with_capacity(3);
+    for &e in edges {
+        let edge = mesh.edge(e);
+        coords.clear();
+        coords.extend(edge.iter().map(|&k| mesh.nodes[k]));
+        for (values, wds) in edge_quadrature(&coords) {
+            for (a, &k) in edge.iter().enumerate() {
+                *weights.entry(k).or_insert(0.0) += wds * values[a];
+            }
+        }
+    }
+    weights.into_iter().collect()
+}
+
 impl ContactBoundary {
     /// The contact points of boundary group `group` (an index into `mesh.groups`, dimension 1)
     /// against `obstacle`, with `extra_gap` added to every gap (positive: clearance, negative:

@@ -26,6 +26,7 @@ use std::path::Path;
 
 mod block_elimination;
 mod bodies;
+mod bodies_output;
 mod bodies_report;
 mod condensed;
 mod condensed_route;

@@ -18,6 +18,22 @@ impl ElasticityProblem<'_> {
     /// data (one value per cell each; e.g. the size map `target_size` of mesh adaptation).
     /// Atomic; call it on one rank.
     pub fn write_solution_vtu(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<()> {
+        let (point, cell, with_edges) = self.solution_fields(path, extra_cells)?;
+        let points: Vec<vtu::Field> =
+            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        let cells: Vec<vtu::Field> =
+            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
+        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
+    }
+
+    /// The point and cell data of `solution.vtu` (name, components, values), and whether the
+    /// cell data covers the boundary edges too.
+    #[allow(clippy::type_complexity)]
+    pub(super) fn solution_fields(
+        &self,
+        path: &Path,
+        extra_cells: &[(&str, &[f64])],
+    ) -> Result<(Vec<(String, usize, Vec<f64>)>, Vec<(String, usize, Vec<f64>)>, bool)> {
         let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
@@ -41,6 +57,7 @@ impl ElasticityProblem<'_> {
                         crate::contact::PointStatus::Slip => 2.0,
                     };
                 }
+                self.add_master_contact_fields(&mut pressure, &mut friction, &mut status);
                 point.push(("contact_pressure".into(), 1, pressure));
                 point.push(("friction_traction".into(), 1, friction));
                 point.push(("contact_status".into(), 1, status));
@@ -96,11 +113,7 @@ impl ElasticityProblem<'_> {
             }
             cell.push((name.to_string(), 1, values.to_vec()));
         }
-        let points: Vec<vtu::Field> =
-            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        let cells: Vec<vtu::Field> =
-            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
+        Ok((point, cell, with_edges))
     }
 
     /// The contact answer point by point in order along the contact part (after
@@ -163,6 +176,7 @@ impl ElasticityProblem<'_> {
                 let path = dir.join("solution.vtu");
                 self.write_vtu(&path)?;
                 written.push(path);
+                self.write_body_files(dir, written)?;
                 self.write_contact_files(dir, written)?;
             }
             Ok(())
