@@ -104,12 +104,14 @@ pub enum Error {
     #[error("{message}\n  hint: {hint}")]
     Formulation { message: String, hint: String },
 
-    /// A scene written with `[[body]]` tables: parsed, meshed and checked, but the solver of
-    /// several bodies is not there yet, so nothing is solved (rather than a wrong answer).
+    /// A scene written with `[[body]]` tables given to a command or formulation that takes one
+    /// body (`export`, `adapt`, `study`, the dual formulation, the estimate): parsed, meshed and
+    /// checked, then refused (rather than a wrong answer). `signorini run` solves it.
     #[error(
         "{}: this scene has {bodies} bod{} and {pairs} contact pair{}: several bodies are parsed and checked but \
-         not solved yet in this version\n  hint: the scene is valid; solve one body at a time with a single-body \
-         scene (a [mesh] table, no [[body]] tables), its contact against a rigid [contact] obstacle",
+         not solved yet in this version by this command or formulation (export, adapt, study, the dual formulation \
+         and the estimate take one body)\n  hint: the scene is valid: `signorini run` solves it in the primal \
+         formulation; for the others, solve one body at a time with a single-body scene",
         scene.display(),
         if *bodies == 1 { "y" } else { "ies" },
         if *pairs == 1 { "" } else { "s" }

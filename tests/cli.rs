@@ -837,6 +837,19 @@ fn example_contact_builder_runs() {
 }
 
 #[test]
+fn example_two_bodies_runs() {
+    let out = Command::new(example_binary("two_bodies")).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    // The block's vertical load 5e6 N/m crosses the interface: the base receives it.
+    assert!(text.contains("body base:") && text.contains("-5.0000e6), equilibrium residual"), "{text}");
+    let residual = |line: &str| -> f64 { line.rsplit(' ').next().unwrap_or("1").parse().unwrap_or(1.0) };
+    for line in text.lines().filter(|l| l.contains("residual")) {
+        assert!(residual(line) < 1e-9, "{line}");
+    }
+}
+
+#[test]
 fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
     let msg = run_err(bin().arg("run").arg(block()).args(["--quiet", "-mat_mumps_icntl_23", "1"]), 1);
     assert!(msg.contains("out of memory") && msg.contains("INFOG(1)") && msg.contains("-pc_type hypre"), "{msg}");

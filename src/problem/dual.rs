@@ -84,7 +84,21 @@ pub struct EstimateReport {
 
 impl<'s> ElasticityProblem<'s> {
     /// Solve the dual (stress) formulation on the problem's mesh.
+    /// The dual formulation and the estimate take one body: [`Error::SeveralBodiesNotSolved`]
+    /// for a scene with `[[body]]` tables.
+    fn refuse_bodies(&self) -> Result<()> {
+        match &self.bodies {
+            Some(_) => Err(crate::error::Error::SeveralBodiesNotSolved {
+                scene: self.scene.source.clone(),
+                bodies: self.scene.bodies.len(),
+                pairs: self.scene.contact_pairs.len(),
+            }),
+            None => Ok(()),
+        }
+    }
+
     pub fn solve_dual(&mut self) -> Result<()> {
+        self.refuse_bodies()?;
         self.progress().phase_started(super::Phase::Dual);
         let start = std::time::Instant::now();
         self.solve_dual_unobserved()?;
@@ -194,6 +208,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// The error in the constitutive relation of the primal and dual solutions (both solved).
     pub fn estimate(&mut self) -> Result<()> {
+        self.refuse_bodies()?;
         self.progress().phase_started(super::Phase::Estimate);
         let start = std::time::Instant::now();
         self.estimate_unobserved()?;

@@ -202,7 +202,8 @@ pub struct ContactPairSpec {
 
 impl Scene {
     /// Whether the scene is written with `[[body]]` tables (even a single one). Such scenes are
-    /// parsed and checked, but not solved yet.
+    /// solved by `signorini run` (the primal formulation); the dual formulation, the estimate,
+    /// `export`, `adapt` and `study` take one body.
     pub fn has_body_tables(&self) -> bool {
         !self.bodies.is_empty()
     }

@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::bodies::BodySpec;
+use super::bodies::{BodySpec, ContactPairSpec, PartRef, Placement};
 use super::contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 use super::{
     DirichletSpec, DirichletTarget, DualConstraints, Formulation, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec,
@@ -389,5 +389,84 @@ impl SceneBuilder {
     /// The scene, checked as a scene file is.
     pub fn build(self) -> Result<Scene> {
         self.scene.validated()
+    }
+}
+
+/// A scene with several bodies built in Rust: each body a single-body scene (from
+/// [`SceneBuilder`]) with a name and a placement, and the contact pairs between their parts.
+/// [`BodiesBuilder::build`] checks it as a scene file with `[[body]]` tables is checked.
+///
+/// ```no_run
+/// use signorini::scene::{BodiesBuilder, FrictionSpec, SceneBuilder};
+/// let block = SceneBuilder::rectangle([0.0, 0.0], [1.0, 1.0], 0.1).material(1e9, 0.3).traction("top", [0.0, -1e6]).build()?;
+/// let base = SceneBuilder::rectangle([-0.5, -1.0], [2.0, 1.0], 0.15).material(2e9, 0.3).dirichlet("bottom", Some(0.0), Some(0.0)).build()?;
+/// let scene = BodiesBuilder::new("block on a base")
+///     .body("block", block)
+///     .body("base", base)
+///     .pair("block.bottom", "base.top", FrictionSpec::Coulomb { mu: 0.3 })
+///     .build()?;
+/// # Ok::<(), signorini::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct BodiesBuilder {
+    title: String,
+    bodies: Vec<(BodySpec, Scene)>,
+    pairs: Vec<ContactPairSpec>,
+}
+
+impl BodiesBuilder {
+    pub fn new(title: &str) -> Self {
+        BodiesBuilder { title: title.into(), bodies: Vec::new(), pairs: Vec::new() }
+    }
+
+    fn here() -> Location {
+        Location { file: PathBuf::from(BUILT_IN_RUST), line: 0, column: 0 }
+    }
+
+    /// A body named `name`: the body of the single-body scene `scene` (its mesh, order, element,
+    /// material, loads, conditions and rigid contact), where its mesh says.
+    pub fn body(self, name: &str, scene: Scene) -> Self {
+        self.placed_body(name, scene, Placement::default())
+    }
+
+    /// [`BodiesBuilder::body`] moved by `placement` (rotation, then translation).
+    pub fn placed_body(mut self, name: &str, scene: Scene, placement: Placement) -> Self {
+        let mut body = scene.bodies()[0].clone();
+        body.name = name.into();
+        body.placement = placement;
+        body.at = Self::here();
+        self.bodies.push((body, scene));
+        self
+    }
+
+    /// Contact between `slave` and `master`, each `"body.part"`, with `friction`.
+    pub fn pair(mut self, slave: &str, master: &str, friction: FrictionSpec) -> Self {
+        let part = |s: &str| {
+            let (body, part) = s.split_once('.').unwrap_or((s, ""));
+            PartRef { body: body.into(), part: part.into(), at: Self::here() }
+        };
+        self.pairs.push(ContactPairSpec {
+            slave: part(slave),
+            master: part(master),
+            friction,
+            max_initial_overlap: None,
+            at: Self::here(),
+        });
+        self
+    }
+
+    /// The scene, checked ([`Error::Scene`] at `<scene built in Rust>` for a mistake, quoting
+    /// the generated line; [`Error::Usage`] without any body).
+    pub fn build(self) -> Result<Scene> {
+        let Some((_, first)) = self.bodies.first() else {
+            return Err(Error::Usage("BodiesBuilder::build: no body was given".into()));
+        };
+        let scene = Scene {
+            title: Some(self.title.clone()),
+            bodies: self.bodies.iter().map(|(b, _)| b.clone()).collect(),
+            contact_pairs: self.pairs.clone(),
+            ..first.clone()
+        };
+        scene.validated()
     }
 }

@@ -48,7 +48,7 @@
 //! called for the top level of a single-body scene and for every `[[body]]` of a scene with
 //! several bodies (`bodies`: `[[body]]` and `[[contact_pair]]`, [`Scene::bodies`], and
 //! [`BodiesModel`] for their meshes, their union and the overlap check). Scenes with several
-//! bodies are read and checked, not solved yet.
+//! bodies are solved by `problem::bodies` (`signorini run`); the other commands take one body.
 //!
 //! Adding a section: a raw struct and its key list in `raw`, a field in [`Scene`], a conversion
 //! function called from [`Scene::from_str`] (in its own file if it is long, like `contact`), and
@@ -64,7 +64,7 @@ mod model;
 mod raw;
 
 pub use bodies::{BodySpec, ContactPairSpec, PartRef, Placement, SINGLE_BODY_NAME};
-pub use builder::{SceneBuilder, BUILT_IN_RUST};
+pub use builder::{BodiesBuilder, SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
@@ -123,8 +123,8 @@ pub struct Scene {
     /// The `[[body]]` tables, in file order; empty for a single-body scene (the fields above
     /// describe its one body). A scene with `[[body]]` tables has its first body's data in the
     /// single-body fields above (`mesh`, `order`, ..., `contact`), only so that code reading one
-    /// body finds a valid one: [`Scene::bodies`] is the view of every scene as bodies, and the
-    /// solver refuses scenes with `[[body]]` tables (see [`Scene::has_body_tables`]).
+    /// body finds a valid one: [`Scene::bodies`] is the view of every scene as bodies; the driver
+    /// solves such scenes on the bodies' union mesh (see [`Scene::has_body_tables`]).
     pub bodies: Vec<BodySpec>,
     /// The `[[contact_pair]]` tables, in file order (only with `[[body]]` tables).
     pub contact_pairs: Vec<ContactPairSpec>,
