@@ -244,7 +244,11 @@ pub fn write_elasticity_outputs(rows: &[BenchRow], record: &BenchRecord, dir: &P
 // P1 meshes of growing size, one process per (size, solver) case.
 
 /// The contact solvers compared (scene names).
-pub static CONTACT_SOLVERS: &[&str] = &["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"];
+/// `two_bodies` is not a solver: the square block on an elastic foundation
+/// (`examples/scenes/block_on_block.toml`, non-matching meshes, mortar coupling), solved with its
+/// default (the condensed semi-smooth Newton).
+pub static CONTACT_SOLVERS: &[&str] =
+    &["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana", "two_bodies"];
 
 /// Largest size (dofs) each solver is run at: condensation costs one solve per contact unknown,
 /// so the condensed routes stop early; the full-space Newton goes to 1e6 dofs.
@@ -252,6 +256,7 @@ pub fn contact_max_dofs(solver: &str) -> usize {
     match solver {
         "newton_full" => usize::MAX,
         "newton" => 200_000,
+        "two_bodies" => usize::MAX,
         _ => 20_000,
     }
 }
@@ -262,6 +267,10 @@ pub struct ContactBenchRow {
     pub contact_points: usize,
     pub solver: String,
     pub iterations: usize,
+    /// Proximal iterations on the stabilisation springs (a body held by the contact alone; 0
+    /// otherwise): `iterations` counts the contact solver's iterations over all of them.
+    #[serde(default)]
+    pub proximal_iterations: usize,
     pub contact_seconds: f64,
     pub linear_seconds: f64,
     pub peak_memory_mb: f64,
@@ -302,6 +311,28 @@ pub(crate) fn square_block_at(text: &str, target_dofs: usize, edit: impl Fn(&str
         .join("\n")
 }
 
+/// `examples/scenes/block_on_block.toml` with cells of `h` in the block and `2h` in the
+/// foundation, `h` chosen for about `target_dofs` dofs: `0.04²/h² + 0.08·0.02/(2h)²` nodes.
+pub(crate) fn block_on_block_at(target_dofs: usize) -> String {
+    let h = (0.004 / target_dofs as f64).sqrt();
+    let mut sizes = [h, 2.0 * h].into_iter();
+    BLOCK_ON_BLOCK_TOML
+        .lines()
+        .map(|l| match l.find("cell_size = ") {
+            Some(at) => {
+                let rest = &l[at + "cell_size = ".len()..];
+                let end = rest.find([' ', '}']).unwrap_or(rest.len());
+                format!("{}cell_size = {:e}{}", &l[..at], sizes.next().unwrap_or(h), &rest[end..])
+            }
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The two-body example scene, for the contact benchmark.
+const BLOCK_ON_BLOCK_TOML: &str = include_str!("../../examples/scenes/block_on_block.toml");
+
 /// The better of two contact solves of `problem` (assembled), in seconds (see `contact_case`).
 pub(crate) fn best_of_two_solves(problem: &mut crate::problem::ElasticityProblem<'_>) -> Result<f64> {
     let mut seconds = f64::INFINITY;
@@ -315,9 +346,12 @@ pub(crate) fn best_of_two_solves(problem: &mut crate::problem::ElasticityProblem
 
 /// One contact case (square block, `target_dofs` dofs, the named contact solver).
 pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Result<ContactBenchRow> {
-    let text = square_block_at(crate::scene::DEFAULT_SCENE_TOML, target_dofs, |t| {
-        t.starts_with("solver").then(|| format!("solver = \"{solver}\""))
-    });
+    let text = match solver {
+        "two_bodies" => block_on_block_at(target_dofs),
+        _ => square_block_at(crate::scene::DEFAULT_SCENE_TOML, target_dofs, |t| {
+            t.starts_with("solver").then(|| format!("solver = \"{solver}\""))
+        }),
+    };
     let scene = crate::scene::Scene::from_str(&text, Path::new("bench-contact.toml"))?;
     let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
     problem.assemble()?;
@@ -335,6 +369,7 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
         contact_points: o.report.points,
         solver: solver.to_string(),
         iterations: o.report.iterations,
+        proximal_iterations: o.report.stabilisation_iterations,
         contact_seconds,
         linear_seconds,
         peak_memory_mb: mb(resources::peak_memory_bytes()),
@@ -354,12 +389,13 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
 
 pub fn contact_table(rows: &[ContactBenchRow]) -> String {
     let mut s = String::from(
-        "| dofs | contact points | solver | iterations | contact solve (s) | one linear solve (s) | ratio | peak memory (MB) | worst residual | stick / slip |\n\
+        "| dofs | contact points | solver | iterations (proximal) | contact solve (s) | one linear solve (s) | ratio | peak memory (MB) | worst residual | stick / slip |\n\
          |---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
     for r in rows {
+        let proximal = if r.proximal_iterations > 0 { format!(" ({})", r.proximal_iterations) } else { String::new() };
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3} | {:.1} | {:.0} | {:.1e} | {} / {} |\n",
+            "| {} | {} | {} | {}{proximal} | {:.3} | {:.3} | {:.1} | {:.0} | {:.1e} | {} / {} |\n",
             r.dofs,
             r.contact_points,
             r.solver,
