@@ -555,3 +555,78 @@ fn the_not_solved_error_says_how_many_bodies_and_pairs() {
         "{shown}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Several bodies built in Rust, and materials per cell.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn bodies_builder_gives_the_scene_a_file_gives() {
+    use signorini::scene::{BodiesBuilder, SceneBuilder};
+    let top = SceneBuilder::rectangle([0.0, 1.0], [1.0, 0.5], 0.25)
+        .material(1e9, 0.3)
+        .pressure("top", 1e6)
+        .dirichlet_point([0.0, 1.5], Some(0.0), None)
+        .build()
+        .unwrap();
+    let bottom = SceneBuilder::rectangle([-0.5, 0.0], [2.0, 1.0], 0.3)
+        .material(2e9, 0.25)
+        .dirichlet("bottom", Some(0.0), Some(0.0))
+        .build()
+        .unwrap();
+    let scene = BodiesBuilder::new("two blocks in Rust")
+        .body("top", top)
+        .body("bottom", bottom)
+        .pair("top.bottom", "bottom.top", FrictionSpec::Coulomb { mu: 0.3 })
+        .build()
+        .unwrap();
+    assert_eq!(scene.bodies.len(), 2);
+    assert_eq!(scene.bodies[1].name, "bottom");
+    assert_eq!(scene.bodies[1].material.young, 2e9);
+    assert_eq!(scene.contact_pairs[0].slave.to_string(), "top.bottom");
+    assert_eq!(scene.contact_pairs[0].friction, FrictionSpec::Coulomb { mu: 0.3 });
+    let model = BodiesModel::build(&scene).unwrap();
+    assert!(model.part_group(&scene.contact_pairs[0].master).is_some());
+    // A mistake is reported as in a file, at the scene built in Rust.
+    let err = BodiesBuilder::new("bad")
+        .body("top", SceneBuilder::rectangle([0.0, 0.0], [1.0, 1.0], 0.5).material(1e9, 0.3).build().unwrap())
+        .body("other", SceneBuilder::rectangle([0.0, 2.0], [1.0, 1.0], 0.5).material(1e9, 0.3).build().unwrap())
+        .pair("top.bottom", "nobody.top", FrictionSpec::None)
+        .build()
+        .unwrap_err();
+    assert!(matches!(&err, Error::Scene { message, .. } if message.contains("nobody")), "{err}");
+    // No body at all.
+    let err = BodiesBuilder::new("empty").build().unwrap_err();
+    assert!(matches!(&err, Error::Usage(m) if m.contains("no body")), "{err}");
+}
+
+#[test]
+fn materials_per_cell_are_checked_and_assemble_per_body() {
+    use signorini::fem::assembly::{assemble_cells, Constraints, Loads};
+    use signorini::fem::{CellMaterials, Element, Material, PlaneModel};
+    let soft = Material::new(1e9, 0.3, PlaneModel::Strain);
+    let hard = Material::new(5e9, 0.3, PlaneModel::Strain);
+    assert!(matches!(CellMaterials::per_cell(vec![], vec![]), Err(Error::Usage(_))));
+    assert!(matches!(CellMaterials::per_cell(vec![soft], vec![0, 1]), Err(Error::Usage(m)) if m.contains("cell 1")));
+    // Two identical blocks side by side but apart: with materials (soft, hard), each body's
+    // stiffness is its material's, so the hard block's entries are 5 times the soft one's.
+    let scene = parse(TWO).unwrap();
+    let model = BodiesModel::build(&scene).unwrap();
+    let cells = model.layout.cell_body.clone();
+    let materials = CellMaterials::per_cell(vec![soft, hard], cells).unwrap();
+    let uniform = CellMaterials::uniform(soft);
+    let loads = Loads { body_force: None, edge_loads: Vec::new() };
+    let free = Constraints::new(2 * model.mesh.num_nodes());
+    let all = 0..2 * model.mesh.num_nodes();
+    let a = assemble_cells(&model.mesh, &materials, Element::Lagrange, &free, &loads, all.clone());
+    let b = assemble_cells(&model.mesh, &uniform, Element::Lagrange, &free, &loads, all);
+    let second = model.layout.bodies[1].dofs();
+    for row in 0..2 * model.mesh.num_nodes() {
+        let ratio = if second.contains(&row) { 5.0 } else { 1.0 };
+        let (cols, va) = a.matrix.row(row);
+        let (_, vb) = b.matrix.row(row);
+        for k in 0..cols.len() {
+            assert!((va[k] - ratio * vb[k]).abs() <= 1e-9 * vb[k].abs().max(1.0), "row {row}");
+        }
+    }
+}
