@@ -38,8 +38,8 @@ impl ElasticityProblem<'_> {
                 let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
                 for cn in b.coupled_to(i) {
                     let f = force.entry(cn.node).or_insert([0.0; 2]);
-                    for comp in 0..2 {
-                        f[comp] += cn.normal[comp] * rn + cn.tangent[comp] * rt;
+                    for (comp, fc) in f.iter_mut().enumerate() {
+                        *fc += cn.normal[comp] * rn + cn.tangent[comp] * rt;
                     }
                     let coupling = cn.normal[0].hypot(cn.normal[1]);
                     let s = strongest.entry(cn.node).or_insert((0.0, i));
