@@ -753,12 +753,6 @@ impl ContactSetup {
     }
 }
 
-/// Stop the proximal iterations on the stabilisation springs? `history` holds the largest
-/// spring force of each iteration so far (the last is the current one), `scale` the largest
-/// contact force. Stop when the spring force is negligible (converged), when no point is in
-/// contact after three iterations (the body lifts off), when the force no longer halves over
-/// five iterations (the body slides), or after 200 iterations; the caller's equilibrium check
-/// tells these apart.
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two
 /// bodies the coupled nodes of the other side), increasing: where the stabilisation springs act.
 pub(super) fn spring_dofs(boundary: &ContactBoundary, prescribed: &dyn Fn(usize) -> [Option<f64>; 2]) -> Vec<usize> {
@@ -772,10 +766,20 @@ pub(super) fn spring_dofs(boundary: &ContactBoundary, prescribed: &dyn Fn(usize)
         .collect()
 }
 
+/// Stop the proximal iterations on the stabilisation springs? `history` holds the largest
+/// spring force of each iteration so far (the last is the current one), `scale` the largest
+/// contact force. Stop when the spring force is negligible (converged, or below 1e-8 of the
+/// contact forces and no longer halving: its round-off floor), when no point is in
+/// contact after three iterations (the body lifts off), when the force no longer halves over
+/// five iterations (the body slides), or after 200 iterations; the caller's equilibrium check
+/// tells these apart.
 fn proximal_iterations_done(history: &[f64], scale: f64, all_open: bool) -> bool {
     let n = history.len();
     let largest = history[n - 1];
-    let converged = largest <= 1e-12 * scale;
+    // Converged, or at the round-off floor of the spring force (it stops decreasing once
+    // u − anchor is round-off in u: more iterations change nothing).
+    let floor = n >= 3 && largest <= 1e-8 * scale && largest > 0.5 * history[n - 2];
+    let converged = largest <= 1e-12 * scale || floor;
     let lifted = all_open && n >= 3;
     let stalled = n > 10 && largest > 0.5 * history[n - 6];
     converged || lifted || stalled || n >= 200
