@@ -385,8 +385,8 @@ fn bench_contact_small_writes_table_and_plot() {
     let table = std::fs::read_to_string(dir.join("bench_contact.md")).unwrap();
     assert_provenance(&table, "bench contact --max-dofs 1000");
     let rows = table_rows(&table);
-    assert_eq!(rows.len(), 6, "one row per contact solver: {table}");
-    for solver in ["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana"] {
+    assert_eq!(rows.len(), 7, "one row per contact solver and the two-body scene: {table}");
+    for solver in ["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana", "two_bodies"] {
         assert!(rows.iter().any(|r| r.contains(&format!("| {solver} |"))), "{solver} missing: {table}");
     }
     assert!(std::fs::read_to_string(dir.join("bench_contact.svg")).unwrap().contains("<svg"));

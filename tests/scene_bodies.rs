@@ -550,10 +550,12 @@ fn the_not_solved_error_says_how_many_bodies_and_pairs() {
     assert!(
         shown.starts_with(
             "s.toml: this scene has 1 body and 0 contact pairs: several bodies are parsed and checked but not solved \
-             yet in this version\n  hint: "
+             yet in this version by this command or formulation (export, adapt, study, the dual formulation and the \
+             estimate take one body)\n  hint: "
         ),
         "{shown}"
     );
+    assert!(shown.contains("`signorini run` solves it"), "{shown}");
 }
 
 // ---------------------------------------------------------------------------------------------
