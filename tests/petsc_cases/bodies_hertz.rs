@@ -168,11 +168,14 @@ pub fn hertz_two_cylinders(s: &Session) -> Result<(), String> {
 
 /// Hertz, steel on aluminium (E* from both bodies), the load scaled so that a is the same as
 /// for two steel cylinders: a and p0 within 1 %; and aluminium on steel (the softer body the
-/// slave side), the same E*.
+/// slave side), the same E*. Cells of a/10 near the contact: the fit's errors hardly depend on
+/// the mesh from a/5 on (two steel cylinders: a −0.085 %, −0.022 %, −0.003 % and p0 +0.17 %,
+/// +0.21 %, +0.22 % with cells of a/5, a/10, a/20; the peak's +0.2 % is Hertz's half-space
+/// idealisation at a/R = 0.05, as for one cylinder on a plane).
 pub fn hertz_two_cylinders_steel_on_aluminium(s: &Session) -> Result<(), String> {
     let ratio = effective_modulus(STEEL, ALUMINIUM) / effective_modulus(STEEL, STEEL);
-    hertz_case(s, "2.5e-4", STEEL, ALUMINIUM, 2.25e8 * ratio, 0.01)?;
-    hertz_case(s, "2.5e-4", ALUMINIUM, STEEL, 2.25e8 * ratio, 0.01).map(|_| ())
+    hertz_case(s, "5e-4", STEEL, ALUMINIUM, 2.25e8 * ratio, 0.01)?;
+    hertz_case(s, "5e-4", ALUMINIUM, STEEL, 2.25e8 * ratio, 0.01).map(|_| ())
 }
 
 /// The two cylinders with the upper flat side moved by (`ux`, `uy`) (the lower one clamped),
@@ -207,8 +210,8 @@ fn cattaneo_scene(fine: &str, ux: f64, uy: f64, mu: f64) -> (String, std::path::
 /// the stick zone q(x) = μp0 (√(1 − x²/a²) − (c/a) √(1 − (x − e)²/c²)) within 5 % of μp0 on the
 /// inner 80 % of the stick zone, e its centre.
 ///
-/// The centre e: e/a = 0.108 here, whatever the mesh (0.098, 0.120, 0.108, 0.115 with cells of
-/// 1e-3 … 1.25e-4), and it flips with the slave and master sides swapped. It is the small
+/// The centre e: e/a = 0.107 here, about the same whatever the mesh (0.10, 0.12, 0.11, 0.11 with
+/// cells of 1e-3, 5e-4, 2.5e-4, 1.25e-4), and it flips with the slave and master sides swapped. It is the small
 /// sliding formulation's geometric error: both sides' rows use the slave side's reference
 /// normal, which differs from the master side's by 2x/R (R the cylinder radius), so the master
 /// body carries a tangential traction ≈ 2p x/R, odd in x, a relative tangential strain that
