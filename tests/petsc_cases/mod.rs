@@ -12,6 +12,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod adapt;
+mod bodies_hertz;
 mod contact;
 mod dual;
 mod dual_contact;
@@ -95,6 +96,13 @@ pub const TESTS: &[(&str, Case)] = &[
     ("pc_ict_tiny_tolerance_is_a_direct_solve", ict::ict_tiny_tolerance_is_a_direct_solve),
     ("pc_ict_needs_fewer_iterations_than_icc0", ict::ict_needs_fewer_iterations_than_icc0),
     ("pc_ict_bad_options_and_matrices_are_typed_errors", ict::ict_bad_options_and_matrices_are_typed_errors),
+    ("hertz_two_cylinders", bodies_hertz::hertz_two_cylinders),
+    ("hertz_two_cylinders_steel_on_aluminium", bodies_hertz::hertz_two_cylinders_steel_on_aluminium),
+    ("cattaneo_mindlin_two_cylinders", bodies_hertz::cattaneo_mindlin_two_cylinders),
+    (
+        "two_bodies_report_equilibrium_and_action_reaction",
+        bodies_hertz::two_bodies_report_equilibrium_and_action_reaction,
+    ),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
