@@ -12,6 +12,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod adapt;
+mod bodies_blocks;
 mod contact;
 mod dual;
 mod dual_contact;
@@ -95,6 +96,11 @@ pub const TESTS: &[(&str, Case)] = &[
     ("pc_ict_tiny_tolerance_is_a_direct_solve", ict::ict_tiny_tolerance_is_a_direct_solve),
     ("pc_ict_needs_fewer_iterations_than_icc0", ict::ict_needs_fewer_iterations_than_icc0),
     ("pc_ict_bad_options_and_matrices_are_typed_errors", ict::ict_bad_options_and_matrices_are_typed_errors),
+    ("two_body_patch_nonmatching_p1", bodies_blocks::two_body_patch_nonmatching_p1),
+    ("two_body_patch_nonmatching_p2", bodies_blocks::two_body_patch_nonmatching_p2),
+    ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),
+    ("three_block_stack", bodies_blocks::three_block_stack),
+    ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
