@@ -19,6 +19,8 @@ pub fn adapt_command(session: &Session, args: RunArgs) -> Result<(), Error> {
     let loud = session.rank() == 0 && !args.quiet;
     let path = args.scene.clone().ok_or_else(|| Error::Usage("adapt needs a scene file".into()))?;
     let scene = Scene::from_file(&path)?;
+    // Several bodies: checked, then refused (adaptation and its dual estimate take one body).
+    signorini::problem::refuse_several_bodies(&scene)?;
     let out = output_dir(&args, &scene);
     let mut options = AdaptOptions::new(&scene, args.target);
     options.max_steps = args.max_steps;
@@ -95,6 +97,8 @@ pub fn study_command(session: &Session, args: RunArgs) -> Result<(), Error> {
     let loud = session.rank() == 0 && !args.quiet;
     let path = args.scene.clone().ok_or_else(|| Error::Usage("study needs a scene file".into()))?;
     let scene = Scene::from_file(&path)?;
+    // Several bodies: checked, then refused (the study's levels and its dual take one body).
+    signorini::problem::refuse_several_bodies(&scene)?;
     let out = output_dir(&args, &scene);
     adapt::driver::mesh_request(&scene, "study")?;
     if loud {

@@ -211,6 +211,30 @@ fn mpirun_two_ranks_contact_equals_serial() {
 }
 
 #[test]
+fn mpirun_two_ranks_bodies_equal_serial() {
+    // Two bodies (mortar contact pair, Coulomb): the same answer on two processes as on one.
+    let path = scene("examples/scenes/block_on_block.toml");
+    let serial = scratch("mpi-bodies-serial");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+    let parallel = scratch("mpi-bodies");
+    let out = mpirun_two().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (rs, rp) = (report(&serial), report(&parallel));
+    assert_eq!(rp["mpi_ranks"], 2);
+    let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+    assert!(d < 1e-8, "MPI displacement differs from serial by {d:e}");
+    let resultant = |r: &serde_json::Value| -> Vec<f64> {
+        r["bodies"]["contacts"][0]["slave_resultant"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    let (a, b) = (resultant(&rs), resultant(&rp));
+    let size = a[0].hypot(a[1]);
+    assert!(size > 1e6, "{rs}");
+    assert!((a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-8 * size, "contact resultant serial {a:?}, MPI {b:?}");
+    assert_eq!(rp["bodies"]["bodies"].as_array().map(|b| b.len()), Some(2), "{rp}");
+    assert_eq!(rp["bodies"]["contacts"][0]["stick"], rs["bodies"]["contacts"][0]["stick"]);
+}
+
+#[test]
 fn contact_solver_from_the_command_line() {
     let reference = scratch("cs-ref");
     run_ok(bin().args(["run", "--quiet", "--out"]).arg(&reference));
@@ -1173,35 +1197,33 @@ fn gmsh_meshes_come_from_the_mesh_cache_the_second_time() {
 }
 
 #[test]
-fn several_bodies_are_checked_then_refused_without_an_answer() {
-    // Both example scenes with [[body]] tables: meshed and checked, then a clear error, exit 1,
-    // and no results written.
+fn several_bodies_run_and_other_commands_refuse() {
+    // `run` solves both example scenes with [[body]] tables and reports every body.
     for name in ["block_on_block", "two_cylinders"] {
         let dir = scratch(&format!("bodies-{name}"));
         let path = scene(&format!("examples/scenes/{name}.toml"));
-        let stderr = run_err(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&dir), 1);
-        assert!(
-            stderr.contains(&format!(
-                "{}: this scene has 2 bodies and 1 contact pair: several bodies are parsed and checked but not \
-                 solved yet in this version",
-                path.display()
-            )),
-            "{stderr}"
-        );
-        assert!(!dir.join("report.json").exists() && !dir.join("solution.vtu").exists());
-        // The other commands that solve say the same.
+        run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&dir));
+        let r = report(&dir);
+        let bodies = r["bodies"]["bodies"].as_array().unwrap_or_else(|| panic!("{name}: no bodies in {r}"));
+        assert_eq!(bodies.len(), 2, "{name}: {r}");
+        assert_eq!(r["bodies"]["contacts"].as_array().map(|c| c.len()), Some(1), "{name}: {r}");
+        assert!(dir.join("solution.vtu").exists(), "{name}");
+        // The other commands that solve still refuse, without an answer.
         let stderr = run_err(bin().arg("export").arg(&path).arg("--out").arg(dir.join("p.hdf5")), 1);
         assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
+        assert!(!dir.join("p.hdf5").exists());
     }
-    let stderr = run_err(
-        bin()
-            .args(["adapt", "--target", "5", "--quiet"])
-            .arg(scene("examples/scenes/block_on_block.toml"))
-            .arg("--out")
-            .arg(scratch("bodies-adapt")),
-        1,
-    );
-    assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{stderr}");
+    for command in [&["adapt", "--target", "5", "--quiet"][..], &["study", "--levels", "2", "--quiet"][..]] {
+        let stderr = run_err(
+            bin()
+                .args(command)
+                .arg(scene("examples/scenes/block_on_block.toml"))
+                .arg("--out")
+                .arg(scratch(&format!("bodies-{}", command[0]))),
+            1,
+        );
+        assert!(stderr.contains("several bodies are parsed and checked but not solved yet"), "{command:?}: {stderr}");
+    }
     // A mistake found once the meshes exist comes first, with its file and line.
     let dir = scratch("bodies-overlap");
     let text = std::fs::read_to_string(scene("examples/scenes/block_on_block.toml"))

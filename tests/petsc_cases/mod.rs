@@ -12,6 +12,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod adapt;
+mod bodies_blocks;
 mod bodies_hertz;
 mod contact;
 mod dual;
@@ -103,6 +104,11 @@ pub const TESTS: &[(&str, Case)] = &[
         "two_bodies_report_equilibrium_and_action_reaction",
         bodies_hertz::two_bodies_report_equilibrium_and_action_reaction,
     ),
+    ("two_body_patch_nonmatching_p1", bodies_blocks::two_body_patch_nonmatching_p1),
+    ("two_body_patch_nonmatching_p2", bodies_blocks::two_body_patch_nonmatching_p2),
+    ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),
+    ("three_block_stack", bodies_blocks::three_block_stack),
+    ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {
