@@ -164,12 +164,18 @@ fn layer_delassus(m: usize, height: f64, nu: f64) -> (DMatrix<f64>, Vec<f64>) {
 
 /// The indentation problem on the layer: gap `(x − x0)²/(2R)`, the top pushed down by
 /// `depth` and sideways by `shift` (so `u_free = (depth, shift)` at every point).
-fn indentation(m: usize, friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem {
+fn indentation(m: usize, friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem<'static> {
     let (w, xs) = layer_delassus(m, 0.5, 0.3);
     indentation_with(w, &xs, friction, depth, shift)
 }
 
-fn indentation_with(w: DMatrix<f64>, xs: &[f64], friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem {
+fn indentation_with(
+    w: DMatrix<f64>,
+    xs: &[f64],
+    friction: FrictionLaw,
+    depth: f64,
+    shift: f64,
+) -> CondensedProblem<'static> {
     let radius = 2.0;
     let gap: Vec<f64> = xs.iter().map(|x| (x - 0.05).powi(2) / (2.0 * radius)).collect();
     let free: Vec<f64> = xs.iter().flat_map(|_| [depth, shift]).collect();
@@ -227,7 +233,7 @@ fn assert_all_solvers_agree(problem: &CondensedProblem, what: &str) -> ContactSo
 // ---------------------------------------------------------------------------------------------
 
 /// One point, W = [[2, 0.5], [0.5, 1]].
-fn one_point(friction: FrictionLaw, free: [f64; 2], gap: f64) -> CondensedProblem {
+fn one_point(friction: FrictionLaw, free: [f64; 2], gap: f64) -> CondensedProblem<'static> {
     let w = DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0]);
     CondensedProblem::new(Delassus::Dense(w), free.to_vec(), vec![gap], friction, None).unwrap()
 }
@@ -302,7 +308,7 @@ fn one_point_slip() {
 }
 
 /// Two points, W = [[2, .3, 1, .2], [.3, 1, .1, .4], [1, .1, 2, .3], [.2, .4, .3, 1]] (SPD).
-fn two_points(friction: FrictionLaw, free: [f64; 4], gap: [f64; 2]) -> CondensedProblem {
+fn two_points(friction: FrictionLaw, free: [f64; 4], gap: [f64; 2]) -> CondensedProblem<'static> {
     let w = DMatrix::from_row_slice(
         4,
         4,
@@ -599,7 +605,7 @@ fn newton_iterations_do_not_grow_with_the_size() {
 
 /// μ = 10 with a large tangential drive: the undamped active set ping-pongs between two
 /// contact sets (one edge point in and out), neither of them the solution.
-fn cycling_problem() -> CondensedProblem {
+fn cycling_problem() -> CondensedProblem<'static> {
     let m = 20;
     let (w, xs) = layer_delassus(m, 0.5, 0.3);
     indentation_with(w, &xs, FrictionLaw::Coulomb { mu: vec![10.0; m] }, 0.02, 0.1)
@@ -719,7 +725,7 @@ fn dpana_reports_divergence_for_large_friction() {
 // Implicit operator
 // ---------------------------------------------------------------------------------------------
 
-fn as_operator(problem: &CondensedProblem) -> CondensedProblem {
+fn as_operator(problem: &CondensedProblem) -> CondensedProblem<'static> {
     let w = problem.delassus().as_dense().unwrap().clone();
     let size = w.nrows();
     let diagonal = w.diagonal().iter().copied().collect();
