@@ -321,7 +321,11 @@ impl CondensedDual<'_> {
             Some(f) => f(p),
             None => contact::solve(p, solver, s),
         };
-        let outcome = solve_with_equilibrium(&self.problem, &self.equilibrium, settings, run);
+        let accuracy = match (&self.interior, self.storage) {
+            (Interior::Columns(columns), Storage::Implicit) => columns.product_accuracy()?,
+            _ => 0.0,
+        };
+        let outcome = solve_with_equilibrium(&self.problem, &self.equilibrium, settings, accuracy, run);
         // A failed product (implicit storage) made the solver fail: its error is the cause.
         if let Interior::Columns(columns) = &self.interior {
             if let Some(e) = columns.take_error() {
@@ -330,9 +334,16 @@ impl CondensedDual<'_> {
         }
         let (mut solution, rigid, outer_iterations) = outcome?;
         if let (Storage::Implicit, Interior::Columns(columns)) = (self.storage, &self.interior) {
+            let floor = super::equilibrium::NOISE_MARGIN * accuracy;
             solution.notes.push(format!(
-                "implicit storage of W: {} products W x, each one solve with the interior block",
-                columns.products()
+                "implicit storage of W: {} products W x, each one solve with the interior block; relative accuracy of \
+                 the products {accuracy:.1e} (symmetry probe){}",
+                columns.products(),
+                if floor > 1e-2 * settings.tolerance {
+                    format!(", so no inner solve asked below {floor:.1e}")
+                } else {
+                    String::new()
+                }
             ));
         }
         // z = A_zz⁻¹ (b_z − A_zr r), never through W⁻¹: with the Schur factor one interior solve
