@@ -310,7 +310,7 @@ impl<'s> ColumnCondensation<'s> {
     }
 
     /// The diagonal the solvers scale with, for the implicit storage (module documentation):
-    /// uniform, the Rayleigh quotient `λ̂` of [`POWER_ITERATIONS`] power iterations on
+    /// uniform, the Rayleigh quotient `λ̂` of `POWER_ITERATIONS` (20) power iterations on
     /// products (close below `λmax(W)`, which bounds every diagonal entry).
     pub fn diagonal_estimate(&self) -> Result<Vec<f64>> {
         let n = self.size();
