@@ -164,12 +164,18 @@ fn layer_delassus(m: usize, height: f64, nu: f64) -> (DMatrix<f64>, Vec<f64>) {
 
 /// The indentation problem on the layer: gap `(x − x0)²/(2R)`, the top pushed down by
 /// `depth` and sideways by `shift` (so `u_free = (depth, shift)` at every point).
-fn indentation(m: usize, friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem {
+fn indentation(m: usize, friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem<'static> {
     let (w, xs) = layer_delassus(m, 0.5, 0.3);
     indentation_with(w, &xs, friction, depth, shift)
 }
 
-fn indentation_with(w: DMatrix<f64>, xs: &[f64], friction: FrictionLaw, depth: f64, shift: f64) -> CondensedProblem {
+fn indentation_with(
+    w: DMatrix<f64>,
+    xs: &[f64],
+    friction: FrictionLaw,
+    depth: f64,
+    shift: f64,
+) -> CondensedProblem<'static> {
     let radius = 2.0;
     let gap: Vec<f64> = xs.iter().map(|x| (x - 0.05).powi(2) / (2.0 * radius)).collect();
     let free: Vec<f64> = xs.iter().flat_map(|_| [depth, shift]).collect();
@@ -227,7 +233,7 @@ fn assert_all_solvers_agree(problem: &CondensedProblem, what: &str) -> ContactSo
 // ---------------------------------------------------------------------------------------------
 
 /// One point, W = [[2, 0.5], [0.5, 1]].
-fn one_point(friction: FrictionLaw, free: [f64; 2], gap: f64) -> CondensedProblem {
+fn one_point(friction: FrictionLaw, free: [f64; 2], gap: f64) -> CondensedProblem<'static> {
     let w = DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0]);
     CondensedProblem::new(Delassus::Dense(w), free.to_vec(), vec![gap], friction, None).unwrap()
 }
@@ -302,7 +308,7 @@ fn one_point_slip() {
 }
 
 /// Two points, W = [[2, .3, 1, .2], [.3, 1, .1, .4], [1, .1, 2, .3], [.2, .4, .3, 1]] (SPD).
-fn two_points(friction: FrictionLaw, free: [f64; 4], gap: [f64; 2]) -> CondensedProblem {
+fn two_points(friction: FrictionLaw, free: [f64; 4], gap: [f64; 2]) -> CondensedProblem<'static> {
     let w = DMatrix::from_row_slice(
         4,
         4,
@@ -599,7 +605,7 @@ fn newton_iterations_do_not_grow_with_the_size() {
 
 /// μ = 10 with a large tangential drive: the undamped active set ping-pongs between two
 /// contact sets (one edge point in and out), neither of them the solution.
-fn cycling_problem() -> CondensedProblem {
+fn cycling_problem() -> CondensedProblem<'static> {
     let m = 20;
     let (w, xs) = layer_delassus(m, 0.5, 0.3);
     indentation_with(w, &xs, FrictionLaw::Coulomb { mu: vec![10.0; m] }, 0.02, 0.1)
@@ -719,7 +725,7 @@ fn dpana_reports_divergence_for_large_friction() {
 // Implicit operator
 // ---------------------------------------------------------------------------------------------
 
-fn as_operator(problem: &CondensedProblem) -> CondensedProblem {
+fn as_operator(problem: &CondensedProblem) -> CondensedProblem<'static> {
     let w = problem.delassus().as_dense().unwrap().clone();
     let size = w.nrows();
     let diagonal = w.diagonal().iter().copied().collect();
@@ -771,6 +777,46 @@ fn dense_only_solvers_refuse_an_operator() {
             Err(Error::Usage(message)) => assert!(message.contains("Delassus::Dense"), "{message}"),
             other => panic!("expected a usage error, got {other:?}"),
         }
+    }
+}
+
+/// An implicit operator whose product borrows local data (a matrix, a counter in a `Cell`):
+/// neither `'static` nor `Sync`, as a product by PETSc solves is. The problem lives as long as
+/// what the product borrows; Uzawa and the semi-smooth Newton method solve it like the dense
+/// one, the dense-only solvers refuse it naming those that work.
+#[test]
+fn borrowed_operator_solves_like_dense() {
+    let m = 20;
+    let dense = indentation(m, FrictionLaw::Tresca { threshold: vec![0.04 / m as f64; m] }, 0.08, 0.03);
+    let w = dense.delassus().as_dense().unwrap().clone();
+    let products = std::cell::Cell::new(0usize);
+    let apply = |x: &[f64], y: &mut [f64]| {
+        products.set(products.get() + 1);
+        let product = &w * nalgebra::DVector::from_column_slice(x);
+        y.copy_from_slice(product.as_slice());
+    };
+    let diagonal = w.diagonal().iter().copied().collect();
+    let borrowed = CondensedProblem::new(
+        Delassus::Operator { size: w.nrows(), apply: Box::new(apply), diagonal },
+        dense.free_displacement().to_vec(),
+        dense.gap().to_vec(),
+        dense.friction().clone(),
+        None,
+    )
+    .unwrap();
+    let reference = solve(&dense, &ContactSolver::SemismoothNewton, &tight()).unwrap();
+    for solver in [ContactSolver::Uzawa { accelerated: true }, ContactSolver::SemismoothNewton] {
+        let before = products.get();
+        let solution = solve(&borrowed, &solver, &tight()).unwrap();
+        assert!(products.get() > before, "{} used no product", solver.name());
+        let difference = max_relative_difference(&solution.force, &reference.force);
+        assert!(difference < 1e-6, "{}: {difference:e}", solver.name());
+    }
+    match solve(&borrowed, &ContactSolver::ProjectedRelaxation { omega: 1.0 }, &tight()) {
+        Err(Error::Usage(message)) => {
+            assert!(message.contains("Uzawa") && message.contains("semi-smooth Newton"), "{message}")
+        }
+        other => panic!("expected a usage error, got {other:?}"),
     }
 }
 

@@ -12,9 +12,12 @@
 //! Schur complement, the three-step condensation ([`crate::dual::condensation`]) with a direct
 //! or an iterative solver of the interior (incomplete Cholesky by fill level and by drop
 //! tolerance, SSOR, hypre's PILUT; SYMMLQ for the talk's "brute" condensation), and the condensed contact solvers
-//! (semi-smooth Newton, projected relaxation, D-PANA, Uzawa) on the same flexibility. The
-//! iterative interior solvers need thousands of iterations on the HCT system: they run at 1e3
-//! only.
+//! (semi-smooth Newton, projected relaxation, D-PANA, Uzawa) on the same flexibility, and the
+//! implicit storage of the flexibility (`-dual_contact_storage implicit`: products by one
+//! interior MUMPS solve each, `W` never formed) with Uzawa — Uzawa on the full dual system —
+//! and with the semi-smooth Newton method (Krylov on products); these two run up to 1e4 (one
+//! interior solve per Uzawa iteration: thousands). The iterative interior solvers need
+//! thousands of iterations on the HCT system: they run at 1e3 only.
 use std::path::Path;
 use std::time::Instant;
 
@@ -50,6 +53,18 @@ pub static STRATEGIES: &[DualContactStrategy] = &[
     },
     DualContactStrategy { name: "MUMPS Schur + D-PANA", options: &[], contact_solver: "dpana", max_dofs: 20_000 },
     DualContactStrategy { name: "MUMPS Schur + Uzawa", options: &[], contact_solver: "uzawa", max_dofs: 20_000 },
+    DualContactStrategy {
+        name: "implicit W, MUMPS interior + Uzawa (full dual system)",
+        options: &[("-dual_contact_storage", Some("implicit"))],
+        contact_solver: "uzawa",
+        max_dofs: 20_000,
+    },
+    DualContactStrategy {
+        name: "implicit W, MUMPS interior + semi-smooth Newton (Krylov)",
+        options: &[("-dual_contact_storage", Some("implicit"))],
+        contact_solver: "newton",
+        max_dofs: 20_000,
+    },
     DualContactStrategy {
         name: "three-step, MUMPS + semi-smooth Newton",
         options: &[("-dual_contact_condensation", Some("columns"))],

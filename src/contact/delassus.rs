@@ -2,6 +2,19 @@
 //! operator giving products only; validated when a [`super::CondensedProblem`] is built
 //! (sizes, finite entries, symmetry, a positive diagonal, positive definiteness — for the
 //! operator by two deterministic probes).
+//!
+//! ## Implicit operators and lifetimes
+//!
+//! An implicit `W` is a product callback `y = W x` ([`DelassusProduct`]). The callback may
+//! borrow (or share through an `Rc`) what computes the products — in the dual formulation a
+//! factorisation or a KSP of the interior block, PETSc handles that live as long as the PETSc
+//! session `'s` and are neither `Send` nor `Sync` — so [`Delassus`] and
+//! [`super::CondensedProblem`] carry the lifetime `'a` of the callback, and the callback is not
+//! required to be `'static`, `Send` or `Sync`: a problem built on it lives only as long as what
+//! it borrows, which the borrow checker enforces. A dense `W` (or an owning closure) gives
+//! `Delassus<'static>`. A product that can fail (a linear solve) cannot return an error through
+//! the solvers: it writes NaN into `y` (every solver stops on a non-finite iterate) and its owner
+//! keeps the error, to be returned in place of the solver's (see `crate::dual::condensation`).
 use std::fmt;
 
 use nalgebra::DMatrix;
@@ -9,19 +22,22 @@ use nalgebra::DMatrix;
 use super::{check_finite, SYMMETRY_TOLERANCE};
 use crate::error::{Error, Result};
 
-/// `y = W x` for an implicit Delassus operator (`x`, `y` of the operator's size).
-pub type DelassusProduct = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
+/// `y = W x` for an implicit Delassus operator (`x`, `y` of the operator's size), valid for
+/// the lifetime `'a` (module documentation).
+pub type DelassusProduct<'a> = Box<dyn Fn(&[f64], &mut [f64]) + 'a>;
 
 /// The Delassus (flexibility) operator `W`, symmetric positive definite, `2m × 2m`.
-pub enum Delassus {
+pub enum Delassus<'a> {
     /// Explicit entries.
     Dense(DMatrix<f64>),
-    /// Implicit: only products `y = W x` are available (plus the diagonal, for scaling).
+    /// Implicit: only products `y = W x` are available (plus the diagonal, for scaling: the
+    /// augmentation parameters, the Jacobi preconditioner of the Krylov solves and the
+    /// residual scales; an estimate of it is enough, every solver stays correct).
     /// Enough for Uzawa and the semi-smooth Newton method (Krylov linear solves).
-    Operator { size: usize, apply: DelassusProduct, diagonal: Vec<f64> },
+    Operator { size: usize, apply: DelassusProduct<'a>, diagonal: Vec<f64> },
 }
 
-impl fmt::Debug for Delassus {
+impl fmt::Debug for Delassus<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Delassus::Dense(w) => write!(f, "Delassus::Dense({}×{})", w.nrows(), w.ncols()),
@@ -30,7 +46,7 @@ impl fmt::Debug for Delassus {
     }
 }
 
-impl Delassus {
+impl Delassus<'_> {
     /// Number of rows (= columns) of `W`.
     pub fn size(&self) -> usize {
         match self {
@@ -72,7 +88,7 @@ impl Delassus {
     }
 }
 
-pub(super) fn validate_delassus(delassus: Delassus, n: usize) -> Result<Delassus> {
+pub(super) fn validate_delassus(delassus: Delassus<'_>, n: usize) -> Result<Delassus<'_>> {
     match delassus {
         Delassus::Dense(w) => {
             if w.nrows() != n || w.ncols() != n {

@@ -71,7 +71,7 @@ pub mod boundary;
 mod box_qp;
 mod delassus;
 mod dpana;
-mod krylov;
+pub(crate) mod krylov;
 pub mod mortar;
 pub mod obstacle;
 mod projected_relaxation;
@@ -84,7 +84,7 @@ use delassus::validate_delassus;
 pub use delassus::{Delassus, DelassusProduct};
 pub use residuals::{evaluate as evaluate_residuals, ContactResiduals, ResidualScale};
 
-use std::sync::Arc;
+use std::rc::Rc;
 
 use crate::error::{Error, Result};
 
@@ -148,8 +148,8 @@ impl FrictionLaw {
 
 /// The condensed contact problem. Built by [`CondensedProblem::new`], which validates it.
 #[derive(Debug, Clone)]
-pub struct CondensedProblem {
-    delassus: Arc<Delassus>,
+pub struct CondensedProblem<'a> {
+    delassus: Rc<Delassus<'a>>,
     free_displacement: Vec<f64>,
     gap: Vec<f64>,
     friction: FrictionLaw,
@@ -319,7 +319,7 @@ fn check_per_point(values: &[f64], m: usize, what: &str, must_be_positive: bool)
     Ok(())
 }
 
-impl CondensedProblem {
+impl<'a> CondensedProblem<'a> {
     /// Validates and builds the problem.
     ///
     /// - `delassus`: `2m × 2m`, symmetric (to 1e-8 relative; the symmetric part is kept) and
@@ -330,7 +330,7 @@ impl CondensedProblem {
     ///   coefficients are all zero is stored as [`FrictionLaw::None`];
     /// - `weights`: one value `> 0` per point, or `None` for unit weights.
     pub fn new(
-        delassus: Delassus,
+        delassus: Delassus<'a>,
         free_displacement: Vec<f64>,
         gap: Vec<f64>,
         friction: FrictionLaw,
@@ -365,7 +365,7 @@ impl CondensedProblem {
         let diagonal = delassus.diagonal();
         let augmentation = augmentation(&diagonal);
         Ok(CondensedProblem {
-            delassus: Arc::new(delassus),
+            delassus: Rc::new(delassus),
             free_displacement,
             gap,
             friction,
@@ -380,7 +380,7 @@ impl CondensedProblem {
         self.gap.len()
     }
 
-    pub fn delassus(&self) -> &Delassus {
+    pub fn delassus(&self) -> &Delassus<'a> {
         &self.delassus
     }
 

@@ -30,7 +30,9 @@
 //! 500 iterations without a 0.1 % improvement of the best residual (Coulomb with a large μ)
 //! end the iteration with [`Error::SolverDiverged`](crate::error::Error::SolverDiverged).
 //!
-//! Works with [`Delassus::Operator`](super::Delassus::Operator) (products only).
+//! Works with [`Delassus::Operator`](super::Delassus::Operator) (products only). On the dual
+//! formulation's implicit flexibility, whose product is one solve of the dual system with the
+//! forces as data, this is Uzawa on the full dual system ([`crate::dual::condensation`]).
 use super::{
     classify, residuals, update_states, CondensedProblem, ContactSolver, FrictionLaw, IterationRecord, Run,
     SolverSettings,

@@ -25,6 +25,46 @@
 //! `-dual_contact_condensation schur|columns`; without it, `columns` when the dual's linear
 //! solver is configured (`-ksp_type`/`-pc_type`, under `-dual_` next to a primal solve), else
 //! `schur` — as the primal chooses between its Schur factorisation and its KSP.
+//!
+//! ## Implicit storage of D (`-dual_contact_storage implicit`)
+//!
+//! The talk's other storage of D: `W` is never formed, each product is one interior solve
+//! with the same solver of `A_zz` as the three-step condensation (MUMPS factorised once by
+//! default, or any KSP and preconditioner),
+//!
+//! ```text
+//!   y = W x = A_rr x − A_rz (A_zz⁻¹ (A_zr x))          (A_rr, A_zr kept sparse)
+//! ```
+//!
+//! A condensed solver that needs products only then runs on it: projected gradient (Uzawa)
+//! and the semi-smooth Newton method (its Newton systems by conjugate gradients or GMRES on
+//! products, [`crate::contact`]). Uzawa on this operator is **Uzawa on the full dual system**,
+//! the talk's saddle-point route (Arrow, Hurwicz & Uzawa 1958; for contact Glowinski, Lions &
+//! Trémolières, "Analyse numérique des inéquations variationnelles", Dunod 1976, and Kikuchi
+//! & Oden, "Contact problems in elasticity", SIAM 1988, ch. 6): with the forces `r_k` as data,
+//! one solve of the dual system's interior rows `A_zz z_k = b_z − A_zr r_k` gives the contact
+//! displacement (the multiplier of the force unknowns)
+//! `u_k = A_rz z_k + A_rr r_k − b_r = W r_k + u_free`, and the forces are updated by the
+//! projected step `r_{k+1} = P_K(r_k − ρ (u_k − g̃))` ([`crate::contact`]'s Uzawa, `P_K` the
+//! projection on `rN ≤ 0`, `|rT| ≤ s`); `ρ = 1/λ̂`, `λ̂` a power-iteration estimate of
+//! `λmax(W) = ‖W‖₂` from products (no user parameter). `u_free` itself costs one solve (`ℓ`).
+//!
+//! The solvers that need entries of `W` (projected relaxation, D-PANA, TAO, the dense Newton
+//! factorisations) are refused with implicit storage ([`Error::Usage`]). The diagonal of `W`
+//! that the solvers use for scaling (augmentation parameters, Jacobi preconditioner, residual
+//! scales) would cost one solve per force, as much as forming `W`: it is replaced by a uniform
+//! value, the power-iteration estimate of `λmax(W)` (20 products). The diagonal of `A_rr`, an
+//! upper bound of `diag(W)` available for free, was measured useless for this: on the square
+//! block it varies by 1000× along the contact side where `diag(W)` varies by 8× (the forces
+//! upstream along the boundary load every unknown downstream until `A_zz⁻¹` relaxes them). Every
+//! solver stays correct with any positive scaling; the semi-smooth Newton method takes more
+//! steps with it (13 against 3 on that block), Uzawa's step does not depend on it.
+//!
+//! A product that fails (a PETSc error, a Krylov method that does not converge) writes NaN
+//! (the solvers stop on a non-finite iterate) and keeps the error, which the caller returns
+//! in place of the solver's ([`ColumnCondensation::take_error`]).
+use std::cell::{Cell, RefCell};
+
 use nalgebra::DMatrix;
 
 use super::system::ReducedRows;
@@ -33,6 +73,38 @@ use crate::petsc::{LinearSolver, Matrix, Session, SolveStats};
 
 /// The option that names the condensation.
 pub const CONDENSATION_OPTION: &str = "-dual_contact_condensation";
+/// The option that names the storage of `W`.
+pub const STORAGE_OPTION: &str = "-dual_contact_storage";
+
+/// Power iterations of the diagonal estimate of the implicit storage.
+const POWER_ITERATIONS: usize = 20;
+
+/// The talk's storages of D (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Storage {
+    /// `W` formed, dense (by the condensation).
+    Dense,
+    /// `W` never formed: products by interior solves.
+    Implicit,
+}
+
+impl Storage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Storage::Dense => "dense",
+            Storage::Implicit => "implicit",
+        }
+    }
+
+    /// `-dual_contact_storage dense|implicit`, dense without it.
+    pub fn from_options(session: &Session) -> Result<Self> {
+        match session.option(STORAGE_OPTION)?.as_deref() {
+            None | Some("dense") => Ok(Storage::Dense),
+            Some("implicit") => Ok(Storage::Implicit),
+            Some(other) => Err(Error::Usage(format!("{STORAGE_OPTION} takes dense or implicit (got \"{other}\")"))),
+        }
+    }
+}
 
 /// The talk's condensation strategies (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,11 +122,26 @@ impl Condensation {
     }
 
     /// The condensation asked for (see the module documentation); `prefix` is the dual's
-    /// PETSc options prefix.
-    pub fn from_options(session: &Session, prefix: &str) -> Result<Self> {
+    /// PETSc options prefix. With implicit storage the interior is solved by the three-step
+    /// condensation's solver (`columns`, without forming `W`); `schur` is refused.
+    pub fn from_options(session: &Session, prefix: &str, storage: Storage) -> Result<Self> {
         let configured =
             session.has_option(&format!("-{prefix}ksp_type"))? || session.has_option(&format!("-{prefix}pc_type"))?;
-        match session.option(CONDENSATION_OPTION)?.as_deref() {
+        let asked = session.option(CONDENSATION_OPTION)?;
+        if storage == Storage::Implicit {
+            return match asked.as_deref() {
+                None | Some("columns") => Ok(Condensation::Columns),
+                Some("schur") => Err(Error::Usage(format!(
+                    "{STORAGE_OPTION} implicit never forms W: its products are solves with the interior block \
+                     (MUMPS by default, or -{prefix}ksp_type/-{prefix}pc_type), not the Schur complement; drop \
+                     {CONDENSATION_OPTION} schur or use {STORAGE_OPTION} dense"
+                ))),
+                Some(other) => {
+                    Err(Error::Usage(format!("{CONDENSATION_OPTION} takes schur or columns (got \"{other}\")")))
+                }
+            };
+        }
+        match asked.as_deref() {
             None => Ok(if configured { Condensation::Columns } else { Condensation::Schur }),
             Some("schur") if configured => Err(Error::Usage(format!(
                 "{CONDENSATION_OPTION} schur factorises with MUMPS and the Schur complement: drop -{prefix}ksp_type and \
@@ -68,18 +155,24 @@ impl Condensation {
 }
 
 /// The three-step condensation's pieces: `A_zz` with its solver, the coupling `A_zr` by
-/// columns and `A_rr`.
+/// columns and `A_rr` (sparse). Its solves take `&self` (the solver and the counters are
+/// behind cells), so that an implicit `W` can share it ([`ColumnCondensation::product`]).
 pub struct ColumnCondensation<'s> {
     interior: Matrix<'s>,
-    solver: LinearSolver<'s>,
+    solver: RefCell<LinearSolver<'s>>,
     /// Column `j` of `A_zr` (rows of `z`), sparse; by symmetry row `j` of `A_rz`.
     coupling: Vec<Vec<(usize, f64)>>,
-    a_rr: DMatrix<f64>,
+    /// Row `i` of `A_rr`, sparse (column indices relative to the contact block).
+    a_rr: Vec<Vec<(usize, f64)>>,
     num_interior: usize,
-    /// Linear solves so far, and their iterations.
-    pub solves: usize,
-    pub iterations: usize,
-    pub seconds: f64,
+    /// Linear solves so far, their iterations and seconds.
+    solves: Cell<usize>,
+    iterations: Cell<usize>,
+    seconds: Cell<f64>,
+    /// Products `W x` so far (implicit storage).
+    products: Cell<usize>,
+    /// The first error of a product (module documentation).
+    error: RefCell<Option<Error>>,
 }
 
 impl<'s> ColumnCondensation<'s> {
@@ -91,7 +184,7 @@ impl<'s> ColumnCondensation<'s> {
         let m = n - nz;
         let (mut indptr, mut indices, mut values) = (vec![0usize], Vec::new(), Vec::new());
         let mut coupling = vec![Vec::new(); m];
-        let mut a_rr = DMatrix::zeros(m, m);
+        let mut a_rr = vec![Vec::new(); m];
         for i in 0..n {
             for k in rows.indptr[i]..rows.indptr[i + 1] {
                 let (j, v) = (rows.indices[k], rows.values[k]);
@@ -101,7 +194,7 @@ impl<'s> ColumnCondensation<'s> {
                         values.push(v);
                     }
                     (true, false) => coupling[j - nz].push((i, v)),
-                    (false, false) => a_rr[(i - nz, j - nz)] = v,
+                    (false, false) => a_rr[i - nz].push((j - nz, v)),
                     (false, true) => {}
                 }
             }
@@ -115,24 +208,31 @@ impl<'s> ColumnCondensation<'s> {
         solver.set_operator(&interior)?;
         Ok(ColumnCondensation {
             interior,
-            solver,
+            solver: RefCell::new(solver),
             coupling,
             a_rr,
             num_interior: nz,
-            solves: 0,
-            iterations: 0,
-            seconds: 0.0,
+            solves: Cell::new(0),
+            iterations: Cell::new(0),
+            seconds: Cell::new(0.0),
+            products: Cell::new(0),
+            error: RefCell::new(None),
         })
     }
 
-    fn solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>> {
+    /// Number of contact unknowns.
+    pub fn size(&self) -> usize {
+        self.coupling.len()
+    }
+
+    fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>> {
         let mut b = self.interior.create_vector()?;
         b.set_owned(rhs)?;
         let mut x = self.interior.create_vector()?;
-        let stats = self.solver.solve(&self.interior, &b, &mut x)?;
-        self.solves += 1;
-        self.iterations += stats.iterations;
-        self.seconds += stats.seconds;
+        let stats = self.solver.borrow_mut().solve(&self.interior, &b, &mut x)?;
+        self.solves.set(self.solves.get() + 1);
+        self.iterations.set(self.iterations.get() + stats.iterations);
+        self.seconds.set(self.seconds.get() + stats.seconds);
         x.gather_all()
     }
 
@@ -141,11 +241,34 @@ impl<'s> ColumnCondensation<'s> {
         self.coupling.iter().map(|col| col.iter().map(|&(i, v)| v * y[i]).sum()).collect()
     }
 
+    /// `A_zr x` on the interior rows.
+    fn coupling_times(&self, x: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.num_interior];
+        for (col, xj) in self.coupling.iter().zip(x) {
+            if *xj != 0.0 {
+                for &(i, v) in col {
+                    out[i] += v * xj;
+                }
+            }
+        }
+        out
+    }
+
+    /// `A_rr x`.
+    fn a_rr_times(&self, x: &[f64]) -> Vec<f64> {
+        self.a_rr.iter().map(|row| row.iter().map(|&(j, v)| v * x[j]).sum()).collect()
+    }
+
     /// `W = A_rr − A_rz A_zz⁻¹ A_zr`, one solve per column (symmetrised), with `progress`
     /// told every 50 columns.
-    pub fn flexibility(&mut self, progress: &mut dyn FnMut(usize, usize)) -> Result<DMatrix<f64>> {
+    pub fn flexibility(&self, progress: &mut dyn FnMut(usize, usize)) -> Result<DMatrix<f64>> {
         let m = self.coupling.len();
-        let mut w = self.a_rr.clone();
+        let mut w = DMatrix::zeros(m, m);
+        for (i, row) in self.a_rr.iter().enumerate() {
+            for &(j, v) in row {
+                w[(i, j)] += v;
+            }
+        }
         let mut rhs = vec![0.0; self.num_interior];
         for j in 0..m {
             rhs.fill(0.0);
@@ -163,26 +286,98 @@ impl<'s> ColumnCondensation<'s> {
         Ok(0.5 * (&w + w.transpose()))
     }
 
+    /// `y = W x = A_rr x − A_rz A_zz⁻¹ A_zr x` by one interior solve (implicit storage). On a
+    /// failed solve `y` is NaN and the error is kept ([`ColumnCondensation::take_error`]).
+    pub fn product(&self, x: &[f64], y: &mut [f64]) {
+        self.products.set(self.products.get() + 1);
+        let solved = if x.iter().all(|v| *v == 0.0) {
+            Ok(vec![0.0; self.num_interior])
+        } else {
+            self.solve(&self.coupling_times(x))
+        };
+        match solved {
+            Ok(z) => {
+                let a = self.a_rr_times(x);
+                for ((yi, ai), ci) in y.iter_mut().zip(a).zip(self.coupling_transpose(&z)) {
+                    *yi = ai - ci;
+                }
+            }
+            Err(e) => {
+                y.fill(f64::NAN);
+                self.error.borrow_mut().get_or_insert(e);
+            }
+        }
+    }
+
+    /// The diagonal the solvers scale with, for the implicit storage (module documentation):
+    /// uniform, the Rayleigh quotient `λ̂` of `POWER_ITERATIONS` (20) power iterations on
+    /// products (close below `λmax(W)`, which bounds every diagonal entry).
+    pub fn diagonal_estimate(&self) -> Result<Vec<f64>> {
+        let n = self.size();
+        let mut x: Vec<f64> = (0..n).map(|k| 1.0 + 0.1 * ((k % 7) as f64) / 7.0).collect();
+        let mut y = vec![0.0; n];
+        let mut rayleigh = 0.0f64;
+        for _ in 0..POWER_ITERATIONS {
+            let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+            x.iter_mut().for_each(|v| *v /= norm);
+            self.product(&x, &mut y);
+            if let Some(e) = self.take_error() {
+                return Err(e);
+            }
+            rayleigh = x.iter().zip(&y).map(|(a, b)| a * b).sum();
+            std::mem::swap(&mut x, &mut y);
+        }
+        Ok(vec![rayleigh; n])
+    }
+
+    /// The relative accuracy of the products, measured by their symmetry: for two fixed probes
+    /// `x`, `y`, `|xᵀWy − yᵀWx| / (|x| |Wy| + |y| |Wx|)` (zero for exact products of the
+    /// symmetric `W`). The cancellation in `A_rr x − A_rz A_zz⁻¹ A_zr x` (`A_rr` is up to 1000×
+    /// larger than `W` on the square block) leaves noise of this size in every product.
+    pub fn product_accuracy(&self) -> Result<f64> {
+        let n = self.size();
+        let x: Vec<f64> = (0..n).map(|k| 1.0 + 0.37 * ((k * 7 % 11) as f64)).collect();
+        let y: Vec<f64> = (0..n).map(|k| ((k * 5 % 13) as f64) - 6.0).collect();
+        let (mut wx, mut wy) = (vec![0.0; n], vec![0.0; n]);
+        self.product(&x, &mut wx);
+        self.product(&y, &mut wy);
+        if let Some(e) = self.take_error() {
+            return Err(e);
+        }
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| p * q).sum::<f64>();
+        let norm = |a: &[f64]| dot(a, a).sqrt();
+        let scale = norm(&x) * norm(&wy) + norm(&y) * norm(&wx);
+        Ok((dot(&x, &wy) - dot(&y, &wx)).abs() / scale.max(f64::MIN_POSITIVE))
+    }
+
+    /// The first error of a product since the last call, if any.
+    pub fn take_error(&self) -> Option<Error> {
+        self.error.borrow_mut().take()
+    }
+
+    /// Products `W x` computed so far.
+    pub fn products(&self) -> usize {
+        self.products.get()
+    }
+
     /// `ℓ = −A_rz A_zz⁻¹ b_z`.
-    pub fn condensed_load(&mut self, b_z: &[f64]) -> Result<Vec<f64>> {
+    pub fn condensed_load(&self, b_z: &[f64]) -> Result<Vec<f64>> {
         let x = self.solve(b_z)?;
         Ok(self.coupling_transpose(&x).into_iter().map(|v| -v).collect())
     }
 
     /// The interior `z = A_zz⁻¹ (b_z − A_zr r)` for the forces `r`.
-    pub fn interior(&mut self, b_z: &[f64], r: &[f64]) -> Result<Vec<f64>> {
+    pub fn interior(&self, b_z: &[f64], r: &[f64]) -> Result<Vec<f64>> {
         let mut rhs = b_z.to_vec();
-        for (col, rj) in self.coupling.iter().zip(r) {
-            for &(i, v) in col {
-                rhs[i] -= v * rj;
-            }
+        for (a, c) in rhs.iter_mut().zip(self.coupling_times(r)) {
+            *a -= c;
         }
         self.solve(&rhs)
     }
 
     /// What the solves were, for the report.
-    pub fn stats(&self) -> SolveStats {
-        let mut s = self.solver.last_stats().unwrap_or(SolveStats {
+    pub fn stats(&self, storage: Storage) -> SolveStats {
+        let mut s = self.solver.borrow().last_stats().unwrap_or(SolveStats {
             ksp_type: String::new(),
             pc_type: String::new(),
             factor_package: None,
@@ -191,9 +386,16 @@ impl<'s> ColumnCondensation<'s> {
             relative_residual: 0.0,
             seconds: 0.0,
         });
-        s.iterations = self.iterations;
-        s.seconds = self.seconds;
-        s.converged_reason = format!("{} solves with A_zz (three-step condensation)", self.solves);
+        s.iterations = self.iterations.get();
+        s.seconds = self.seconds.get();
+        s.converged_reason = match storage {
+            Storage::Dense => format!("{} solves with A_zz (three-step condensation)", self.solves.get()),
+            Storage::Implicit => format!(
+                "{} solves with A_zz (implicit storage of W: {} products W x, W never formed)",
+                self.solves.get(),
+                self.products.get()
+            ),
+        };
         s
     }
 }

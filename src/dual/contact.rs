@@ -65,9 +65,12 @@
 //! résultats et calcul d'erreur" (slides "Formulation en contraintes", "Résolution numérique
 //! duale 1–4"); the semi-smooth (piecewise linear) Newton step: L. Qi, J. Sun, "A nonsmooth
 //! version of Newton's method", Math. Programming 58 (1993).
-use nalgebra::{DMatrix, DVector};
+use std::rc::Rc;
 
-use super::condensation::{ColumnCondensation, Condensation};
+use nalgebra::DMatrix;
+
+use super::condensation::{ColumnCondensation, Condensation, Storage};
+pub use super::equilibrium::{solve_with_equilibrium, ContactEquilibrium};
 use super::system::DualSystem;
 use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver, Delassus, FrictionLaw, SolverSettings};
 use crate::error::{Error, Result};
@@ -120,61 +123,12 @@ pub fn contact_points(system: &DualSystem, mesh: &Mesh, node_gap: &dyn Fn([f64; 
     points.into_iter().flatten().collect()
 }
 
-/// The equilibrium conditions `E r = e` on the contact forces (dense, one row per condition).
-#[derive(Debug, Clone)]
-pub struct ContactEquilibrium {
-    pub matrix: DMatrix<f64>,
-    pub rhs: Vec<f64>,
-}
-
-impl ContactEquilibrium {
-    pub fn new(system: &DualSystem) -> Self {
-        let rows = &system.affine.contact_equilibrium;
-        let n = system.affine.num_contact;
-        let mut matrix = DMatrix::zeros(rows.len(), n);
-        for (i, (terms, _)) in rows.iter().enumerate() {
-            for &(j, c) in terms {
-                matrix[(i, j)] += c;
-            }
-        }
-        ContactEquilibrium { matrix, rhs: rows.iter().map(|r| r.1).collect() }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.rhs.is_empty()
-    }
-
-    /// `E r − e` and, per row, its scale `|e_i| + Σ_j |E_ij r_j|`.
-    pub fn residual(&self, r: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        (0..self.rhs.len())
-            .map(|i| {
-                let row = self.matrix.row(i);
-                let value: f64 = row.iter().zip(r).map(|(a, b)| a * b).sum::<f64>() - self.rhs[i];
-                let scale: f64 = self.rhs[i].abs() + row.iter().zip(r).map(|(a, b)| (a * b).abs()).sum::<f64>();
-                (value, scale)
-            })
-            .unzip()
-    }
-
-    /// The largest `|E r − e|_i / scale_i`.
-    /// relative to the largest scale of all rows (a row that round-off only balances, such as
-    /// the horizontal force of a symmetric frictionless problem, is measured against the loads).
-    pub fn relative_residual(&self, r: &[f64]) -> f64 {
-        let (value, scale) = self.residual(r);
-        let scale = scale.iter().fold(0.0f64, |m, s| m.max(*s)).max(f64::MIN_POSITIVE);
-        value.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale
-    }
-
-    /// `Eᵀ ρ`.
-    pub fn transpose_times(&self, rho: &[f64]) -> Vec<f64> {
-        (self.matrix.transpose() * DVector::from_column_slice(rho)).iter().copied().collect()
-    }
-}
-
 /// The assembled and factorised dual contact problem, condensed onto the contact forces.
 pub struct CondensedDual<'s> {
-    /// `W`, `u_free`, the gaps, the friction law and the weights `w`.
-    pub problem: CondensedProblem,
+    /// `W` (dense, or implicit: products by interior solves), `u_free`, the gaps, the friction
+    /// law and the weights `w`.
+    pub problem: CondensedProblem<'s>,
+    pub storage: Storage,
     pub equilibrium: ContactEquilibrium,
     pub matrix: Matrix<'s>,
     /// The reduced right-hand side `b` (all rows).
@@ -191,13 +145,15 @@ pub struct CondensedDual<'s> {
 enum Interior<'s> {
     /// The MUMPS factor of the whole matrix, its Schur block the identity.
     Schur(SchurFactor<'s>),
-    /// `A_zz` and its linear solver (three-step condensation).
-    Columns(Box<ColumnCondensation<'s>>),
+    /// `A_zz` and its linear solver (three-step condensation, or implicit storage: then
+    /// shared with the product of `W`).
+    Columns(Rc<ColumnCondensation<'s>>),
 }
 
 /// Assemble the dual system with its contact forces and condense it onto them, by
-/// `condensation` (the `columns` route reads its linear solver's options under `prefix`);
-/// `progress(done, total)` is told of the flexibility columns.
+/// `condensation` (the `columns` route reads its linear solver's options under `prefix`), `W`
+/// stored as `storage` says (implicit: `condensation` must be `Columns`, whose solver gives
+/// the products); `progress(done, total)` is told of the flexibility columns.
 #[allow(clippy::too_many_arguments)]
 pub fn condense<'s>(
     session: &'s Session,
@@ -206,9 +162,17 @@ pub fn condense<'s>(
     points: &[DualContactPoint],
     friction: FrictionLaw,
     condensation: Condensation,
+    storage: Storage,
     prefix: &str,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<CondensedDual<'s>> {
+    if storage == Storage::Implicit && condensation != Condensation::Columns {
+        return Err(Error::Usage(
+            "the implicit storage of W computes its products with the interior solver of the three-step \
+             condensation (columns), not with the Schur complement"
+                .into(),
+        ));
+    }
     if session.size() != 1 {
         return Err(Error::Usage(
             "contact in the dual formulation runs on one process (the Schur complement on the contact forces is \
@@ -232,8 +196,8 @@ pub fn condense<'s>(
     let assemble_seconds = start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
     let m2 = nm - nz;
-    let (w, condensed_load, interior) = match condensation {
-        Condensation::Schur => {
+    let (delassus, condensed_load, interior) = match (condensation, storage) {
+        (Condensation::Schur, _) => {
             let schur_rows: Vec<usize> = (nz..nm).collect();
             session.prefer_mumps_ordering("", 4)?;
             let factor = SchurFactor::with_complement(session, &matrix, &schur_rows)?;
@@ -257,13 +221,21 @@ pub fn condense<'s>(
             let mut x = matrix.create_vector()?;
             factor.solve_interior(&b, &mut x)?;
             let condensed_load = x.gather_all()?[nz..].to_vec();
-            (w, condensed_load, Interior::Schur(factor))
+            (Delassus::Dense(w), condensed_load, Interior::Schur(factor))
         }
-        Condensation::Columns => {
-            let mut columns = Box::new(ColumnCondensation::new(session, &rows, nz, prefix)?);
+        (Condensation::Columns, Storage::Dense) => {
+            let columns = Rc::new(ColumnCondensation::new(session, &rows, nz, prefix)?);
             let w = columns.flexibility(progress)?;
             let condensed_load = columns.condensed_load(&rows.rhs[..nz])?;
-            (w, condensed_load, Interior::Columns(columns))
+            (Delassus::Dense(w), condensed_load, Interior::Columns(columns))
+        }
+        (Condensation::Columns, Storage::Implicit) => {
+            let columns = Rc::new(ColumnCondensation::new(session, &rows, nz, prefix)?);
+            let condensed_load = columns.condensed_load(&rows.rhs[..nz])?;
+            let diagonal = columns.diagonal_estimate()?;
+            let shared = Rc::clone(&columns);
+            let apply: contact::DelassusProduct<'s> = Box::new(move |x: &[f64], y: &mut [f64]| shared.product(x, y));
+            (Delassus::Operator { size: m2, apply, diagonal }, condensed_load, Interior::Columns(columns))
         }
     };
     let factor_seconds = start.elapsed().as_secs_f64();
@@ -271,14 +243,22 @@ pub fn condense<'s>(
     // −(b_r + ℓ) without any solve with W.
     let u_free: Vec<f64> = (0..m2).map(|k| -(rows.rhs[nz + k] + condensed_load[k])).collect();
     let problem = CondensedProblem::new(
-        Delassus::Dense(w),
+        delassus,
         u_free,
         points.iter().map(|p| p.gap).collect(),
         friction,
         Some(points.iter().map(|p| p.weight).collect()),
-    )?;
+    );
+    // The validation's probe products are solves: their error first.
+    if let Interior::Columns(columns) = &interior {
+        if let Some(e) = columns.take_error() {
+            return Err(e);
+        }
+    }
+    let problem = problem?;
     Ok(CondensedDual {
         problem,
+        storage,
         equilibrium: ContactEquilibrium::new(system),
         matrix,
         rhs: rows.rhs,
@@ -288,6 +268,9 @@ pub fn condense<'s>(
         factor_seconds,
     })
 }
+
+/// A condensed solver from outside this module (TAO).
+pub type ExternalSolver<'f> = &'f dyn Fn(&CondensedProblem) -> Result<ContactSolution>;
 
 /// A solved dual contact problem.
 pub struct DualContactAnswer {
@@ -319,7 +302,7 @@ impl CondensedDual<'_> {
                 seconds: self.assemble_seconds + self.factor_seconds + contact_seconds,
             },
             Interior::Columns(c) => {
-                let mut s = c.stats();
+                let mut s = c.stats(self.storage);
                 s.seconds = self.assemble_seconds + self.factor_seconds + contact_seconds;
                 s
             }
@@ -332,14 +315,37 @@ impl CondensedDual<'_> {
         system: &DualSystem,
         solver: &ContactSolver,
         settings: &SolverSettings,
-        tao: Option<&dyn Fn(&CondensedProblem) -> Result<ContactSolution>>,
+        tao: Option<ExternalSolver<'_>>,
     ) -> Result<DualContactAnswer> {
         let run = |p: &CondensedProblem, s: &SolverSettings| match tao {
             Some(f) => f(p),
             None => contact::solve(p, solver, s),
         };
-        let (solution, rigid, outer_iterations) =
-            solve_with_equilibrium(&self.problem, &self.equilibrium, settings, run)?;
+        let accuracy = match (&self.interior, self.storage) {
+            (Interior::Columns(columns), Storage::Implicit) => columns.product_accuracy()?,
+            _ => 0.0,
+        };
+        let outcome = solve_with_equilibrium(&self.problem, &self.equilibrium, settings, accuracy, run);
+        // A failed product (implicit storage) made the solver fail: its error is the cause.
+        if let Interior::Columns(columns) = &self.interior {
+            if let Some(e) = columns.take_error() {
+                return Err(e);
+            }
+        }
+        let (mut solution, rigid, outer_iterations) = outcome?;
+        if let (Storage::Implicit, Interior::Columns(columns)) = (self.storage, &self.interior) {
+            let floor = super::equilibrium::NOISE_MARGIN * accuracy;
+            solution.notes.push(format!(
+                "implicit storage of W: {} products W x, each one solve with the interior block; relative accuracy of \
+                 the products {accuracy:.1e} (symmetry probe){}",
+                columns.products(),
+                if floor > 1e-2 * settings.tolerance {
+                    format!(", so no inner solve asked below {floor:.1e}")
+                } else {
+                    String::new()
+                }
+            ));
+        }
         // z = A_zz⁻¹ (b_z − A_zr r), never through W⁻¹: with the Schur factor one interior solve
         // (forces r − ℓ on the contact rows: see `SchurFactor::solve_interior`), with the
         // three-step condensation one solve with A_zz.
@@ -380,232 +386,4 @@ impl CondensedDual<'_> {
         let phi = system.affine.expand(&reduced);
         Ok(DualContactAnswer { solution, rigid, outer_iterations, reduced, phi, displacement_check })
     }
-}
-
-/// Outer (Newton) steps on the rigid displacements at most.
-const MAX_OUTER: usize = 50;
-/// Relative residual of `E r = e` accepted when the iteration cannot go further.
-const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
-
-/// Solve `problem` subject to `E r = e` (see the module documentation). `run` solves one
-/// box-constrained problem; it is called with `u_free + Eᵀ ρ` for the current rigid
-/// displacements `ρ`.
-pub fn solve_with_equilibrium(
-    problem: &CondensedProblem,
-    equilibrium: &ContactEquilibrium,
-    settings: &SolverSettings,
-    run: impl Fn(&CondensedProblem, &SolverSettings) -> Result<ContactSolution>,
-) -> Result<(ContactSolution, Vec<f64>, usize)> {
-    // Without friction the tangential forces stay zero: drop them from the conditions; a row
-    // left empty (the tangential resultant) must hold already, or the body slides.
-    let original = equilibrium;
-    let reduced;
-    let mut kept: Vec<usize> = (0..original.rhs.len()).collect();
-    let frictionless = matches!(problem.friction(), FrictionLaw::None);
-    let equilibrium = if frictionless {
-        let mut matrix = original.matrix.clone();
-        for j in (1..matrix.ncols()).step_by(2) {
-            matrix.column_mut(j).fill(0.0);
-        }
-        let load = original.rhs.iter().fold(0.0f64, |m, e| m.max(e.abs()));
-        kept.retain(|&i| matrix.row(i).amax() > 0.0);
-        for i in 0..original.rhs.len() {
-            if !kept.contains(&i) && original.rhs[i].abs() > 1e-9 * load {
-                return Err(Error::NoEquilibrium(format!(
-                    "dual formulation: the contact is frictionless, so the contact forces cannot carry the load \
-                     {:.4e} along the obstacle (equilibrium condition {i}): the body slides",
-                    original.rhs[i]
-                )));
-            }
-        }
-        reduced = ContactEquilibrium {
-            matrix: DMatrix::from_fn(kept.len(), matrix.ncols(), |i, j| matrix[(kept[i], j)]),
-            rhs: kept.iter().map(|&i| original.rhs[i]).collect(),
-        };
-        &reduced
-    } else {
-        original
-    };
-    if equilibrium.is_empty() {
-        return Ok((run(problem, settings)?, vec![0.0; original.rhs.len()], 1));
-    }
-    let w = problem
-        .delassus()
-        .as_dense()
-        .ok_or_else(|| Error::Usage("the dual contact problem needs the dense flexibility".into()))?;
-    let e = &equilibrium.matrix;
-    let k = equilibrium.rhs.len();
-    // The bonded model (every component free): M = E W⁻¹ Eᵀ; its ρ balances the loads when
-    // every point is closed and sticks, the starting point of the iteration.
-    let chol = w
-        .clone()
-        .cholesky()
-        .ok_or_else(|| Error::Usage("the flexibility of the dual contact forces is not positive definite".into()))?;
-    let w_inv_et = chol.solve(&e.transpose());
-    let m_bonded = e * &w_inv_et;
-    let shifted: Vec<f64> = problem
-        .free_displacement()
-        .iter()
-        .enumerate()
-        .map(|(j, u)| if j % 2 == 0 { u - problem.gap()[j / 2] } else { *u })
-        .collect();
-    let free_force = chol.solve(&DVector::from_column_slice(&shifted));
-    let target = DVector::from_column_slice(&equilibrium.rhs) + e * free_force;
-    let bonded = m_bonded
-        .clone()
-        .cholesky()
-        .ok_or_else(|| Error::Usage("the equilibrium conditions of the contact forces are dependent".into()))?;
-    let mut rho: Vec<f64> = (-bonded.solve(&target)).iter().copied().collect();
-    // Inner solves 100× tighter than asked: a warm-started solver stops at once when the
-    // change of one outer step is below its tolerance.
-    let mut settings = settings.clone();
-    settings.tolerance *= 1e-2;
-    let target_residual = 1e-14f64.max(0.1 * settings.tolerance);
-    let acceptable = EQUILIBRIUM_TOLERANCE.max(target_residual);
-    let solve_at = |rho: &[f64], settings: &SolverSettings| -> Result<ContactSolution> {
-        let extra = equilibrium.transpose_times(rho);
-        let u: Vec<f64> = problem.free_displacement().iter().zip(&extra).map(|(a, b)| a + b).collect();
-        run(&problem.with_free_displacement(u)?, settings)
-    };
-    let mut solution = solve_at(&rho, &settings)?;
-    let mut relative = equilibrium.relative_residual(&solution.force);
-    let (mut iterations, mut all_history) = (solution.iterations, solution.history.clone());
-    for outer in 1..=MAX_OUTER {
-        if relative <= target_residual || (outer == MAX_OUTER && relative <= acceptable) {
-            return Ok(finish(problem, original, &kept, solution, &rho, outer, relative, iterations, all_history));
-        }
-        // Newton step: d(E r)/dρ = −E P (R W P)⁻¹ R Eᵀ on the current contact set, P mapping
-        // the free parameters (normal force of a closed point, tangential force of a sticking
-        // one) to r — a slipping Coulomb point's rT follows its rN — and R selecting their rows.
-        let jac = active_set_jacobian(problem, w, e, &solution.force);
-        // Regularised by the bonded model where the contact set does not control a direction
-        // (no closed point, a sliding direction): the step is then the bonded one, shortened.
-        let scale = m_bonded.diagonal().max();
-        let regularised = jac + &m_bonded * 1e-8 + DMatrix::identity(k, k) * (1e-14 * scale);
-        let Some(lu) = regularised.lu().try_inverse() else {
-            return Err(no_equilibrium_detail(equilibrium, &solution));
-        };
-        let (residual, _) = equilibrium.residual(&solution.force);
-        let step = lu * DVector::from_column_slice(&residual);
-        // Backtracking on the equilibrium residual.
-        let mut accepted = None;
-        let mut length = 1.0;
-        for _ in 0..12 {
-            let trial: Vec<f64> = rho.iter().zip(step.iter()).map(|(r, d)| r + length * d).collect();
-            settings.initial_force = Some(solution.force.clone());
-            let candidate = solve_at(&trial, &settings)?;
-            let value = equilibrium.relative_residual(&candidate.force);
-            iterations += candidate.iterations;
-            all_history.extend(candidate.history.iter().copied());
-            if value < relative || value <= target_residual {
-                accepted = Some((trial, candidate, value));
-                break;
-            }
-            length *= 0.5;
-        }
-        match accepted {
-            Some((trial, candidate, value)) => {
-                rho = trial;
-                solution = candidate;
-                relative = value;
-            }
-            None if relative <= acceptable => {
-                return Ok(finish(problem, original, &kept, solution, &rho, outer, relative, iterations, all_history))
-            }
-            None => return Err(no_equilibrium_detail(equilibrium, &solution)),
-        }
-    }
-    Err(no_equilibrium_detail(equilibrium, &solution))
-}
-
-/// `E P (R W P)⁻¹ R Eᵀ` on the contact set of `r` (see [`solve_with_equilibrium`]).
-fn active_set_jacobian(problem: &CondensedProblem, w: &DMatrix<f64>, e: &DMatrix<f64>, r: &[f64]) -> DMatrix<f64> {
-    let m = problem.points();
-    let scale = r.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(f64::MIN_POSITIVE);
-    let tiny = 1e-12 * scale;
-    // Columns of P as (row of R, sparse column): (component, [(index, value)]).
-    let mut columns: Vec<(usize, Vec<(usize, f64)>)> = Vec::new();
-    for i in 0..m {
-        let (rn, rt) = (r[2 * i], r[2 * i + 1]);
-        if rn >= -tiny {
-            continue; // open: rN = 0 at its bound
-        }
-        let threshold = problem.threshold_at(i, rn);
-        let friction = !matches!(problem.friction(), FrictionLaw::None);
-        let sticking = friction && rt.abs() < threshold - tiny;
-        let mut normal = vec![(2 * i, 1.0)];
-        if friction && !sticking {
-            if let FrictionLaw::Coulomb { mu } = problem.friction() {
-                // rT = σ μ (−rN): drT/drN = −σ μ.
-                normal.push((2 * i + 1, -rt.signum() * mu[i]));
-            }
-        }
-        columns.push((2 * i, normal));
-        if sticking {
-            columns.push((2 * i + 1, vec![(2 * i + 1, 1.0)]));
-        }
-    }
-    let nf = columns.len();
-    let k = e.nrows();
-    if nf == 0 {
-        return DMatrix::zeros(k, k);
-    }
-    // R W P and E P.
-    let rwp = DMatrix::from_fn(nf, nf, |a, b| columns[b].1.iter().map(|&(j, v)| w[(columns[a].0, j)] * v).sum::<f64>());
-    let ep = DMatrix::from_fn(k, nf, |row, b| columns[b].1.iter().map(|&(j, v)| e[(row, j)] * v).sum::<f64>());
-    let re_t = DMatrix::from_fn(nf, k, |a, row| e[(row, columns[a].0)]);
-    match rwp.lu().solve(&re_t) {
-        Some(x) => ep * x,
-        None => DMatrix::zeros(k, k),
-    }
-}
-
-/// The answer with its notes, and the rigid displacements of all the original rows.
-#[allow(clippy::too_many_arguments)]
-fn finish(
-    problem: &CondensedProblem,
-    original: &ContactEquilibrium,
-    kept: &[usize],
-    mut solution: ContactSolution,
-    rho: &[f64],
-    outer: usize,
-    relative: f64,
-    iterations: usize,
-    history: Vec<crate::contact::IterationRecord>,
-) -> (ContactSolution, Vec<f64>, usize) {
-    let mut rigid = vec![0.0; original.rhs.len()];
-    for (k, &i) in kept.iter().enumerate() {
-        rigid[i] = rho[k];
-    }
-    solution.iterations = iterations;
-    solution.history = history;
-    solution.notes.push(format!(
-        "equilibrium of the contact forces imposed by {outer} Newton step(s) on the rigid displacements, \
-         relative residual {relative:.2e}"
-    ));
-    // The displacement of the original problem: W r + u_free + Eᵀ ρ.
-    if let Ok(mut u) = problem.displacement(&solution.force) {
-        for (a, b) in u.iter_mut().zip(original.transpose_times(&rigid)) {
-            *a += b;
-        }
-        solution.displacement = u;
-    }
-    (solution, rigid, outer)
-}
-
-fn no_equilibrium_detail(equilibrium: &ContactEquilibrium, solution: &ContactSolution) -> Error {
-    let (residual, scale) = equilibrium.residual(&solution.force);
-    no_equilibrium(&residual, &scale, solution)
-}
-
-fn no_equilibrium(residual: &[f64], scale: &[f64], solution: &ContactSolution) -> Error {
-    let (normal, tangential) = solution.force.chunks(2).fold((0.0, 0.0), |(n, t), f| (n + f[0], t + f[1].abs()));
-    Error::NoEquilibrium(format!(
-        "dual formulation: the contact forces cannot balance the loads: the equilibrium conditions through the \
-         contact part keep a residual {:?} against loads of {:?}; the body slides (the tangential load exceeds \
-         what friction can carry) or is pulled away from the obstacle (normal contact force {normal:.4e}, \
-         sum of |tangential| {tangential:.4e})",
-        residual.iter().map(|v| format!("{v:.4e}")).collect::<Vec<_>>(),
-        scale.iter().map(|v| format!("{v:.4e}")).collect::<Vec<_>>(),
-    ))
 }

@@ -23,12 +23,16 @@
 //! - [`boundary`]: traction conditions as constraints on the boundary dofs, eliminated.
 //! - [`system`]: assembly, PETSc solve, the stress field and its checks.
 //! - [`contact`]: contact with a rigid obstacle: the contact forces as unknowns, condensed onto
-//!   the same [`crate::contact::CondensedProblem`] as the primal's.
+//!   the same [`crate::contact::CondensedProblem`] as the primal's; [`condensation`]: the
+//!   talk's condensations and storages of `W` (dense, or implicit: products by interior
+//!   solves, Uzawa on the full dual system); [`equilibrium`]: the equilibrium of the contact
+//!   forces of a body held only by the obstacle.
 pub mod boundary;
 pub mod checks;
 pub mod condensation;
 pub mod contact;
 pub mod dofs;
+pub mod equilibrium;
 pub mod saddle_point;
 pub mod system;
 

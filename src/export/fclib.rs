@@ -381,7 +381,7 @@ mod tests {
     use super::*;
 
     /// Two points: the first pressed into the obstacle (closed), the second lifted off (open).
-    fn two_points(friction: FrictionLaw) -> CondensedProblem {
+    fn two_points(friction: FrictionLaw) -> CondensedProblem<'static> {
         let w = DMatrix::from_row_slice(
             4,
             4,

@@ -24,7 +24,7 @@ impl<'s> ElasticityProblem<'s> {
     /// Errors: [`Error::Usage`] for a scene without `[contact]`, [`Error::Unconstrained`] for a
     /// body held by the contact alone (its stiffness is singular: no flexibility), and the
     /// errors of the linear solves.
-    pub fn condensed_contact_problem(&mut self) -> Result<CondensedProblem> {
+    pub fn condensed_contact_problem(&mut self) -> Result<CondensedProblem<'static>> {
         let contact = self.contact.as_ref().ok_or_else(|| {
             Error::Usage(format!(
                 "the scene {} has no [contact] section: there is no contact problem to condense",

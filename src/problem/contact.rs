@@ -588,7 +588,7 @@ impl ContactSetup {
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
         progress: &dyn super::Progress,
-    ) -> Result<CondensedProblem> {
+    ) -> Result<CondensedProblem<'static>> {
         if let Some(free) = &self.free_motions {
             return Err(Error::Unconstrained(format!(
                 "the body is held by the contact on '{}' alone ({free}): its stiffness is singular, so there is no \

@@ -4,6 +4,8 @@
 //! ElasticityProblem::solve_dual        with a [contact] section:
 //!     contact_side                     the contact part and the obstacle's frame and gap
 //!     dual::contact::condense          assemble (z, r), MUMPS with the Schur complement on r
+//!                                      (or the talk's other condensations and storages of W:
+//!                                      -dual_contact_condensation, -dual_contact_storage)
 //!     CondensedDual::solve             the scene's condensed solver (+ equilibrium of r)
 //!     verify_dual_contact              independent check: forces recomputed from σ_h,
 //!                                      displacements from the assembled matrix
@@ -21,7 +23,7 @@ use super::contact_zones::{ClosedZone, PeakPressure};
 use super::ElasticityProblem;
 use crate::contact::obstacle::Obstacle;
 use crate::contact::{FrictionLaw, PointStatus, SolverSettings};
-use crate::dual::condensation::Condensation;
+use crate::dual::condensation::{Condensation, Storage, STORAGE_OPTION};
 use crate::dual::contact::{condense, contact_points, DualContactPoint};
 use crate::dual::{DualData, DualSystem};
 use crate::error::{Error, Result};
@@ -91,13 +93,26 @@ impl ElasticityProblem<'_> {
                 FrictionLaw::Tresca { threshold: points.iter().map(|p| threshold * p.weight).collect() }
             }
         };
-        let condensation = Condensation::from_options(self.session, prefix)?;
+        let storage = Storage::from_options(self.session)?;
+        if storage == Storage::Implicit {
+            implicit_storage_accepts(&spec.solver)?;
+        }
+        let condensation = Condensation::from_options(self.session, prefix, storage)?;
         let progress = self.progress();
         let mut note_columns = |done: usize, total: usize| {
             progress.note(&format!("condensing: {done} / {total} flexibility columns"));
         };
-        let mut condensed =
-            condense(self.session, system, &self.mesh, &points, friction, condensation, prefix, &mut note_columns)?;
+        let mut condensed = condense(
+            self.session,
+            system,
+            &self.mesh,
+            &points,
+            friction,
+            condensation,
+            storage,
+            prefix,
+            &mut note_columns,
+        )?;
         let mut settings = SolverSettings::default();
         if let Some(t) = spec.tolerance {
             settings.tolerance = t;
@@ -259,6 +274,23 @@ impl ElasticityProblem<'_> {
         // Round-off of the two solves (each to 1e-9 of its own scales): 1e-6 of the largest term.
         let admissible = terms.all_nonnegative(1e-6);
         Ok(Some((terms, admissible)))
+    }
+}
+
+/// With the implicit storage of `W` only the solvers that need products work: Uzawa (Uzawa on
+/// the full dual system), the semi-smooth Newton method (Krylov solves on products) and the
+/// fixed point on Tresca thresholds around it; the others need the entries of `W`.
+fn implicit_storage_accepts(solver: &ContactSolverSpec) -> Result<()> {
+    match solver {
+        ContactSolverSpec::Relaxation { .. } | ContactSolverSpec::DPana | ContactSolverSpec::Tao => {
+            Err(Error::Usage(format!(
+                "{STORAGE_OPTION} implicit gives the flexibility W by products only, and solver = \"{}\" needs its \
+                 entries: with implicit storage use solver = \"uzawa\" (Uzawa on the full dual system), \"newton\" \
+                 (semi-smooth Newton, Krylov solves on products) or \"tresca_fixed_point\"; or {STORAGE_OPTION} dense",
+                solver.scene_name()
+            )))
+        }
+        _ => Ok(()),
     }
 }
 

@@ -12,7 +12,7 @@ use super::contact::{example, set_line, solve_text};
 use super::{ensure, manifest};
 
 /// Solve `text` in the dual formulation only (and the primal too with `estimate`).
-fn solve_dual<'s>(
+pub fn solve_dual<'s>(
     s: &'s signorini::petsc::Session,
     text: &str,
     path: &Path,

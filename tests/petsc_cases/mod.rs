@@ -17,6 +17,7 @@ mod bodies_hertz;
 mod contact;
 mod dual;
 mod dual_contact;
+mod dual_implicit;
 mod export;
 mod ict;
 mod locking;
@@ -48,6 +49,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
     ("dual_contact_condensations_agree", dual_contact::dual_contact_condensations_agree),
+    ("dual_contact_implicit_storage_agrees", dual_implicit::dual_contact_implicit_storage_agrees),
+    ("dual_contact_storage_usage_errors", dual_implicit::dual_contact_storage_usage_errors),
     ("dual_contact_estimate_tresca_and_coulomb", dual_contact::dual_contact_estimate_tresca_and_coulomb),
     ("dual_hertz_cylinder", dual_contact::dual_hertz_cylinder),
     ("dual_contact_effectivity_tresca", dual_contact::dual_contact_effectivity_tresca),
