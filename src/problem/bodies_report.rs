@@ -219,15 +219,7 @@ fn part_reports(
             slave_resultant: s,
             master_resultant,
             action_reaction_residual,
-            residuals: super::contact_report::ContactResidualsReport {
-                max_penetration: residuals.max_penetration,
-                max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,
-                max_cone_violation: residuals.max_cone_violation,
-                normal_complementarity: residuals.normal_complementarity,
-                tangential_complementarity: residuals.tangential_complementarity,
-                force_scale: residuals.scale.force,
-                displacement_scale: residuals.scale.displacement,
-            },
+            residuals: (&residuals).into(),
         });
     }
     out

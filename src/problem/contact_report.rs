@@ -13,6 +13,20 @@ pub struct ContactResidualsReport {
     pub displacement_scale: f64,
 }
 
+impl From<&crate::contact::ContactResiduals> for ContactResidualsReport {
+    fn from(r: &crate::contact::ContactResiduals) -> Self {
+        ContactResidualsReport {
+            max_penetration: r.max_penetration,
+            max_wrong_sign_pressure: r.max_wrong_sign_pressure,
+            max_cone_violation: r.max_cone_violation,
+            normal_complementarity: r.normal_complementarity,
+            tangential_complementarity: r.tangential_complementarity,
+            force_scale: r.scale.force,
+            displacement_scale: r.scale.displacement,
+        }
+    }
+}
+
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct ContactReport {
     pub part: String,

@@ -18,7 +18,7 @@
 //! HCT traction), the contact displacements from the assembled sparse matrix (`(A x − b)_r`,
 //! not `W`), and the equilibrium conditions from the forces. Sign, friction cone and
 //! complementarity are then those of [`crate::contact::ContactResiduals`].
-use super::contact::{condensed_solver, tao_box_qp, ContactReport, ContactResidualsReport};
+use super::contact::{condensed_solver, tao_box_qp, ContactReport};
 use super::contact_zones::{ClosedZone, PeakPressure};
 use super::ElasticityProblem;
 use crate::contact::obstacle::Obstacle;
@@ -210,15 +210,7 @@ impl ElasticityProblem<'_> {
             zone: None,
             peak_pressure,
             zones,
-            residuals: ContactResidualsReport {
-                max_penetration: residuals.max_penetration,
-                max_wrong_sign_pressure: residuals.max_wrong_sign_pressure,
-                max_cone_violation: residuals.max_cone_violation,
-                normal_complementarity: residuals.normal_complementarity,
-                tangential_complementarity: residuals.tangential_complementarity,
-                force_scale: residuals.scale.force,
-                displacement_scale: residuals.scale.displacement,
-            },
+            residuals: residuals.into(),
             stabilisation_force: [0.0; 2],
             stabilisation_iterations: 0,
             linear_solves: 2,

@@ -43,7 +43,7 @@ mod progress;
 mod warnings;
 pub use bodies::{ContactPart, ContactParts};
 pub use bodies_report::{BodiesReport, BodyReport, ContactPartReport};
-pub use contact::{ContactOutcome, ContactReport, ContactSetup};
+pub use contact::{ContactOutcome, ContactReport, ContactResidualsReport, ContactSetup};
 pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
 pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
