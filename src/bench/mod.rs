@@ -271,6 +271,9 @@ pub struct ContactBenchRow {
     /// otherwise): `iterations` counts the contact solver's iterations over all of them.
     #[serde(default)]
     pub proximal_iterations: usize,
+    /// The most iterations one proximal iteration took (= `iterations` without them).
+    #[serde(default)]
+    pub most_in_one_proximal: usize,
     pub contact_seconds: f64,
     pub linear_seconds: f64,
     pub peak_memory_mb: f64,
@@ -370,6 +373,13 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
         solver: solver.to_string(),
         iterations: o.report.iterations,
         proximal_iterations: o.report.stabilisation_iterations,
+        most_in_one_proximal: o
+            .report
+            .stabilisation_step_iterations
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(o.report.iterations),
         contact_seconds,
         linear_seconds,
         peak_memory_mb: mb(resources::peak_memory_bytes()),
@@ -393,7 +403,11 @@ pub fn contact_table(rows: &[ContactBenchRow]) -> String {
          |---:|---:|---|---:|---:|---:|---:|---:|---:|---|\n",
     );
     for r in rows {
-        let proximal = if r.proximal_iterations > 0 { format!(" ({})", r.proximal_iterations) } else { String::new() };
+        let proximal = if r.proximal_iterations > 0 {
+            format!(" ({} proximal, at most {} in one)", r.proximal_iterations, r.most_in_one_proximal)
+        } else {
+            String::new()
+        };
         s.push_str(&format!(
             "| {} | {} | {} | {}{proximal} | {:.3} | {:.3} | {:.1} | {:.0} | {:.1e} | {} / {} |\n",
             r.dofs,

@@ -441,6 +441,7 @@ impl ContactSetup {
         let mut initial_force: Option<Vec<f64>> = None;
         let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::<f64>::new());
         let base_tolerance = settings.tolerance;
+        let mut step_iterations = Vec::new();
         loop {
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             e.set_owned(&rk)?;
@@ -476,6 +477,7 @@ impl ContactSetup {
             let (u, mut outcome) =
                 self.recover_and_verify(mesh, matrix, &rk, &mut linear, &problem, solution, &check, solves)?;
             total_iterations += outcome.report.iterations;
+            step_iterations.push(outcome.report.iterations);
             all_changes.extend(outcome.report.status_changes.iter().copied());
             all_residuals.extend(outcome.report.residual_history.iter().copied());
             outcome.report.residual_history = all_residuals.clone();
@@ -492,6 +494,7 @@ impl ContactSetup {
             history.push(largest);
             outcome.report.stabilisation_force = spring;
             outcome.report.stabilisation_iterations = history.len();
+            outcome.report.stabilisation_step_iterations = step_iterations.clone();
             if proximal_iterations_done(&history, scale, outcome.report.open == outcome.report.points) {
                 return Ok((u, outcome, linear.stats()));
             }
@@ -753,6 +756,7 @@ impl ContactSetup {
             residuals: residuals.into(),
             stabilisation_force,
             stabilisation_iterations: 0,
+            stabilisation_step_iterations: Vec::new(),
             linear_solves,
         }
     }

@@ -61,6 +61,10 @@ pub struct ContactReport {
     /// were needed) and the number of proximal iterations.
     pub stabilisation_force: [f64; 2],
     pub stabilisation_iterations: usize,
+    /// The contact solver's iterations in each proximal iteration (their sum is `iterations`);
+    /// empty when no springs were needed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stabilisation_step_iterations: Vec<usize>,
     /// Linear solves with the factorised stiffness (1 free + columns of W + 1 final).
     pub linear_solves: usize,
 }

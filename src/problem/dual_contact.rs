@@ -213,6 +213,7 @@ impl ElasticityProblem<'_> {
             residuals: residuals.into(),
             stabilisation_force: [0.0; 2],
             stabilisation_iterations: 0,
+            stabilisation_step_iterations: Vec::new(),
             linear_solves: 2,
         }
     }
