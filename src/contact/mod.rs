@@ -137,6 +137,16 @@ pub enum FrictionLaw {
 }
 
 impl FrictionLaw {
+    /// The friction threshold of point `i` given its normal force: 0 without friction, the
+    /// given threshold for Tresca, `μ_i max(−rN, 0)` for Coulomb.
+    pub fn threshold(&self, i: usize, normal_force: f64) -> f64 {
+        match self {
+            FrictionLaw::None => 0.0,
+            FrictionLaw::Tresca { threshold } => threshold[i],
+            FrictionLaw::Coulomb { mu } => mu[i] * (-normal_force).max(0.0),
+        }
+    }
+
     fn name(&self) -> &'static str {
         match self {
             FrictionLaw::None => "frictionless",
@@ -498,11 +508,7 @@ impl<'a> CondensedProblem<'a> {
 
     /// Friction threshold of point `i` given its normal force (Coulomb: `μ max(−rN, 0)`).
     pub(crate) fn threshold_at(&self, i: usize, normal_force: f64) -> f64 {
-        match &self.friction {
-            FrictionLaw::None => 0.0,
-            FrictionLaw::Tresca { threshold } => threshold[i],
-            FrictionLaw::Coulomb { mu } => mu[i] * (-normal_force).max(0.0),
-        }
+        self.friction.threshold(i, normal_force)
     }
 
     pub(crate) fn diagonal(&self) -> &[f64] {

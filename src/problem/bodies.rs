@@ -68,11 +68,18 @@ pub struct ContactPart {
     pub name: String,
     /// The body whose nodes are the contact points (the slave side of a pair).
     pub slave_body: usize,
-    /// The other body of a pair; `None` for a rigid obstacle.
-    pub master_body: Option<usize>,
+    /// The other side of a pair; `None` for a rigid obstacle.
+    pub master: Option<MasterSide>,
     pub friction: FrictionSpec,
     /// Where the part's table starts.
     pub at: Location,
+}
+
+/// The master side of a contact pair: its body and its boundary group in the union mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MasterSide {
+    pub body: usize,
+    pub group: usize,
 }
 
 impl ContactParts {
@@ -112,7 +119,8 @@ pub(super) struct BodiesSetup {
     pub model: BodiesModel,
 }
 
-fn material_of(spec: &scene::MaterialSpec) -> Material {
+/// The material a scene's (or a body's) `[material]` table describes.
+pub(super) fn material_of(spec: &scene::MaterialSpec) -> Material {
     Material {
         young: spec.young,
         poisson: spec.poisson,
@@ -146,7 +154,7 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
             }
         }
     }
-    let free_motions = free_motions_of_bodies(&model, &constraints)?;
+    let free_motions = free_motions_of_bodies(&model, &constraints);
     let contact = contact_of_bodies(&model, &constraints, free_motions.clone())?;
     check_every_body_is_held(&model, &constraints, contact.as_ref())?;
     if contact.is_none() {
@@ -210,7 +218,7 @@ fn flatten(scene: &Scene, model: &BodiesModel) -> Result<Scene> {
 
 /// Which rigid motions the Dirichlet conditions leave free, body by body (`None`: every body is
 /// held by its supports).
-fn free_motions_of_bodies(model: &BodiesModel, constraints: &Constraints) -> Result<Option<String>> {
+fn free_motions_of_bodies(model: &BodiesModel, constraints: &Constraints) -> Option<String> {
     let mut free = Vec::new();
     for (b, body) in model.bodies.iter().enumerate() {
         let range = &model.layout.bodies[b];
@@ -225,7 +233,7 @@ fn free_motions_of_bodies(model: &BodiesModel, constraints: &Constraints) -> Res
             free.push(format!("body `{}`: {e}", body.name));
         }
     }
-    Ok((!free.is_empty()).then(|| free.join("; ")))
+    (!free.is_empty()).then(|| free.join("; "))
 }
 
 /// The contact points of every pair (mortar coupling, the slave side's nodes) and of every
@@ -272,7 +280,7 @@ fn contact_of_bodies(
         parts.push(ContactPart {
             name: format!("{} / {}", pair.slave, pair.master),
             slave_body: body_index(&pair.slave.body),
-            master_body: Some(body_index(&pair.master.body)),
+            master: Some(MasterSide { body: body_index(&pair.master.body), group: master_group }),
             friction: pair.friction,
             at: pair.at.clone(),
         });
@@ -284,13 +292,7 @@ fn contact_of_bodies(
         let group = mesh.require_group(&name, 1)?;
         let obstacle = obstacle_of(&spec.obstacle)?;
         boundaries.push(ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, &prescribed)?);
-        parts.push(ContactPart {
-            name,
-            slave_body: b,
-            master_body: None,
-            friction: spec.friction,
-            at: spec.at.clone(),
-        });
+        parts.push(ContactPart { name, slave_body: b, master: None, friction: spec.friction, at: spec.at.clone() });
         solver_spec.get_or_insert(spec);
     }
     if boundaries.is_empty() {
@@ -392,20 +394,11 @@ fn check_every_body_is_held(
     contact: Option<&ContactSetup>,
 ) -> Result<()> {
     let mesh = &model.mesh;
-    let (pieces, count) = mesh::pieces::node_pieces(mesh);
-    let mut held = vec![false; count];
-    for k in 0..mesh.num_nodes() {
-        if constraints.is_fixed(2 * k) || constraints.is_fixed(2 * k + 1) {
-            held[pieces[k]] = true;
-        }
-    }
-    if let Some(c) = contact {
-        for k in c.boundary.support_nodes() {
-            held[pieces[k]] = true;
-        }
-    }
-    if let Some(p) = held.iter().position(|h| !h) {
-        let first = pieces.iter().position(|&q| q == p).unwrap_or(0);
+    let contact_nodes = contact.map(|c| c.boundary.support_nodes()).unwrap_or_default();
+    if let Some(loose) =
+        super::first_loose_piece(mesh, &mesh::pieces::node_pieces(mesh), constraints, contact_nodes.into_iter())
+    {
+        let first = loose.first;
         let body = model.layout.node_body(first).map_or("?", |b| model.bodies[b].name.as_str());
         let x = mesh.nodes[first];
         return Err(Error::Unconstrained(format!(

@@ -14,23 +14,22 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::output_files::SolutionFields;
 use super::ElasticityProblem;
 use crate::contact::boundary::edge_weights;
 use crate::error::Result;
-use crate::output::{vtu, write_atomically};
+use crate::output::write_atomically;
 
 impl ElasticityProblem<'_> {
     /// Fill the master nodes' entries of the nodal contact fields (module documentation).
     pub(super) fn add_master_contact_fields(&self, pressure: &mut [f64], friction: &mut [f64], status: &mut [f64]) {
-        let (Some(c), Some(outcome), Some(model)) = (&self.contact, &self.contact_outcome, &self.bodies) else {
+        let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) else {
             return;
         };
         let Some(parts) = &c.parts else { return };
         let b = &c.boundary;
         for (p, part) in parts.parts.iter().enumerate() {
-            if part.master_body.is_none() {
-                continue;
-            }
+            let Some(master) = part.master else { continue };
             // Forces on the master nodes of this part, and the strongest coupling of each.
             let mut force: std::collections::BTreeMap<usize, [f64; 2]> = std::collections::BTreeMap::new();
             let mut strongest: std::collections::BTreeMap<usize, (f64, usize)> = std::collections::BTreeMap::new();
@@ -49,12 +48,7 @@ impl ElasticityProblem<'_> {
                 }
             }
             // The master part's edges, its nodal normals and weights.
-            let Some(pair) = model.contact_pairs.iter().find(|q| part.name == format!("{} / {}", q.slave, q.master))
-            else {
-                continue;
-            };
-            let Some(group) = model.part_group(&pair.master) else { continue };
-            let edges: Vec<usize> = self.mesh.edges_in_group(group).collect();
+            let edges: Vec<usize> = self.mesh.edges_in_group(master.group).collect();
             let mut normal: std::collections::BTreeMap<usize, [f64; 2]> = std::collections::BTreeMap::new();
             for &e in &edges {
                 let (n, _) = self.mesh.edge_normal(e);
@@ -86,38 +80,39 @@ impl ElasticityProblem<'_> {
         }
     }
 
-    /// `<body>.vtu` for every body and `solution.pvd` (module documentation), with the fields
-    /// of `solution.vtu` restricted to each body. Nothing for a single body.
-    pub(super) fn write_body_files(&self, dir: &Path, written: &mut Vec<PathBuf>) -> Result<()> {
+    /// `<body>.vtu` for every body and `solution.pvd` (module documentation), with `fields`
+    /// (those of `solution.vtu`) restricted to each body. Nothing for a single body.
+    pub(super) fn write_body_files(
+        &self,
+        dir: &Path,
+        fields: &SolutionFields,
+        written: &mut Vec<PathBuf>,
+    ) -> Result<()> {
         let Some(model) = &self.bodies else { return Ok(()) };
-        let union_path = dir.join("solution.vtu");
-        let (point, cell, with_edges) = self.solution_fields(&union_path, &[])?;
         let (num_cells, num_edges) = (self.mesh.num_cells(), self.mesh.num_edges());
         let mut files = Vec::new();
         for (b, body) in model.bodies.iter().enumerate() {
             let range = &model.layout.bodies[b];
-            let point_data: Vec<(String, usize, Vec<f64>)> = point
+            let point = fields
+                .point
                 .iter()
                 .map(|(name, k, v)| (name.clone(), *k, v[k * range.nodes.start..k * range.nodes.end].to_vec()))
                 .collect();
-            let cell_data: Vec<(String, usize, Vec<f64>)> = cell
+            let cell = fields
+                .cell
                 .iter()
                 .map(|(name, k, v)| {
                     let mut values = v[k * range.cells.start..k * range.cells.end].to_vec();
-                    if with_edges && v.len() == k * (num_cells + num_edges) {
+                    if fields.with_edges && v.len() == k * (num_cells + num_edges) {
                         let first = k * num_cells;
                         values.extend_from_slice(&v[first + k * range.edges.start..first + k * range.edges.end]);
                     }
                     (name.clone(), *k, values)
                 })
                 .collect();
-            let points: Vec<vtu::Field> =
-                point_data.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-            let cells: Vec<vtu::Field> =
-                cell_data.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
             let name = format!("{}.vtu", body.name);
             let path = dir.join(&name);
-            vtu::write_vtu(&path, &model.body_meshes[b], &points, &cells, with_edges)?;
+            SolutionFields { point, cell, with_edges: fields.with_edges }.write(&path, &model.body_meshes[b])?;
             written.push(path);
             files.push((body.name.clone(), name));
         }

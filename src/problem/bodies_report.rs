@@ -16,7 +16,7 @@
 //! With the dual (biorthogonal) mortar basis `Σ_j M_ij = D_i` on every fully covered slave
 //! node, so `S_p + M_p` vanishes to round-off; partly covered slave nodes (at the end of the
 //! master side) transmit only the covered fraction, and the residual says how much.
-use crate::contact::{self, FrictionLaw, PointStatus};
+use crate::contact::{self, PointStatus};
 use crate::error::{Error, Result};
 
 use super::{ContactSetup, ElasticityProblem, EQUILIBRIUM_CHECK};
@@ -192,15 +192,11 @@ fn part_reports(
         let pick = |v: &[f64]| points.iter().flat_map(|&i| [v[2 * i], v[2 * i + 1]]).collect::<Vec<f64>>();
         let (r, d) = (pick(force), pick(&uc));
         let gap: Vec<f64> = points.iter().map(|&i| b.gap[i]).collect();
-        let threshold = |k: usize, rn: f64| match &law {
-            FrictionLaw::None => 0.0,
-            FrictionLaw::Tresca { threshold } => threshold[points[k]],
-            FrictionLaw::Coulomb { mu } => mu[points[k]] * (-rn).max(0.0),
-        };
+        let threshold = |k: usize, rn: f64| law.threshold(points[k], rn);
         let residuals = contact::evaluate_residuals(&r, &d, &gap, &threshold, scale);
         let count = |s: PointStatus| points.iter().filter(|&&i| status[i] == s).count();
         let s = slave_force[p];
-        let (master_resultant, action_reaction_residual) = match part.master_body {
+        let (master_resultant, action_reaction_residual) = match part.master {
             Some(_) => {
                 let m = master_force[p];
                 let size = s[0].hypot(s[1]);

@@ -41,7 +41,7 @@ mod full_space;
 mod output_files;
 mod progress;
 mod warnings;
-pub use bodies::{ContactPart, ContactParts};
+pub use bodies::{ContactPart, ContactParts, MasterSide};
 pub use bodies_report::{BodiesReport, BodyReport, ContactPartReport};
 pub use contact::{ContactOutcome, ContactReport, ContactResidualsReport, ContactSetup};
 pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
@@ -233,14 +233,7 @@ impl<'s> ElasticityProblem<'s> {
         let mesh = consistent_across_ranks(session, mesh)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
-        let material = Material {
-            young: scene.material.young,
-            poisson: scene.material.poisson,
-            plane: match scene.material.plane {
-                scene::PlaneSpec::Strain => PlaneModel::Strain,
-                scene::PlaneSpec::Stress => PlaneModel::Stress,
-            },
-        };
+        let material = bodies::material_of(&scene.material);
         let start = std::time::Instant::now();
         let mut constraints = Constraints::new(2 * mesh.num_nodes());
         for d in &scene.dirichlet {
@@ -743,26 +736,15 @@ impl<'s> ElasticityProblem<'s> {
 /// Every connected piece of the mesh must be held by a Dirichlet condition or a contact part:
 /// a loose piece would float away (its displacement is undetermined).
 fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constraints) -> Result<()> {
-    let (pieces, count) = mesh::pieces::node_pieces(mesh);
+    let pieces = mesh::pieces::node_pieces(mesh);
+    let count = pieces.1;
     if count < 2 {
         return Ok(());
     }
-    let mut held = vec![false; count];
-    for k in 0..mesh.num_nodes() {
-        if constraints.is_fixed(2 * k) || constraints.is_fixed(2 * k + 1) {
-            held[pieces[k]] = true;
-        }
-    }
-    if let Some(group) = scene.contact.as_ref().and_then(|c| mesh.group_index(&c.part, 1)) {
-        for e in mesh.edges_in_group(group) {
-            for &k in mesh.edge(e) {
-                held[pieces[k]] = true;
-            }
-        }
-    }
-    if let Some(p) = held.iter().position(|h| !h) {
-        let nodes = pieces.iter().filter(|&&q| q == p).count();
-        let first = pieces.iter().position(|&q| q == p).unwrap_or(0);
+    let group = scene.contact.as_ref().and_then(|c| mesh.group_index(&c.part, 1));
+    let contact_nodes =
+        group.into_iter().flat_map(|g| mesh.edges_in_group(g).flat_map(|e| mesh.edge(e).iter().copied()));
+    if let Some(LoosePiece { piece: p, nodes, first }) = first_loose_piece(mesh, &pieces, constraints, contact_nodes) {
         let x = mesh.nodes[first];
         return Err(Error::Unconstrained(format!(
             "the mesh has {count} separate pieces, and piece {} ({nodes} nodes, e.g. node {first} at ({:?}, {:?})) is held \
@@ -774,6 +756,36 @@ fn check_every_piece_is_held(mesh: &Mesh, scene: &Scene, constraints: &Constrain
         )));
     }
     Ok(())
+}
+
+/// A connected piece of a mesh that nothing holds: its index, its number of nodes, its first node.
+pub(super) struct LoosePiece {
+    pub piece: usize,
+    pub nodes: usize,
+    pub first: usize,
+}
+
+/// The first connected piece of `mesh` (its `node_pieces`) that has no node with a prescribed
+/// component and none among `holding_nodes` (the nodes a contact touches), if any.
+pub(super) fn first_loose_piece(
+    mesh: &Mesh,
+    (pieces, count): &(Vec<usize>, usize),
+    constraints: &Constraints,
+    holding_nodes: impl Iterator<Item = usize>,
+) -> Option<LoosePiece> {
+    let mut held = vec![false; *count];
+    for k in 0..mesh.num_nodes() {
+        if constraints.is_fixed(2 * k) || constraints.is_fixed(2 * k + 1) {
+            held[pieces[k]] = true;
+        }
+    }
+    for k in holding_nodes {
+        held[pieces[k]] = true;
+    }
+    let piece = held.iter().position(|h| !h)?;
+    let nodes = pieces.iter().filter(|&&q| q == piece).count();
+    let first = pieces.iter().position(|&q| q == piece).unwrap_or(0);
+    Some(LoosePiece { piece, nodes, first })
 }
 
 /// A scene with `[[body]]` tables is meshed and checked (every mistake in it is reported), then

@@ -6,34 +6,40 @@ use super::{contact_curve, ContactCurvePoint, ElasticityProblem, Phase, Report};
 use crate::error::Result;
 use crate::output::{self, vtu};
 
-impl ElasticityProblem<'_> {
-    /// `solution.vtu`: the primal fields (displacement, stress, von Mises, contact), the dual
-    /// ones (stress, von Mises, Airy function; named `dual_...` next to a primal solution) and
-    /// the estimate per cell (`error`), whichever were computed.
-    fn write_vtu(&self, path: &Path) -> Result<()> {
-        self.write_solution_vtu(path, &[])
-    }
+/// The named arrays `(name, components, values)` of a `.vtu` file, on its points and on its
+/// cells, and whether the cell arrays cover the boundary edges too.
+pub(super) struct SolutionFields {
+    pub point: Vec<(String, usize, Vec<f64>)>,
+    pub cell: Vec<(String, usize, Vec<f64>)>,
+    pub with_edges: bool,
+}
 
+impl SolutionFields {
+    /// Write them with `mesh` to `path` (atomic).
+    pub fn write(&self, path: &Path, mesh: &crate::mesh::Mesh) -> Result<()> {
+        let points: Vec<vtu::Field> = self.point.iter().map(as_field).collect();
+        let cells: Vec<vtu::Field> = self.cell.iter().map(as_field).collect();
+        vtu::write_vtu(path, mesh, &points, &cells, self.with_edges)
+    }
+}
+
+fn as_field((name, k, v): &(String, usize, Vec<f64>)) -> vtu::Field<'_> {
+    vtu::Field { name, components: *k, values: v }
+}
+
+impl ElasticityProblem<'_> {
     /// `solution.vtu` as [`ElasticityProblem::write_output`] writes it, with extra scalar cell
     /// data (one value per cell each; e.g. the size map `target_size` of mesh adaptation).
     /// Atomic; call it on one rank.
     pub fn write_solution_vtu(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<()> {
-        let (point, cell, with_edges) = self.solution_fields(path, extra_cells)?;
-        let points: Vec<vtu::Field> =
-            point.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        let cells: Vec<vtu::Field> =
-            cell.iter().map(|(name, k, v)| vtu::Field { name, components: *k, values: v }).collect();
-        vtu::write_vtu(path, &self.mesh, &points, &cells, with_edges)
+        self.solution_fields(path, extra_cells)?.write(path, &self.mesh)
     }
 
-    /// The point and cell data of `solution.vtu` (name, components, values), and whether the
-    /// cell data covers the boundary edges too.
-    #[allow(clippy::type_complexity)]
-    pub(super) fn solution_fields(
-        &self,
-        path: &Path,
-        extra_cells: &[(&str, &[f64])],
-    ) -> Result<(Vec<(String, usize, Vec<f64>)>, Vec<(String, usize, Vec<f64>)>, bool)> {
+    /// The data of `solution.vtu`: the primal fields (displacement, stress, von Mises,
+    /// contact), the dual ones (stress, von Mises, Airy function; named `dual_...` next to a
+    /// primal solution) and the estimate per cell (`error`), whichever were computed, and
+    /// `extra_cells`.
+    pub(super) fn solution_fields(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<SolutionFields> {
         let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
@@ -113,7 +119,7 @@ impl ElasticityProblem<'_> {
             }
             cell.push((name.to_string(), 1, values.to_vec()));
         }
-        Ok((point, cell, with_edges))
+        Ok(SolutionFields { point, cell, with_edges })
     }
 
     /// The contact answer point by point in order along the contact part (after
@@ -174,9 +180,10 @@ impl ElasticityProblem<'_> {
         let files = |written: &mut Vec<PathBuf>| -> Result<()> {
             if self.session.rank() == 0 {
                 let path = dir.join("solution.vtu");
-                self.write_vtu(&path)?;
+                let fields = self.solution_fields(&path, &[])?;
+                fields.write(&path, &self.mesh)?;
                 written.push(path);
-                self.write_body_files(dir, written)?;
+                self.write_body_files(dir, &fields, written)?;
                 self.write_contact_files(dir, written)?;
             }
             Ok(())
