@@ -69,20 +69,11 @@ fn contact_points(p: &ElasticityProblem) -> Vec<(f64, f64, f64, PointStatus)> {
 }
 
 /// Fit p(x) = p0 √(1 − x²/a²) to the points carrying a real fraction of the peak pressure: p²
-/// is linear in x²; least squares on the inner 80 % of the zone (as `contact::hertz_fit`).
+/// is linear in x² (`contact::fit_half_width_and_peak`).
 fn hertz_fit(pts: &[(f64, f64, f64, PointStatus)]) -> (f64, f64) {
     let peak = pts.iter().map(|q| q.1).fold(0.0, f64::max);
     let closed: Vec<(f64, f64)> = pts.iter().filter(|q| q.1 > 1e-6 * peak).map(|q| (q.0, q.1)).collect();
-    let xmax = closed.iter().map(|q| q.0.abs()).fold(0.0, f64::max);
-    let inner: Vec<&(f64, f64)> = closed.iter().filter(|q| q.0.abs() <= 0.8 * xmax).collect();
-    let n = inner.len() as f64;
-    let (sx, sy, sxx, sxy) = inner.iter().fold((0.0, 0.0, 0.0, 0.0), |(a, b, c, d), q| {
-        let (x2, y) = (q.0 * q.0, q.1 * q.1);
-        (a + x2, b + y, c + x2 * x2, d + x2 * y)
-    });
-    let beta = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    let alpha = (sy - beta * sx) / n;
-    ((-alpha / beta).sqrt(), alpha.sqrt())
+    super::contact::fit_half_width_and_peak(&closed)
 }
 
 /// The normal load P (the sum of the slave side's normal contact forces, −Σ rN) and the

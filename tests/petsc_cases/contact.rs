@@ -223,10 +223,16 @@ fn hertz_fit(p: &ElasticityProblem) -> (f64, f64, Vec<(f64, f64)>) {
         .map(|(&n, &pr)| (p.mesh.nodes[n][0], pr))
         .collect();
     pts.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
-    // Least squares of y = α + β x² with y = p², on the inner 80 % of the zone (the edge is
-    // where the nodal resolution errs).
-    let xmax = pts.iter().map(|q| q.0.abs()).fold(0.0, f64::max);
-    let inner: Vec<&(f64, f64)> = pts.iter().filter(|q| q.0.abs() <= 0.8 * xmax).collect();
+    let (a, p0) = fit_half_width_and_peak(&pts);
+    (a, p0, pts)
+}
+
+/// `(a, p0)` of p(x) = p0 sqrt(1 − x²/a²) fitted to closed points `(x, p)`: least squares of
+/// y = α + β x² with y = p², on the inner 80 % of the zone (the edge is where the nodal
+/// resolution errs).
+pub fn fit_half_width_and_peak(closed: &[(f64, f64)]) -> (f64, f64) {
+    let xmax = closed.iter().map(|q| q.0.abs()).fold(0.0, f64::max);
+    let inner: Vec<&(f64, f64)> = closed.iter().filter(|q| q.0.abs() <= 0.8 * xmax).collect();
     let n = inner.len() as f64;
     let (sx, sy, sxx, sxy) = inner.iter().fold((0.0, 0.0, 0.0, 0.0), |(a, b, c, d), q| {
         let (x2, y) = (q.0 * q.0, q.1 * q.1);
@@ -234,9 +240,7 @@ fn hertz_fit(p: &ElasticityProblem) -> (f64, f64, Vec<(f64, f64)>) {
     });
     let beta = (n * sxy - sx * sy) / (n * sxx - sx * sx);
     let alpha = (sy - beta * sx) / n;
-    let p0 = alpha.sqrt();
-    let a = (-alpha / beta).sqrt();
-    (a, p0, pts)
+    ((-alpha / beta).sqrt(), alpha.sqrt())
 }
 
 pub fn hertz_cylinder(s: &Session) -> Result<(), String> {
