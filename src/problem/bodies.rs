@@ -68,6 +68,8 @@ pub struct ContactPart {
     pub name: String,
     /// The body whose nodes are the contact points (the slave side of a pair).
     pub slave_body: usize,
+    /// The slave side's boundary group in the union mesh.
+    pub slave_group: usize,
     /// The other side of a pair; `None` for a rigid obstacle.
     pub master: Option<MasterSide>,
     pub friction: FrictionSpec,
@@ -80,6 +82,8 @@ pub struct ContactPart {
 pub struct MasterSide {
     pub body: usize,
     pub group: usize,
+    /// Slave nodes farther than this from the master side are not contact points.
+    pub pairing_distance: f64,
 }
 
 impl ContactParts {
@@ -280,7 +284,12 @@ fn contact_of_bodies(
         parts.push(ContactPart {
             name: format!("{} / {}", pair.slave, pair.master),
             slave_body: body_index(&pair.slave.body),
-            master: Some(MasterSide { body: body_index(&pair.master.body), group: master_group }),
+            slave_group,
+            master: Some(MasterSide {
+                body: body_index(&pair.master.body),
+                group: master_group,
+                pairing_distance: options.max_distance,
+            }),
             friction: pair.friction,
             at: pair.at.clone(),
         });
@@ -292,7 +301,14 @@ fn contact_of_bodies(
         let group = mesh.require_group(&name, 1)?;
         let obstacle = obstacle_of(&spec.obstacle)?;
         boundaries.push(ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, &prescribed)?);
-        parts.push(ContactPart { name, slave_body: b, master: None, friction: spec.friction, at: spec.at.clone() });
+        parts.push(ContactPart {
+            name,
+            slave_body: b,
+            slave_group: group,
+            master: None,
+            friction: spec.friction,
+            at: spec.at.clone(),
+        });
         solver_spec.get_or_insert(spec);
     }
     if boundaries.is_empty() {

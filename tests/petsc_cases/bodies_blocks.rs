@@ -140,13 +140,22 @@ fn patch_nonmatching(s: &Session, order: u32) -> Result<(), String> {
     let eq: Vec<f64> = r.bodies.iter().map(|b| b.equilibrium_residual).collect();
     let ar = r.contacts[0].action_reaction_residual.ok_or("no action-reaction residual")?;
     let resultant = r.contacts[0].slave_resultant;
+    let np = r.contacts[0].node_penetration.as_ref().ok_or("no node_penetration")?;
     eprintln!(
         "    P{order}: {} slave points ({} master nodes), pressure error {perr:.2e}, friction {terr:.1e}, displacement \
-         error {:.2e} (relative), equilibrium residuals {eq:?}, action-reaction {ar:.1e}, slave resultant {resultant:?}",
+         error {:.2e} (relative), equilibrium residuals {eq:?}, action-reaction {ar:.1e}, slave resultant {resultant:?}, \
+         pointwise penetration {:.1e} ({} nodes)",
         c.boundary.points(),
         master_nodes.len(),
-        err / size
+        err / size,
+        np.max_penetration,
+        np.measured_nodes
     );
+    // Every master node but the two ends (level with the slave side's ends) faces the slave
+    // side and is measured; the interface stays straight, so no node enters the other body.
+    ensure(np.measured_nodes + 2 >= master_nodes.len() && np.max_penetration <= 1e-12, || {
+        format!("P{order}: pointwise penetration {np:?}")
+    })?;
     ensure(o.report.open == 0, || format!("P{order}: {} open points", o.report.open))?;
     ensure(perr <= 1e-11 && terr == 0.0, || {
         format!("P{order}: contact pressure off by {perr:e} of the applied {pr:e} (friction {terr:e})")

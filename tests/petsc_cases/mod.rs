@@ -107,6 +107,10 @@ pub const TESTS: &[(&str, Case)] = &[
         "two_bodies_report_equilibrium_and_action_reaction",
         bodies_hertz::two_bodies_report_equilibrium_and_action_reaction,
     ),
+    (
+        "two_cylinders_beyond_small_sliding_fail_the_check",
+        bodies_hertz::two_cylinders_beyond_small_sliding_fail_the_check,
+    ),
     ("two_body_patch_nonmatching_p1", bodies_blocks::two_body_patch_nonmatching_p1),
     ("two_body_patch_nonmatching_p2", bodies_blocks::two_body_patch_nonmatching_p2),
     ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),

@@ -150,8 +150,11 @@
 //! 1354–1391 (2D segmentation along the interpolated slave normal field, weighted gaps);
 //! S. Hüeber, B. I. Wohlmuth, "A primal–dual active set strategy for non-linear multibody
 //! contact problems", Comput. Methods Appl. Mech. Engrg. 194 (2005) 3147–3166.
+mod interpenetration;
 mod points;
 mod segments;
+
+pub use interpenetration::{GapDirection, Interpenetration, NodePenetration};
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Order};
