@@ -32,7 +32,7 @@ use crate::contact::{self, PointStatus};
 use crate::error::{Error, Result};
 
 use super::{ContactPart, ContactSetup, ElasticityProblem, MasterSide, EQUILIBRIUM_CHECK};
-use crate::contact::mortar::{GapDirection, MortarSide};
+use crate::contact::mortar::MortarSide;
 use crate::scene::BodiesModel;
 
 /// The largest pointwise penetration of a pair's nodes (relative to the displacement scale)
@@ -287,8 +287,8 @@ fn node_penetration(
     // node of the two sides is measured here.
     let is_point = |k: usize| contact_points.contains(&k);
     let measured = slave
-        .penetration_into(&master_side, u, reach, GapDirection::OwnNormals, |k| !is_point(k))?
-        .max(master_side.penetration_into(&slave, u, reach, GapDirection::OtherSide, |_| true)?);
+        .penetration_into(&master_side, u, reach, |k| !is_point(k))?
+        .max(master_side.penetration_into(&slave, u, reach, |_| true)?);
     let scale = displacement_scale.max(f64::MIN_POSITIVE);
     let (node, length) = measured.worst.map_or((0, 0.0), |w| (w.node, w.excess));
     let body = model.layout.bodies.iter().find(|r| r.nodes.contains(&node)).map_or(String::new(), |r| r.name.clone());
@@ -301,20 +301,28 @@ fn node_penetration(
     };
     if report.max_penetration > NODE_PENETRATION_CHECK {
         let w = measured.worst.expect("a penetration was measured");
-        let why = if slave.position(node).is_none() {
-            "it is a node of the master side, pushing into the slave side between two slave nodes: \
-             make the slave side at least as fine as the master side, or swap them"
+        let unpaired = format!(
+            "in the reference configuration they do not face each other, or lie farther apart than the pairing \
+             distance {:.3e}: displacements this large are outside the small sliding the pairing assumes (it is \
+             made once, in the reference configuration); reduce the load, or place the bodies so that they already \
+             touch where they will",
+            master.pairing_distance
+        );
+        let why = if slave.position(node).is_some() && !is_point(node) {
+            format!("it is a slave node that is not a contact point: {unpaired}")
+        } else if slave.position(node).is_some() {
+            "it is a contact point: the weak (mortar) constraint holds there, but not pointwise: refine the contact sides"
                 .to_string()
-        } else if is_point(node) {
-            "it is a contact point: the weak (mortar) constraint holds there, but not pointwise: \
-             refine the contact sides"
-                .to_string()
+        } else if !w.facing.iter().any(|&k| is_point(k)) {
+            format!("it is a master node facing slave nodes that are not contact points: {unpaired}")
         } else {
             format!(
-                "it is not a contact point (in the reference configuration it does not face the master side, \
-                 or lies farther than the pairing distance {:.3e}): displacements this large are outside \
-                 the small sliding the pairing assumes (it is made once, in the reference configuration): reduce the load, or place the bodies so that they already touch where they will",
-                master.pairing_distance
+                "it is a master node pushing into the slave side between two slave nodes, where the weak constraint \
+                 does not reach: either the slave side is coarser than the master side there (make it at least as \
+                 fine, or swap the sides), or the node moved {:.3e} towards a side {:.3e} away, beyond the small \
+                 sliding the linearised pairing assumes (reduce the load)",
+                w.initial_gap - w.gap,
+                w.initial_gap
             )
         };
         return Err(Error::SolverDiverged {

@@ -162,21 +162,20 @@ fn hertz_case(
 }
 
 /// Hertz, two identical steel cylinders (the example scene as it is: cells of a/20 near the
-/// contact): a and p0 within 1 %.
+/// contact): a and p0 within 0.2 % (the issue asks 1 %; measured +0.078 % and +0.023 %).
 pub fn hertz_two_cylinders(s: &Session) -> Result<(), String> {
-    hertz_case(s, "2.5e-4", STEEL, STEEL, 2.25e8, 0.01).map(|_| ())
+    hertz_case(s, "2.5e-4", STEEL, STEEL, 2.25e8, 0.002).map(|_| ())
 }
 
 /// Hertz, steel on aluminium (E* from both bodies), the load scaled so that a is the same as
 /// for two steel cylinders: a and p0 within 1 %; and aluminium on steel (the softer body the
-/// slave side), the same E*. Cells of a/10 near the contact: the fit's errors hardly depend on
-/// the mesh from a/5 on (two steel cylinders: a −0.085 %, −0.022 %, −0.003 % and p0 +0.17 %,
-/// +0.21 %, +0.22 % with cells of a/5, a/10, a/20; the peak's +0.2 % is Hertz's half-space
-/// idealisation at a/R = 0.05, as for one cylinder on a plane).
+/// slave side), the same E*. Cells of a/10 near the contact. Measured: a +0.046 % and +0.058 %,
+/// p0 +0.017 % and +0.005 %; the test asks 0.2 %. (With the rows along the slave normal
+/// instead of the two sides' bisector, p0 was 0.2 % high whatever the mesh.)
 pub fn hertz_two_cylinders_steel_on_aluminium(s: &Session) -> Result<(), String> {
     let ratio = effective_modulus(STEEL, ALUMINIUM) / effective_modulus(STEEL, STEEL);
-    hertz_case(s, "5e-4", STEEL, ALUMINIUM, 2.25e8 * ratio, 0.01)?;
-    hertz_case(s, "5e-4", ALUMINIUM, STEEL, 2.25e8 * ratio, 0.01).map(|_| ())
+    hertz_case(s, "5e-4", STEEL, ALUMINIUM, 2.25e8 * ratio, 0.002)?;
+    hertz_case(s, "5e-4", ALUMINIUM, STEEL, 2.25e8 * ratio, 0.002).map(|_| ())
 }
 
 /// The two cylinders with the upper flat side moved by (`ux`, `uy`) (the lower one clamped),
@@ -206,18 +205,17 @@ fn cattaneo_scene(fine: &str, ux: f64, uy: f64, mu: f64) -> (String, std::path::
 /// configuration in which β = 0 decouples the two problems. P and Q are then reactions, read
 /// from the contact forces; δ = (2.5e-4, 1e-3) m gives P = 4.93e7 N/m and Q/μP = 0.507.
 ///
-/// Checks: c/a = √(1 − Q/μP) within two contact-node spacings (c: half the stick zone, its
-/// ends halfway between the last stick and the first slip point); the tangential traction in
-/// the stick zone q(x) = μp0 (√(1 − x²/a²) − (c/a) √(1 − (x − e)²/c²)) within 5 % of μp0 on the
-/// inner 80 % of the stick zone, e its centre.
+/// Checks: c/a = √(1 − Q/μP) within one contact-node spacing (c: half the stick zone, its ends
+/// halfway between the last stick and the first slip point); the stick zone centred on x = 0
+/// within half a spacing; the tangential traction in the stick zone
+/// q(x) = μp0 (√(1 − x²/a²) − (c/a) √(1 − (x − e)²/c²)) within 2 % of μp0 on its inner 80 %,
+/// e its centre. Measured: c/a 0.6997 against 0.7003, e/a below 1e-4, traction within 0.3 %.
 ///
-/// The centre e: e/a = 0.107 here, about the same whatever the mesh (0.10, 0.12, 0.11, 0.11 with
-/// cells of 1e-3, 5e-4, 2.5e-4, 1.25e-4), and it flips with the slave and master sides swapped. It is the small
-/// sliding formulation's geometric error: both sides' rows use the slave side's reference
-/// normal, which differs from the master side's by 2x/R (R the cylinder radius), so the master
-/// body carries a tangential traction ≈ 2p x/R, odd in x, a relative tangential strain that
-/// moves the stick zone. It scales as (a/R)/μ: e/a ≈ 0.65 (a/R)/μ measured with μ = 0.3 and 0.6
-/// and with a halved (Hertz and Cattaneo take a ≪ R). The test bounds e/a by (a/R)/μ.
+/// The centre: with the rows along the slave side's normal it was shifted by e/a = 0.107
+/// whatever the mesh, flipping with the slave and master sides swapped, scaling as
+/// 0.65 (a/R)/μ — the master carried a tangential traction ≈ 2p x/R from the two sides'
+/// normals differing by 2x/R. The rows now follow the bisector of the two normals
+/// (`contact/mortar/mod.rs`, "Contact direction"), which removed it.
 pub fn cattaneo_mindlin_two_cylinders(s: &Session) -> Result<(), String> {
     let mu = 0.3;
     let (text, path) = cattaneo_scene("2.5e-4", 2.5e-4, -1e-3, mu);
@@ -261,19 +259,19 @@ pub fn cattaneo_mindlin_two_cylinders(s: &Session) -> Result<(), String> {
     }
     let line = format!(
         "Cattaneo: P = {load:.4e}, Q/μP = {q_over_mu_p:.4}, c/a = {:.4} (Cattaneo {:.4}; {:+.2} spacings of {spacing:.3e}), \
-         stick zone centre e/a = {:+.4} (bound (a/R)/μ = {:.4}), q(e)/μp0 = {at_centre:.4} (Cattaneo {:.4}), \
+         stick zone centre e/a = {:+.4} (half a spacing: {:.4}), q(e)/μp0 = {at_centre:.4} (Cattaneo {:.4}), \
          worst |q − q_Cattaneo|/μp0 on the inner 80 % = {worst:.4}",
         c / a,
         c_exact / a,
         (c - c_exact) / spacing,
         e / a,
-        a / RADIUS / mu,
+        0.5 * spacing / a,
         1.0 - c_exact / a,
     );
     eprintln!("    {line}");
-    ensure((c - c_exact).abs() <= 2.0 * spacing, || format!("{line}: c beyond two spacings"))?;
-    ensure(e.abs() <= a * (a / RADIUS) / mu, || format!("{line}: the stick zone moved too far"))?;
-    ensure(worst < 0.05, || format!("{line}: tangential traction off Cattaneo's"))?;
+    ensure((c - c_exact).abs() <= spacing, || format!("{line}: c beyond one spacing"))?;
+    ensure(e.abs() <= 0.5 * spacing, || format!("{line}: the stick zone is not centred"))?;
+    ensure(worst < 0.02, || format!("{line}: tangential traction off Cattaneo's"))?;
     check_bodies_report(&p, "Cattaneo", 1e-10).map(|_| ())
 }
 
@@ -295,22 +293,22 @@ pub fn two_bodies_report_equilibrium_and_action_reaction(s: &Session) -> Result<
 }
 
 /// The pointwise check catches what the pairing cannot see: the upper cylinder pushed down by
-/// 2 cm (a fifth of its radius; the run warns of large displacements) brings arc nodes into
+/// 3 cm (0.3 of its radius; the run warns of large displacements) brings arc nodes into
 /// contact that lay, in the reference configuration, farther than the pairing distance
-/// (0.1 × the arc's extent) from the lower arc. They are not contact points, so the weak
-/// constraint says nothing about them, and they go through the lower cylinder: before this
-/// check the run passed every residual and exited 0. Now it is an error that names the node,
-/// its body, the pair and the pairing distance.
+/// (0.1 × the arc's extent, 2.2 cm) from the lower arc. They are not contact points, so the
+/// weak constraint says nothing about them, and the two arcs go through each other there (by
+/// 2.5 % of the displacements; the linearised constraint at the last paired nodes, tilted by
+/// 30°, is off as much): before this check the run passed every residual and exited 0. Now
+/// it is an error that names the node, its body, the pair and the small-sliding limit.
 pub fn two_cylinders_beyond_small_sliding_fail_the_check(s: &Session) -> Result<(), String> {
-    let (text, path) = cattaneo_scene("2e-3", 0.0, -0.02, 0.3);
+    let (text, path) = cattaneo_scene("2e-3", 0.0, -0.03, 0.3);
     match solve_text(s, &text, &path) {
         Err(Error::SolverDiverged { solver, reason, tried, .. }) => ensure(
             solver.contains("independent check")
-                && reason.contains("of body `upper`")
+                && (reason.contains("of body `upper`") || reason.contains("of body `lower`"))
                 && reason.contains("upper.arc / lower.arc")
                 && reason.contains("penetrates the other side")
-                && tried.contains("not a contact point")
-                && tried.contains("pairing distance"),
+                && tried.contains("small sliding"),
             || format!("wrong message: {reason}; {tried}"),
         ),
         Err(e) => Err(format!("wrong error: {e}")),

@@ -22,12 +22,14 @@
 //!   excess = (min(d0, 0) − d)₊                       penetration beyond the reference overlap
 //! ```
 //!
-//! `p` is the closest point of the polyline to `x_q`. The gap is measured along the SLAVE
-//! normal, as the constraint is ([`super`]): a master node against the slave side uses the
-//! slave chords' normal `ν` as drawn; a slave node against the master side uses its own nodal
-//! normal, `ν = −n_q` ([`GapDirection::OwnNormals`]). Measured along the master's normal
-//! instead, a relative tangential slip `δ` would add `δ sin θ` (`θ` the angle between the two
-//! sides' normals, `2x/R` on two cylinders) that the small-sliding model does not see. Nodes whose closest point is an end of
+//! `p` is the closest point of the polyline to `x_q`. The gap is measured along the contact
+//! direction of the constraint ([`super`], "Contact direction"): the bisector of the two
+//! sides' normals, `ν = (ν_p − n_q)/|ν_p − n_q|` with `ν_p` the other side's outward normal at
+//! `p` (its chord's, or at a vertex the mean of the two chords') and `n_q` the node's own nodal
+//! normal (outward of its body), for a slave and a master node alike. Measured along one side's
+//! normal instead, a relative tangential slip `δ` would add `δ sin θ` (`θ` the angle between
+//! the two sides' normals, `2x/R` on two cylinders) that the small-sliding model does not see.
+//! Nodes whose closest point is an end of
 //! the other side (beyond its extent) or farther than `max_distance` are not measured. The
 //! reference overlap `min(d0, 0)` is discounted: two discrete curves of one circle cross by
 //! up to their chords' sagitta (`h²/8R`), and the solve is not asked to separate them.
@@ -51,6 +53,8 @@ pub struct NodePenetration {
     pub gap: f64,
     /// `(min(d0, 0) − d)₊`.
     pub excess: f64,
+    /// The other side's nodes at the ends of the chord it was measured against.
+    pub facing: [usize; 2],
 }
 
 /// What [`MortarSide::penetration_into`] measured.
@@ -76,15 +80,6 @@ impl Interpenetration {
         };
         Interpenetration { measured: self.measured + other.measured, worst }
     }
-}
-
-/// Along which normal the gap of a node is measured (module documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GapDirection {
-    /// The other side's outward normal at the closest point (a master node against the slave side).
-    OtherSide,
-    /// The node's own nodal normal, reversed (a slave node against the master side).
-    OwnNormals,
 }
 
 /// A chord of the other side: end nodes, end positions, outward unit normal.
@@ -113,23 +108,19 @@ impl MortarSide {
     }
 
     /// Every node of this side against `other`'s boundary, with the displacement field `u`
-    /// (`dof = 2·node + component`; both sides' node ids index it), the gap measured along
-    /// `direction`: see the module documentation. Nodes farther than `max_distance` from
+    /// (`dof = 2·node + component`; both sides' node ids index it): see the module
+    /// documentation. Nodes farther than `max_distance` from
     /// `other`, or beyond its ends, or for which `measure` is false, are not measured.
     ///
-    /// Errors: those of [`MortarSide::nodal_normals`] with [`GapDirection::OwnNormals`].
+    /// Errors: those of [`MortarSide::nodal_normals`] (this side's).
     pub fn penetration_into(
         &self,
         other: &MortarSide,
         u: &[f64],
         max_distance: f64,
-        direction: GapDirection,
         measure: impl Fn(usize) -> bool,
     ) -> crate::error::Result<Interpenetration> {
-        let own_normals = match direction {
-            GapDirection::OwnNormals => Some(self.nodal_normals()?),
-            GapDirection::OtherSide => None,
-        };
+        let own_normals = self.nodal_normals()?;
         let chords = other.chords();
         // How many chords meet at each node of the other side: an end of the side has one.
         let mut valence = vec![0usize; other.nodes().len()];
@@ -185,8 +176,11 @@ impl MortarSide {
                 }
                 normal = [sum[0] / length, sum[1] / length];
             }
-            if let Some(n) = &own_normals {
-                normal = [-n[index][0], -n[index][1]];
+            let own = own_normals[index];
+            let bisector = [normal[0] - own[0], normal[1] - own[1]];
+            let length = bisector[0].hypot(bisector[1]);
+            if length > 0.5 {
+                normal = [bisector[0] / length, bisector[1] / length];
             }
             let p = [
                 chord.x[0][0] + t * (chord.x[1][0] - chord.x[0][0]),
@@ -199,7 +193,7 @@ impl MortarSide {
             let excess = (initial_gap.min(0.0) - gap).max(0.0);
             result.measured += 1;
             if result.worst.map_or(true, |w| excess > w.excess) {
-                result.worst = Some(NodePenetration { node: q, initial_gap, gap, excess });
+                result.worst = Some(NodePenetration { node: q, initial_gap, gap, excess, facing: chord.nodes });
             }
         }
         Ok(result)
@@ -208,9 +202,8 @@ impl MortarSide {
 
 #[cfg(test)]
 mod tests {
-    use super::{GapDirection, MortarSide};
+    use super::MortarSide;
     use crate::mesh::Order;
-    const OTHER: GapDirection = GapDirection::OtherSide;
     const ALL: fn(usize) -> bool = |_| true;
 
     /// A lower body's top side `y = 0` (body below: edges run right to left) and an upper
@@ -235,16 +228,16 @@ mod tests {
         let (lower, upper, positions) = sides(0.0);
         // Both sides moved together: no excess; every upper node measured (they face the lower side).
         let u: Vec<f64> = positions.iter().flat_map(|_| [0.2, -0.1]).collect();
-        let m = upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap();
+        let m = upper.penetration_into(&lower, &u, 1.0, ALL).unwrap();
         assert_eq!(m.measured, 3);
         assert_eq!(m.excess(), 0.0);
         // The upper body lifted by 0.01: gaps 0.01, no excess.
         let u: Vec<f64> = (0..positions.len()).flat_map(|k| [0.0, if k >= 4 { 0.01 } else { 0.0 }]).collect();
-        let m = upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap();
+        let m = upper.penetration_into(&lower, &u, 1.0, ALL).unwrap();
         assert!((m.worst.unwrap().gap - 0.01).abs() < 1e-15);
         assert_eq!(m.excess(), 0.0);
         // Lower nodes against the upper side: only those facing it (x = 0.3, 0.55) are measured.
-        let m = lower.penetration_into(&upper, &u, 1.0, OTHER, ALL).unwrap();
+        let m = lower.penetration_into(&upper, &u, 1.0, ALL).unwrap();
         assert_eq!(m.measured, 2);
         assert_eq!(m.excess(), 0.0);
     }
@@ -255,14 +248,14 @@ mod tests {
         // Upper node 5 (x = 0.4) pushed 1e-3 into the lower body.
         let mut u = vec![0.0; 2 * positions.len()];
         u[2 * 5 + 1] = -1e-3;
-        let m = upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap();
+        let m = upper.penetration_into(&lower, &u, 1.0, ALL).unwrap();
         let w = m.worst.unwrap();
         assert_eq!(w.node, 5);
         assert!((w.excess - 1e-3).abs() < 1e-15, "{w:?}");
         // Seen from the lower side: node 1 (x = 0.3) lies 2/3 of the way along the upper chord
         // 0.1 → 0.4 and node 2 (x = 0.55) 3/10 of the way along 0.4 → 0.9, chords whose shared
         // end went down by 1e-3: they are 2/3·1e-3 and 7/10·1e-3 inside.
-        let m = lower.penetration_into(&upper, &u, 1.0, OTHER, ALL).unwrap();
+        let m = lower.penetration_into(&upper, &u, 1.0, ALL).unwrap();
         let w = m.worst.unwrap();
         assert_eq!((m.measured, w.node), (2, 2));
         assert!((w.excess - 0.7e-3).abs() < 1e-15, "{w:?}");
@@ -274,30 +267,29 @@ mod tests {
         // but a further 1e-5 is.
         let (lower, upper, positions) = sides(-1e-4);
         let mut u = vec![0.0; 2 * positions.len()];
-        assert_eq!(upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap().excess(), 0.0);
+        assert_eq!(upper.penetration_into(&lower, &u, 1.0, ALL).unwrap().excess(), 0.0);
         u[2 * 4 + 1] = -1e-5;
-        let w = upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap().worst.unwrap();
+        let w = upper.penetration_into(&lower, &u, 1.0, ALL).unwrap().worst.unwrap();
         assert!((w.initial_gap + 1e-4).abs() < 1e-15 && (w.excess - 1e-5).abs() < 1e-15, "{w:?}");
         // Farther than the distance: nothing measured.
         let (lower, upper, positions) = sides(0.5);
         let u = vec![0.0; 2 * positions.len()];
-        assert_eq!(upper.penetration_into(&lower, &u, 0.1, OTHER, ALL).unwrap().measured, 0);
+        assert_eq!(upper.penetration_into(&lower, &u, 0.1, ALL).unwrap().measured, 0);
     }
 
     #[test]
-    fn own_normals_ignore_sliding_along_a_tilted_other_side() {
-        // The lower side tilted by 0.1 rad, the upper node above it: slid along x by 1e-2, it
-        // gets 1e-3 closer along the lower side's normal, but not along its own (vertical) one.
-        let positions = vec![[1.0, 0.1], [0.0, 0.0], [0.5, 0.5], [0.6, 0.5]];
+    fn gaps_follow_the_bisector_of_the_two_normals() {
+        // The lower side tilted by 0.1 rad, the upper one horizontal above it: sliding the upper
+        // node along x by 1e-2 changes its gap along the bisector (tilted by 0.05 rad) by
+        // 1e-2 sin(0.05), half of what the lower side's own normal would give.
+        let positions = vec![[1.0, 0.1], [0.0, 0.0], [0.4, 0.5], [0.6, 0.5]];
         let lower = MortarSide::new("lower", Order::P1, vec![vec![0, 1]], &positions).unwrap();
         let upper = MortarSide::new("upper", Order::P1, vec![vec![2, 3]], &positions).unwrap();
         let mut u = vec![0.0; 8];
         u[2 * 2] = 1e-2;
         u[2 * 3] = 1e-2;
-        let tilted = upper.penetration_into(&lower, &u, 1.0, OTHER, ALL).unwrap().worst.unwrap();
-        let own = upper.penetration_into(&lower, &u, 1.0, GapDirection::OwnNormals, ALL).unwrap().worst.unwrap();
-        let (g0, g1) = (own.initial_gap, own.gap);
-        assert!((g0 - g1).abs() < 1e-15, "{own:?}");
-        assert!(tilted.gap < tilted.initial_gap - 9e-4, "{tilted:?}");
+        let w = upper.penetration_into(&lower, &u, 1.0, ALL).unwrap().worst.unwrap();
+        let tilt = 0.5 * 0.1f64.atan();
+        assert!((w.initial_gap - w.gap - 1e-2 * tilt.sin()).abs() < 1e-12, "{w:?}");
     }
 }

@@ -14,7 +14,8 @@
 //! `x_m(s)` where the line `x_s(s) + τ n(s)` meets the master side; the gap function is
 //! `g(s) = (x_m(s) − x_s(s))·n(s)`: positive when the sides are apart, negative when they
 //! overlap. Non-penetration, linearized, is `(u_s − u_m)·n ≤ g`, tested against the dual basis
-//! `ψ_i` of the slave side (below):
+//! `ψ_i` of the slave side (below). In the rows, `n_i` is then turned to the bisector of the
+//! two sides' normals ("Contact direction" below; the same on a straight interface):
 //!
 //! ```text
 //!   D_i  = ∫ φ_i ds          M_ij = ∫ ψ_i φ_j^m ds          g0_i = (1/D_i) ∫ ψ_i g ds
@@ -31,6 +32,33 @@
 //! [`MortarCoupling::scatter_add`] = `f += Bᵀ r`). The unknowns `rN_i, rT_i` are nodal FORCES on
 //! the slave node (`rN ≤ 0` in compression); the master nodes receive `−(M_ij/D_i) r_i`, the
 //! reactions distributed by the mortar weights. A uniform pressure `p` is `rN_i = −p D_i`.
+//!
+//! ## Contact direction: the bisector of the two sides' normals
+//!
+//! The pairing (which master point a slave point faces) follows the slave normal field, but
+//! the direction `n_i` of point `i`'s rows is the bisector of the slave nodal normal `ν_s` and
+//! the master normal `ν_m` where the slave node's normal line meets the master side (the
+//! master nodal normals interpolated there; outward normals of each body):
+//!
+//! ```text
+//!                master body                  ν_s: outward normal of the slave at node i
+//!      ~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~    ν_m: outward normal of the master where the
+//!           ν_s ↖   ↑ n_i   ↗ −ν_m                 normal line of node i meets it
+//!      ____________ x_i ______________        n_i = (ν_s − ν_m) / |ν_s − ν_m|,  t_i = (−n_y, n_x)
+//!                slave body                   g0_i ← g0_i (ν_s·n_i)
+//! ```
+//!
+//! On a straight interface (`ν_m = −ν_s`) this is the slave normal, and nothing above changes.
+//! On two curved sides the slave normal differs from the master's by the angle between them
+//! (`2x/R` on two cylinders of radius `R` touching at `x = 0`): a force along the slave normal
+//! then has a tangential component `≈ 2p x/R` in the master's frame, odd in `x`, which shifted
+//! the Cattaneo–Mindlin stick zone by `e/a ≈ 0.65 (a/R)/μ` (0.11 at a/R = 0.05, μ = 0.3). Along
+//! the bisector both bodies see the same tilt, as the small-strain theory's common normal to
+//! the tangent plane (K. L. Johnson, Contact Mechanics, 1985, §4.1): the shift is gone (e/a
+//! below 1e-4) and Hertz's p0 for two cylinders moved from +0.22 % to +0.02 %. The gap, the
+//! weighted distance along the slave normals, is projected on `n_i`. A node whose normal line
+//! meets no master edge within the distance (covered only through its edges' segments) uses
+//! the master nodal normals its row weighs, `Σ_j (M_ij/D_i) ν_m,j`.
 //!
 //! ## Segmentation (after Popp, Gee & Wall 2009, section 4, for 2D)
 //!
@@ -154,7 +182,7 @@ mod interpenetration;
 mod points;
 mod segments;
 
-pub use interpenetration::{GapDirection, Interpenetration, NodePenetration};
+pub use interpenetration::{Interpenetration, NodePenetration};
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, Order};
@@ -365,7 +393,8 @@ pub struct MortarCoupling {
     pub nodes: Vec<usize>,
     /// `D_i = ∫ φ_i ds` over the slave side (`> 0`).
     pub weight: Vec<f64>,
-    /// `n_i`: unit outward normal of the slave body at the node (towards the master).
+    /// `n_i`: the contact direction, the bisector of the slave body's outward normal at the
+    /// node (towards the master) and the master side's inward one (module documentation).
     pub normal: Vec<[f64; 2]>,
     /// `t_i = (−n_y, n_x)`.
     pub tangent: Vec<[f64; 2]>,
@@ -395,7 +424,18 @@ impl MortarCoupling {
             )));
         }
         let normals = slave.nodal_normals()?;
+        let master_normals = master.nodal_normals()?;
         let masters: Vec<Edge> = (0..master.edges.len()).map(|f| master.edge(f)).collect();
+        let master_edge_normals: Vec<[[f64; 2]; 3]> = masters
+            .iter()
+            .map(|edge| {
+                let mut out = [[0.0; 2]; 3];
+                for a in 0..edge.len {
+                    out[a] = master_normals[master.nodes.binary_search(&edge.nodes[a]).expect("edge node of the side")];
+                }
+                out
+            })
+            .collect();
         let m = slave.nodes.len();
         let mut weight = vec![0.0; m];
         let mut gap = vec![0.0; m];
@@ -458,11 +498,29 @@ impl MortarCoupling {
                 let coverage = row.iter().map(|&(_, v)| v).sum::<f64>() / d;
                 coupling.partly_covered.push(PartlyCovered { node: k, coverage });
             }
+            // The contact direction: the bisector of the slave normal and the master normal
+            // where the slave node's normal line meets the master side (module documentation,
+            // "Contact direction"); if it meets none within the distance (a node covered only
+            // through its edges), the master normals its mortar row weighs.
+            let seen =
+                segments::master_normal_at(slave.positions[i], n, &masters, &master_edge_normals, options.max_distance)
+                    .unwrap_or_else(|| {
+                        let mut seen = [0.0; 2];
+                        for &(j, v) in &row {
+                            let nm = master_normals[master.nodes.binary_search(&j).expect("master node of the side")];
+                            seen[0] += v / d * nm[0];
+                            seen[1] += v / d * nm[1];
+                        }
+                        seen
+                    });
+            let (bx, by) = (n[0] - seen[0], n[1] - seen[1]);
+            let length = bx.hypot(by);
+            let b = if length > 0.5 { [bx / length, by / length] } else { n };
             coupling.nodes.push(k);
             coupling.weight.push(d);
-            coupling.normal.push(n);
-            coupling.tangent.push([-n[1], n[0]]);
-            coupling.gap.push(gap[i] / d);
+            coupling.normal.push(b);
+            coupling.tangent.push([-b[1], b[0]]);
+            coupling.gap.push(gap[i] / d * (n[0] * b[0] + n[1] * b[1]));
             coupling.mortar.push(row);
         }
         if options.uncovered == UncoveredNodes::Error {

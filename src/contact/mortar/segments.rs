@@ -181,6 +181,41 @@ fn pair(slave: &SlaveEdge, s: f64, master: &Edge, max_distance: f64, checked: bo
     Some(Pairing { values: q.values, gap })
 }
 
+/// The master side's unit normal where the line `p + t n` (a slave node and its normal) meets
+/// it: on the nearest master edge that the line meets within `max_distance` and that faces the
+/// slave (`n_master·n < 0`), the master nodal normals `normals[f]` of edge `f` interpolated by
+/// its shape functions. `None` when no edge is met.
+pub(super) fn master_normal_at(
+    p: [f64; 2],
+    n: [f64; 2],
+    masters: &[Edge],
+    normals: &[[[f64; 2]; 3]],
+    max_distance: f64,
+) -> Option<[f64; 2]> {
+    let mut best: Option<(f64, [f64; 2])> = None;
+    for (f, master) in masters.iter().enumerate() {
+        let Some(eta) = intersect(master, p, n) else { continue };
+        if !(-PARAMETER_TOLERANCE..=1.0 + PARAMETER_TOLERANCE).contains(&eta) {
+            continue;
+        }
+        let q = master.at(eta);
+        let gap = dot(sub(q.x, p), n);
+        if dot(q.normal, n) >= 0.0 || gap.abs() > max_distance || best.is_some_and(|b| b.0 <= gap.abs()) {
+            continue;
+        }
+        let mut m = [0.0; 2];
+        for a in 0..master.len {
+            m[0] += q.values[a] * normals[f][a][0];
+            m[1] += q.values[a] * normals[f][a][1];
+        }
+        let l = norm(m);
+        if l > 0.0 {
+            best = Some((gap.abs(), [m[0] / l, m[1] / l]));
+        }
+    }
+    best.map(|b| b.1)
+}
+
 /// The part `[lo, hi]` of the slave parameter interval `[0, 1]` that master edge `master` faces.
 struct Candidate {
     master: usize,
