@@ -144,16 +144,22 @@ pub struct ContactBoundary {
     /// their entries in the point's two rows of `B` (empty against a rigid obstacle, else one
     /// list per point). See [`ContactBoundary::from_mortar`].
     pub coupled: Vec<Vec<CoupledNode>>,
+    /// The unit contact frame `(n_i, t_i)` of each point before prescribed components were taken
+    /// out of its rows: the direction of the force between the two sides (equal to
+    /// `(normal, tangent)` where nothing is prescribed).
+    pub frame: Vec<[[f64; 2]; 2]>,
 }
 
 /// A node of the other body in the rows of a contact point between two bodies: `B_N` has
 /// `normal` and `B_T` has `tangent` on its two dofs (`−(M_ij/D_i) n_i` and `−(M_ij/D_i) t_i`
-/// for the mortar coupling).
+/// for the mortar coupling, without the node's prescribed components), and it receives the
+/// share `transfer` (`M_ij/D_i`) of the point's force, reversed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoupledNode {
     pub node: usize,
     pub normal: [f64; 2],
     pub tangent: [f64; 2],
+    pub transfer: f64,
 }
 
 /// A node of the contact part left out of the contact points, to be checked for penetration.
@@ -349,10 +355,12 @@ impl ContactBoundary {
         let mut normal = Vec::with_capacity(nodes.len());
         let mut tangent = Vec::with_capacity(nodes.len());
         let mut gap = Vec::with_capacity(nodes.len());
+        let mut frame = Vec::with_capacity(nodes.len());
         for (&k, f) in nodes.iter().zip(&fixed) {
             let projection = obstacle.project(mesh.nodes[k]);
             let n = [-projection.normal[0], -projection.normal[1]];
             tangent.push([-n[1], n[0]]);
+            frame.push([n, [-n[1], n[0]]]);
             let g = projection.signed_distance + extra_gap;
             match *f {
                 None => {
@@ -378,6 +386,7 @@ impl ContactBoundary {
             prescribed: fixed,
             left_out,
             coupled: Vec::new(),
+            frame,
         })
     }
 
@@ -434,6 +443,26 @@ impl ContactBoundary {
             for c in self.coupled_to(i) {
                 f[2 * c.node] += c.normal[0] * rn + c.tangent[0] * rt;
                 f[2 * c.node + 1] += c.normal[1] * rn + c.tangent[1] * rt;
+            }
+        }
+    }
+
+    /// Between two bodies, the forces that prescribed components took out of `B` (`f += B̄ᵀ r −
+    /// Bᵀ r`, `B̄` the rows along the unreduced [`ContactBoundary::frame`] with every master
+    /// node's share [`CoupledNode::transfer`]): nonzero only on prescribed dofs of pair points,
+    /// where the support, not the body, receives them. Against a rigid obstacle, nothing
+    /// (there a prescribed component restricts the constraint itself: module documentation).
+    pub fn add_forces_on_supports(&self, r: &[f64], f: &mut [f64]) {
+        for i in (0..self.points()).filter(|&i| !self.coupled_to(i).is_empty()) {
+            let (rn, rt) = (r[2 * i], r[2 * i + 1]);
+            let [n, t] = self.frame[i];
+            let k = self.nodes[i];
+            for comp in 0..2 {
+                let whole = n[comp] * rn + t[comp] * rt;
+                f[2 * k + comp] += whole - (self.normal[i][comp] * rn + self.tangent[i][comp] * rt);
+                for c in self.coupled_to(i) {
+                    f[2 * c.node + comp] += -c.transfer * whole - (c.normal[comp] * rn + c.tangent[comp] * rt);
+                }
             }
         }
     }

@@ -142,19 +142,15 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
     // Materials: one per body, in body order.
     let materials: Vec<Material> = model.bodies.iter().map(|b| material_of(&b.material)).collect();
     let cell_materials = CellMaterials::per_cell(materials.clone(), model.layout.cell_body.clone())?;
-    // Each body's Dirichlet conditions on its own nodes (a point condition finds the node of
-    // its body, not another body's node at the same place).
+    // Each body's Dirichlet conditions on its own nodes.
     let mut constraints = Constraints::new(2 * mesh.num_nodes());
-    for (b, body) in model.bodies.iter().enumerate() {
-        let offset = model.layout.bodies[b].nodes.start;
-        for d in &body.dirichlet {
-            for node in d.nodes(&model.body_meshes[b])? {
-                if let Some(ux) = d.ux {
-                    constraints.fix(2 * (node + offset), ux);
-                }
-                if let Some(uy) = d.uy {
-                    constraints.fix(2 * (node + offset) + 1, uy);
-                }
+    for (d, nodes) in flat.dirichlet.iter().zip(dirichlet_nodes(&model)?) {
+        for node in nodes {
+            if let Some(ux) = d.ux {
+                constraints.fix(2 * node, ux);
+            }
+            if let Some(uy) = d.uy {
+                constraints.fix(2 * node + 1, uy);
             }
         }
     }
@@ -167,6 +163,21 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
         }
     }
     Ok(BodiesSetup { scene: flat, mesh, material: materials[0], cell_materials, constraints, contact, model })
+}
+
+/// The union-mesh nodes of every body's Dirichlet conditions, in the order of the flattened
+/// scene's `dirichlet` (body by body, each body's in file order): each found on its own body's
+/// mesh, so that a point condition takes its body's node, not another body's node at the same
+/// place (two blocks touching at a corner).
+pub(super) fn dirichlet_nodes(model: &BodiesModel) -> Result<Vec<Vec<usize>>> {
+    let mut out = Vec::new();
+    for (b, body) in model.bodies.iter().enumerate() {
+        let offset = model.layout.bodies[b].nodes.start;
+        for d in &body.dirichlet {
+            out.push(d.nodes(&model.body_meshes[b])?.into_iter().map(|k| k + offset).collect());
+        }
+    }
+    Ok(out)
 }
 
 /// The scene's single-body fields for the union mesh: every body's tractions and Dirichlet

@@ -35,12 +35,13 @@ impl ElasticityProblem<'_> {
             let mut strongest: std::collections::BTreeMap<usize, (f64, usize)> = std::collections::BTreeMap::new();
             for i in (0..b.points()).filter(|&i| parts.part_of[i] == p) {
                 let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
+                let [n, t] = b.frame[i];
                 for cn in b.coupled_to(i) {
                     let f = force.entry(cn.node).or_insert([0.0; 2]);
                     for (comp, fc) in f.iter_mut().enumerate() {
-                        *fc += cn.normal[comp] * rn + cn.tangent[comp] * rt;
+                        *fc -= cn.transfer * (n[comp] * rn + t[comp] * rt);
                     }
-                    let coupling = cn.normal[0].hypot(cn.normal[1]);
+                    let coupling = cn.transfer.abs();
                     let s = strongest.entry(cn.node).or_insert((0.0, i));
                     if coupling > s.0 {
                         *s = (coupling, i);

@@ -116,19 +116,31 @@ impl ElasticityProblem<'_> {
                 let p = parts.part_of[i];
                 let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
                 let k = b.nodes[i];
+                // On the dofs: B's entries (free dofs only; a support carries the rest, and
+                // its reaction counts it). Between the sides: the whole force along the
+                // unreduced frame, and each master node's share of it.
+                let [n, t] = b.frame[i];
+                let coupled = b.coupled_to(i);
                 for comp in 0..2 {
-                    let v = b.normal[i][comp] * rn + b.tangent[i][comp] * rt;
-                    on_dofs[p][2 * k + comp] += v;
-                    slave_force[p][comp] += v;
-                }
-                for cn in b.coupled_to(i) {
-                    for comp in 0..2 {
-                        let v = cn.normal[comp] * rn + cn.tangent[comp] * rt;
-                        on_dofs[p][2 * cn.node + comp] += v;
-                        master_force[p][comp] += v;
+                    // A rigid obstacle's point acts through B (its frame may be restricted).
+                    let whole = if coupled.is_empty() {
+                        b.normal[i][comp] * rn + b.tangent[i][comp] * rt
+                    } else {
+                        n[comp] * rn + t[comp] * rt
+                    };
+                    on_dofs[p][2 * k + comp] += whole;
+                    slave_force[p][comp] += whole;
+                    for cn in coupled {
+                        on_dofs[p][2 * cn.node + comp] -= cn.transfer * whole;
+                        master_force[p][comp] -= cn.transfer * whole;
                     }
                 }
             }
+        }
+        // Contact shares on supported dofs go to the supports (`add_forces_on_supports`).
+        let mut on_supports = vec![0.0; n];
+        if let Some((c, outcome)) = contact {
+            c.boundary.add_forces_on_supports(&outcome.force, &mut on_supports);
         }
         let plane_modulus = self.cell_materials.materials().iter().map(|m| m.plane_modulus()).fold(0.0, f64::max);
         let mut bodies = Vec::new();
@@ -140,7 +152,7 @@ impl ElasticityProblem<'_> {
             for dof in dofs.clone() {
                 applied[dof % 2] += f[dof];
                 if self.constraints.is_fixed(dof) {
-                    reaction[dof % 2] += ku[dof] - f[dof];
+                    reaction[dof % 2] += ku[dof] - f[dof] - on_supports[dof];
                 }
             }
             for part in &on_dofs {

@@ -577,15 +577,30 @@ impl<'s> ElasticityProblem<'s> {
         // Σ of the magnitudes of the forces involved: the scale of the equilibrium residual.
         let mut magnitude = applied_force[0].hypot(applied_force[1]);
         let mut counted = vec![false; f.len()];
-        for d in &self.scene.dirichlet {
+        // Between two bodies, a contact row's share on a supported dof goes to the support:
+        // it is taken out of that dof's reaction and counted with the contact forces below.
+        let mut on_supports = vec![0.0; f.len()];
+        if let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) {
+            c.boundary.add_forces_on_supports(&outcome.force, &mut on_supports);
+        }
+        // Several bodies: each condition on its own body's nodes (not the union mesh's nearest).
+        let body_nodes = match &self.bodies {
+            Some(model) => Some(bodies::dirichlet_nodes(model)?),
+            None => None,
+        };
+        for (k, d) in self.scene.dirichlet.iter().enumerate() {
             let mut r = [0.0f64; 2];
             let components = [d.ux.is_some(), d.uy.is_some()];
-            for node in d.nodes(&self.mesh)? {
+            let nodes = match &body_nodes {
+                Some(all) => all[k].clone(),
+                None => d.nodes(&self.mesh)?,
+            };
+            for node in nodes {
                 for comp in (0..2).filter(|&c| components[c]) {
                     let dof = 2 * node + comp;
                     if self.constraints.value(dof).is_some() && !counted[dof] {
                         counted[dof] = true;
-                        r[comp] += ku[dof] - f[dof];
+                        r[comp] += ku[dof] - f[dof] - on_supports[dof];
                     }
                 }
             }
@@ -605,7 +620,7 @@ impl<'s> ElasticityProblem<'s> {
         // vanishes when the answer is right).
         // The contact forces enter as Bᵀ r: between two bodies both sides count (they cancel).
         if let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) {
-            let mut on_dofs = vec![0.0; u.len()];
+            let mut on_dofs = on_supports.clone();
             c.boundary.scatter_add(&outcome.force, &mut on_dofs);
             total_reaction[0] += on_dofs.iter().step_by(2).sum::<f64>();
             total_reaction[1] += on_dofs.iter().skip(1).step_by(2).sum::<f64>();

@@ -442,3 +442,46 @@ pub fn bodies_errors_name_what_is_wrong(s: &Session) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// A point condition of one body where another body has a node at the same place: the
+/// foundation of block_on_block.toml held in x at (0.04, 0), the block's bottom-right corner
+/// too. The condition takes the foundation's node, and so does its reaction in the report (it
+/// used to be looked up on the union mesh, which found the block's node first: its reaction
+/// went missing). That node is also a master node of the pair with a prescribed component:
+/// its entry leaves the contact rows (it used to stay, on a fixed dof, and the run failed its
+/// global equilibrium check), and its share of the contact force goes to the support. The
+/// reactions of every condition then balance the loads — the foundation's bottom and point
+/// reactions equal the block's loads and right-side reaction, reversed — and the pair's
+/// action–reaction and both bodies' equilibrium hold.
+pub fn point_condition_at_a_shared_place_is_its_bodys(s: &Session) -> Result<(), String> {
+    let (base, path) = example("block_on_block.toml");
+    let anchor = "[[contact_pair]]";
+    let at = base.find(anchor).ok_or("test bug: no contact pair in block_on_block.toml")?;
+    let text = format!("{}[[body.dirichlet]]\npoint = [0.04, 0.0]\nux = 0.0\n\n{}", &base[..at], &base[at..]);
+    let p = solve_text(s, &text, &path).map_err(|e| format!("solve: {e}"))?;
+    let report = p.report().map_err(|e| e.to_string())?;
+    let results = report.results.ok_or("no results")?;
+    let reaction = |key: &str| {
+        results.reactions.iter().find(|(k, _)| k.contains(key)).map(|(_, r)| *r).ok_or(format!("no reaction {key}"))
+    };
+    let point = reaction("0.04")?;
+    let (bottom, right) = (reaction("foundation.bottom")?, reaction("block.right")?);
+    eprintln!(
+        "    point reaction {point:?}, foundation bottom {bottom:?}, block right {right:?}, applied {:?}, equilibrium {:.1e}",
+        results.applied_force, results.equilibrium_residual
+    );
+    let scale = results.applied_force[0].hypot(results.applied_force[1]);
+    ensure(point[0].abs() > 1e-3 * scale && point[1] == 0.0, || format!("point reaction {point:?}"))?;
+    ensure(results.equilibrium_residual < 1e-10, || format!("equilibrium {:e}", results.equilibrium_residual))?;
+    // The foundation's supports carry what the contact gives it: the block's loads plus the
+    // block's own support reaction.
+    let block = [results.applied_force[0] + right[0], results.applied_force[1] + right[1]];
+    let foundation = [bottom[0] + point[0], bottom[1] + point[1]];
+    ensure((block[0] + foundation[0]).hypot(block[1] + foundation[1]) <= 1e-9 * scale, || {
+        format!("foundation reactions {foundation:?} against the block's loads and reaction {block:?}")
+    })?;
+    let bodies = p.bodies_report.as_ref().ok_or("no bodies report")?;
+    let ar = bodies.contacts[0].action_reaction_residual.ok_or("no action-reaction residual")?;
+    let eq: Vec<f64> = bodies.bodies.iter().map(|b| b.equilibrium_residual).collect();
+    ensure(ar < 1e-12 && eq.iter().all(|&e| e < 1e-10), || format!("action-reaction {ar:e}, equilibrium {eq:?}"))
+}

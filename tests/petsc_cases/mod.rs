@@ -116,6 +116,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),
     ("three_block_stack", bodies_blocks::three_block_stack),
     ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
+    ("point_condition_at_a_shared_place_is_its_bodys", bodies_blocks::point_condition_at_a_shared_place_is_its_bodys),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {

@@ -10,8 +10,12 @@
 //! [`crate::contact::boundary`]: a prescribed component `u_c = u0` leaves the slave entries of
 //! that component out of the rows and moves `n_c u0` into the gap, and the point gets no
 //! friction (the support carries its tangential force); the master entries stay, since the
-//! master side still moves. A point whose rows are then empty (both slave components
-//! prescribed and no master node) is left out.
+//! master side still moves. A prescribed component of a master node leaves the rows likewise
+//! (its entries `−c n_c`, `−c t_c` dropped, `−c n_c u0` moved into the gap): `B` acts on free
+//! dofs only, and the support carries that share of the force. A point whose rows are then
+//! empty is left out. The unreduced frame
+//! and each master node's share `c = M_ij/D_i` are kept ([`ContactBoundary::frame`],
+//! [`CoupledNode::transfer`]) for the action–reaction check.
 use crate::contact::boundary::{ContactBoundary, CoupledNode};
 use crate::error::Result;
 
@@ -37,17 +41,31 @@ impl ContactBoundary {
             prescribed: Vec::with_capacity(m),
             left_out: Vec::new(),
             coupled: Vec::with_capacity(m),
+            frame: Vec::with_capacity(m),
         };
         for i in 0..m {
             let k = coupling.nodes[i];
             let (mut n, mut t) = (coupling.normal[i], coupling.tangent[i]);
             let mut gap = coupling.gap[i];
+            // Master entries; a prescribed master component leaves the rows too, its known
+            // displacement moved into the gap (`uN` holds `−c n_c u0` for it).
             let coupled: Vec<CoupledNode> = coupling
                 .transfer(i)
-                .map(|(j, c)| CoupledNode {
-                    node: j,
-                    normal: [-c * coupling.normal[i][0], -c * coupling.normal[i][1]],
-                    tangent: [-c * coupling.tangent[i][0], -c * coupling.tangent[i][1]],
+                .map(|(j, c)| {
+                    let mut node = CoupledNode {
+                        node: j,
+                        normal: [-c * coupling.normal[i][0], -c * coupling.normal[i][1]],
+                        tangent: [-c * coupling.tangent[i][0], -c * coupling.tangent[i][1]],
+                        transfer: c,
+                    };
+                    for (comp, value) in prescribed(j).into_iter().enumerate() {
+                        if let Some(u0) = value {
+                            gap -= node.normal[comp] * u0;
+                            node.normal[comp] = 0.0;
+                            node.tangent[comp] = 0.0;
+                        }
+                    }
+                    node
                 })
                 .collect();
             let fixed = prescribed(k);
@@ -60,7 +78,8 @@ impl ContactBoundary {
                     first_fixed.get_or_insert((comp, u0));
                 }
             }
-            if fixed.iter().all(Option::is_some) && coupled.is_empty() {
+            let no_master_entry = coupled.iter().all(|c| c.normal == [0.0; 2] && c.tangent == [0.0; 2]);
+            if fixed.iter().all(Option::is_some) && no_master_entry {
                 continue;
             }
             b.nodes.push(k);
@@ -70,6 +89,7 @@ impl ContactBoundary {
             b.weight.push(coupling.weight[i]);
             b.prescribed.push(first_fixed);
             b.coupled.push(coupled);
+            b.frame.push([coupling.normal[i], coupling.tangent[i]]);
         }
         Ok(b)
     }
@@ -87,6 +107,7 @@ impl ContactBoundary {
             prescribed: Vec::new(),
             left_out: Vec::new(),
             coupled: Vec::new(),
+            frame: Vec::new(),
         };
         let any_coupled = parts.iter().any(|p| p.is_coupled());
         let mut part_of = Vec::new();
@@ -104,6 +125,7 @@ impl ContactBoundary {
             all.prescribed.extend(b.prescribed);
             all.left_out.extend(b.left_out);
             all.coupled.extend(b.coupled);
+            all.frame.extend(b.frame);
             part_of.extend(std::iter::repeat_n(p, m));
         }
         let mut order: Vec<usize> = (0..all.nodes.len()).collect();
@@ -114,6 +136,7 @@ impl ContactBoundary {
         pick(&mut all.gap, &order);
         pick(&mut all.weight, &order);
         pick(&mut all.prescribed, &order);
+        pick(&mut all.frame, &order);
         pick(&mut part_of, &order);
         if !all.coupled.is_empty() {
             let old = std::mem::take(&mut all.coupled);
