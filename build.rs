@@ -63,6 +63,21 @@ fn main() {
         .filter(|o| o.status.success())
         .is_some_and(|o| !o.stdout.is_empty());
     println!("cargo:rustc-env=SIGNORINI_COMMIT={commit}{}", if dirty { "-modified" } else { "" });
-    println!("cargo:rerun-if-changed=.git/HEAD");
-    println!("cargo:rerun-if-changed=.git/index");
+    // Rerun when HEAD moves or the index changes. In a git worktree `.git` is a file and the
+    // worktree's HEAD and index live in the directory `git rev-parse --git-dir` names: watching
+    // `.git/HEAD` there (a path that does not exist) made cargo rerun this script every build.
+    let git_dir = Command::new("git")
+        .args(["rev-parse", "--git-dir"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| std::path::PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
+    if let Some(dir) = git_dir {
+        for file in ["HEAD", "index"] {
+            let path = dir.join(file);
+            if path.exists() {
+                println!("cargo:rerun-if-changed={}", path.display());
+            }
+        }
+    }
 }
