@@ -172,7 +172,8 @@ pub(super) struct RawOutput {
 
 /// Every table with its allowed keys, as written in error messages. Serde reports an unknown key
 /// with the list of allowed ones; matching that list against these names the table. Keep each
-/// list equal (as a set) to its struct's fields: `tests/scene.rs` checks every table.
+/// list equal (as a set) to its struct's fields: `tests/scene/syntax_and_keys.rs` checks every
+/// table.
 pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     (
         "the top level",
