@@ -194,7 +194,94 @@ struct Row {
 /// The redundant conditions of a closed run (global equilibrium) are checked against the size
 /// of the loads (force per unit thickness).
 pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<AffineDofs> {
+    Ok(eliminate_with(mesh, dofs, edges, false)?.0)
+}
+
+/// The elimination with the local parametrisation of the contact part
+/// ([`super::local_contact`]): the contact edges' own dofs are their deviations `ξ` from the
+/// run's affine base, the forces local functions of `ξ` (one [`EdgeForceMap`] per contact edge,
+/// in walk order). `contact_equilibrium` is left empty (that of [`eliminate`] holds).
+pub fn eliminate_local(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<(AffineDofs, Vec<EdgeForceMap>)> {
+    eliminate_with(mesh, dofs, edges, true)
+}
+
+/// The forces of one contact edge as a function of the deviations (local parametrisation):
+/// `r_e = R [ξ_own; ξ_prev]`, `ξ_own` = `(g_b,x, g_b,y, φ_b, φ,n(m))` of the edge (contact
+/// slots `first .. first + 4`), `ξ_prev` = `(g_a,x, g_a,y, φ_a)` of the previous edge of the
+/// run (slots `prev .. prev + 3`), zero at the run's first vertex.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EdgeForceMap {
+    pub first: usize,
+    pub prev: Option<usize>,
+    pub map: nalgebra::SMatrix<f64, 4, 7>,
+}
+
+/// A linear combination of expansions.
+fn combine(parts: &[(&Expansion, f64)]) -> Expansion {
+    let mut terms: BTreeMap<usize, f64> = BTreeMap::new();
+    let mut constant = 0.0;
+    for (e, a) in parts {
+        constant += a * e.1;
+        for &(d, c) in &e.0 {
+            *terms.entry(d).or_insert(0.0) += a * c;
+        }
+    }
+    (terms.into_iter().filter(|t| t.1 != 0.0).collect(), constant)
+}
+
+/// The local force map of contact edge `e` (see [`EdgeForceMap`] and [`super::local_contact`]):
+/// the edge's four conditions written for the deviations, solved for its four forces.
+fn edge_force_map(
+    contact: &ContactEdge,
+    tau: [f64; 2],
+    normal: [f64; 2],
+    sign: f64,
+    len: f64,
+    prev: Option<usize>,
+) -> Option<EdgeForceMap> {
+    use nalgebra::{Matrix4, SMatrix};
+    // Columns of M: own (g_bx, g_by, φ_b, mid) 0..4, previous (g_ax, g_ay, φ_a) 4..7.
+    let mut m = SMatrix::<f64, 4, 7>::zeros();
+    let mut d = Matrix4::<f64>::zeros();
+    for c in 0..2 {
+        let (k, sign_c) = if c == 1 { (0, 1.0) } else { (1, -1.0) };
+        for (row, weights) in [(c, [1.0, 1.0]), (2 + c, [0.75, 0.25])] {
+            for end in 0..2 {
+                let [normal_end, tangent_end] = contact.frames[end];
+                d[(row, 2 * end)] = -sign_c * weights[end] * normal_end[k];
+                d[(row, 2 * end + 1)] = -sign_c * weights[end] * tangent_end[k];
+            }
+        }
+        m[(c, c)] = 1.0;
+        m[(c, 4 + c)] = -1.0;
+        let row = 2 + c;
+        m[(row, 2)] = 1.5 * tau[c] / len;
+        m[(row, 6)] = -1.5 * tau[c] / len;
+        m[(row, 3)] = normal[c] * sign;
+        for j in 0..2 {
+            m[(row, j)] -= 0.25 * tau[c] * tau[j];
+            m[(row, 4 + j)] -= 0.25 * tau[c] * tau[j];
+        }
+        m[(row, 4 + c)] -= 1.0;
+    }
+    let mut map = -(d.try_inverse()? * m);
+    if prev.is_none() {
+        map.columns_mut(4, 3).fill(0.0);
+    }
+    Some(EdgeForceMap { first: contact.first, prev, map })
+}
+
+fn eliminate_with(
+    mesh: &Mesh,
+    dofs: &HctDofs,
+    edges: &[BoundaryEdge],
+    local: bool,
+) -> Result<(AffineDofs, Vec<EdgeForceMap>)> {
     let n = dofs.len();
+    let mut force_maps = Vec::new();
+    // The local parametrisation: the affine base of the current contact run (φ, φ,x, φ,y at
+    // its first vertex, and that vertex), and the previous contact edge's first slot.
+    let mut run: Option<([Expansion; 3], [f64; 2], Option<usize>)> = None;
     // Contact forces are numbered after the HCT dofs (`n + j`) during the elimination: they
     // are never solved for, so they stay free.
     let num_contact = edges.iter().filter_map(|e| e.contact.map(|c| c.first + 4)).max().unwrap_or(0);
@@ -223,6 +310,40 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
         let gb = [dofs.node_dof(e.b, 1), dofs.node_dof(e.b, 2)];
         let (phi_a, phi_b, mid) = (dofs.node_dof(e.a, 0), dofs.node_dof(e.b, 0), dofs.edge_dof(e.edge));
         let candidates = vec![gb[0], gb[1], phi_b, mid];
+        if let (true, Some(contact)) = (local, &e.contact) {
+            let expansion = |d: usize| slave[d].clone().unwrap_or((vec![(d, 1.0)], 0.0));
+            let (base, x0, prev) = match run.take() {
+                Some(r) => r,
+                None => ([expansion(phi_a), expansion(ga[0]), expansion(ga[1])], pa, None),
+            };
+            if candidates.iter().any(|&d| referenced[d] || slave[d].is_some()) {
+                return Err(formulation_error(
+                    format!("the contact edge {} -> {} closes the boundary walk", e.a, e.b),
+                    "the local parametrisation of the contact part does not apply here",
+                ));
+            }
+            let map = edge_force_map(contact, tau, normal, sign, len, prev).ok_or_else(|| {
+                formulation_error(format!("singular contact frames at edge {} -> {}", e.a, e.b), "check the obstacle")
+            })?;
+            force_maps.push(map);
+            let xi = |k: usize| (vec![(n + contact.first + k, 1.0)], 0.0);
+            // φ_b = base(b) + ξ, base(x) = φ0 + g0·(x − x0); g_b = g0 + ξ; mid = ±n·g0 + ξ.
+            let values = [
+                combine(&[(&base[1], 1.0), (&xi(0), 1.0)]),
+                combine(&[(&base[2], 1.0), (&xi(1), 1.0)]),
+                combine(&[(&base[0], 1.0), (&base[1], pb[0] - x0[0]), (&base[2], pb[1] - x0[1]), (&xi(2), 1.0)]),
+                combine(&[(&base[1], sign * normal[0]), (&base[2], sign * normal[1]), (&xi(3), 1.0)]),
+            ];
+            for (&p, value) in candidates.iter().zip(values) {
+                for &(d, _) in &value.0 {
+                    referenced[d] = true;
+                }
+                slave[p] = Some(value);
+            }
+            run = Some((base, x0, Some(contact.first)));
+            continue;
+        }
+        run = None;
         let mut rows = Vec::new();
         // A known traction component k fixes gradient component c: t_x drives φ,y (c = 1),
         // t_y drives φ,x (c = 0) with a minus sign.
@@ -423,5 +544,9 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
             role[d] = DofRole::Slave(reduced, constant);
         }
     }
-    Ok(AffineDofs { role, num_masters, num_contact, anchor: dofs.vertex_nodes[anchor], contact_equilibrium })
+    if local {
+        contact_equilibrium.clear();
+    }
+    let affine = AffineDofs { role, num_masters, num_contact, anchor: dofs.vertex_nodes[anchor], contact_equilibrium };
+    Ok((affine, force_maps))
 }

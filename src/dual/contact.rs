@@ -36,7 +36,9 @@
 //! `u = W r + u_free` is the dual contact displacement (the multiplier of the force
 //! constraints: a weighted mean of the displacement near each edge end). `W` comes from one
 //! MUMPS factorisation of `A` with the Schur complement on the contact forces
-//! ([`crate::petsc::schur::SchurFactor`]); `u_free` and, for the solver's `r`, `z` each from one
+//! ([`crate::petsc::schur::SchurFactor`]) — taken, where the boundary walk allows it, in the
+//! local parametrisation of the contact part ([`super::local_contact`]: on the deviations `ξ`,
+//! then `W = B⁻ᵀ S B⁻¹`, without the dense block of the forces as unknowns); `u_free` and, for the solver's `r`, `z` each from one
 //! interior solve with the same factor (`z = A_zz⁻¹ (b_z − A_zr r)`): no solve with `W`, whose
 //! conditioning would otherwise perturb the forces the field is built from.
 //!
@@ -133,9 +135,13 @@ pub struct CondensedDual<'s> {
     pub matrix: Matrix<'s>,
     /// The reduced right-hand side `b` (all rows).
     pub rhs: Vec<f64>,
-    /// `ℓ = −A_rz A_zz⁻¹ b_z`, the load condensed onto the contact forces.
+    /// `ℓ = −A_rz A_zz⁻¹ b_z`, the load condensed onto the contact unknowns (the forces, or
+    /// the deviations `ξ` in the local parametrisation).
     condensed_load: Vec<f64>,
     interior: Interior<'s>,
+    /// Whether `matrix` and `rhs` are in the local parametrisation of the contact part
+    /// ([`DualSystem::local`], module `local_contact`): unknowns `(z, ξ)`, forces `r = B ξ`.
+    pub local: bool,
     /// Seconds: assembly, factorisation with the Schur complement.
     pub assemble_seconds: f64,
     pub factor_seconds: f64,
@@ -189,8 +195,11 @@ pub fn condense<'s>(
             nm - nz
         )));
     }
+    // The Schur route works in the local parametrisation of the contact part when there is
+    // one (module `local_contact`: no dense block); the other routes keep the forces.
+    let local = system.local.as_ref().filter(|_| condensation == Condensation::Schur);
     let start = std::time::Instant::now();
-    let rows = system.assemble(mesh, 0..nm);
+    let rows = system.assemble_in(local.map_or(&system.affine, |l| &l.affine), mesh, 0..nm);
     let matrix =
         Matrix::from_csr_rows(session, session.world(), nm, 0, &rows.indptr, &rows.indices, &rows.values, 1, true)?;
     let assemble_seconds = start.elapsed().as_secs_f64();
@@ -213,6 +222,11 @@ pub fn condense<'s>(
                     _ => 0.5 * (lo + hi),
                 }
             });
+            // In the local parametrisation S is on the deviations ξ = B⁻¹ r: W = B⁻ᵀ S B⁻¹.
+            let w = match local {
+                Some(l) => l.congruence(&w),
+                None => w,
+            };
             // The condensed load from an interior solve with zero forces.
             let mut glued = rows.rhs.clone();
             glued[nz..].fill(0.0);
@@ -240,8 +254,13 @@ pub fn condense<'s>(
     };
     let factor_seconds = start.elapsed().as_secs_f64();
     // The unconstrained minimiser (contact glued) has W r_0 = b_r + ℓ, so u_free = −W r_0 =
-    // −(b_r + ℓ) without any solve with W.
-    let u_free: Vec<f64> = (0..m2).map(|k| -(rows.rhs[nz + k] + condensed_load[k])).collect();
+    // −(b_r + ℓ) without any solve with W (locally: −B⁻ᵀ (b_ξ + ℓ_ξ)).
+    let condensed_rhs: Vec<f64> = (0..m2).map(|k| rows.rhs[nz + k] + condensed_load[k]).collect();
+    let condensed_rhs = match local {
+        Some(l) => l.transpose_solve(&condensed_rhs),
+        None => condensed_rhs,
+    };
+    let u_free: Vec<f64> = condensed_rhs.iter().map(|v| -v).collect();
     let problem = CondensedProblem::new(
         delassus,
         u_free,
@@ -264,6 +283,7 @@ pub fn condense<'s>(
         rhs: rows.rhs,
         condensed_load,
         interior,
+        local: local.is_some(),
         assemble_seconds,
         factor_seconds,
     })
@@ -279,7 +299,7 @@ pub struct DualContactAnswer {
     pub rigid: Vec<f64>,
     /// Outer Newton steps on the rigid displacements (1 without equilibrium conditions).
     pub outer_iterations: usize,
-    /// All reduced unknowns `(z, r)` and all HCT dofs.
+    /// All reduced unknowns `(z, r)` (`(z, ξ)` in the local parametrisation) and all HCT dofs.
     pub reduced: Vec<f64>,
     pub phi: Vec<f64>,
     /// The contact displacement recomputed from the assembled matrix, `(A x − b)_r + Eᵀ ρ`,
@@ -350,10 +370,16 @@ impl CondensedDual<'_> {
         // (forces r − ℓ on the contact rows: see `SchurFactor::solve_interior`), with the
         // three-step condensation one solve with A_zz.
         let nz = system.affine.num_masters;
+        let local = system.local.as_ref().filter(|_| self.local);
+        // The contact unknowns of the matrix: the forces, or their deviations ξ = B⁻¹ r.
+        let unknowns = match local {
+            Some(l) => l.deviations(&solution.force),
+            None => solution.force.clone(),
+        };
         let mut reduced = match &mut self.interior {
             Interior::Schur(factor) => {
                 let mut rhs = self.rhs.clone();
-                for (k, (r, l)) in solution.force.iter().zip(&self.condensed_load).enumerate() {
+                for (k, (r, l)) in unknowns.iter().zip(&self.condensed_load).enumerate() {
                     rhs[nz + k] = r - l;
                 }
                 let mut b = self.matrix.create_vector()?;
@@ -369,7 +395,7 @@ impl CondensedDual<'_> {
             }
         };
         // The contact forces are the solver's exactly (the Schur solve returns them to ε |ℓ|).
-        reduced[nz..].copy_from_slice(&solution.force);
+        reduced[nz..].copy_from_slice(&unknowns);
         // Independent displacement: the contact rows of A x − b, plus the rigid part.
         let mut full = self.matrix.create_vector()?;
         full.set_owned(&reduced)?;
@@ -381,9 +407,14 @@ impl CondensedDual<'_> {
         } else {
             self.equilibrium.transpose_times(&rigid)
         };
-        let displacement_check: Vec<f64> =
-            (0..solution.force.len()).map(|k| product[nz + k] - self.rhs[nz + k] + rigid_part[k]).collect();
-        let phi = system.affine.expand(&reduced);
+        // In the local parametrisation the forces' multiplier is B⁻ᵀ (A x − b)_ξ.
+        let residual: Vec<f64> = (0..solution.force.len()).map(|k| product[nz + k] - self.rhs[nz + k]).collect();
+        let residual = match local {
+            Some(l) => l.transpose_solve(&residual),
+            None => residual,
+        };
+        let displacement_check: Vec<f64> = residual.iter().zip(&rigid_part).map(|(u, rho)| u + rho).collect();
+        let phi = local.map_or(&system.affine, |l| &l.affine).expand(&reduced);
         Ok(DualContactAnswer { solution, rigid, outer_iterations, reduced, phi, displacement_check })
     }
 }

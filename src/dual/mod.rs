@@ -26,13 +26,15 @@
 //!   the same [`crate::contact::CondensedProblem`] as the primal's; [`condensation`]: the
 //!   talk's condensations and storages of `W` (dense, or implicit: products by interior
 //!   solves, Uzawa on the full dual system); [`equilibrium`]: the equilibrium of the contact
-//!   forces of a body held only by the obstacle.
+//!   forces of a body held only by the obstacle; [`local_contact`]: the contact part's own dofs
+//!   as unknowns instead of the forces (no dense block), for the Schur condensation.
 pub mod boundary;
 pub mod checks;
 pub mod condensation;
 pub mod contact;
 pub mod dofs;
 pub mod equilibrium;
+pub mod local_contact;
 pub mod saddle_point;
 pub mod system;
 

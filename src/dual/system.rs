@@ -20,6 +20,7 @@ use nalgebra::{DMatrix, SMatrix};
 
 use super::boundary::{self, AffineDofs, BoundaryEdge, ContactEdge, DofRole, TractionComponent};
 use super::dofs::HctDofs;
+use super::local_contact::LocalContact;
 use crate::error::Result;
 use crate::estimate::StressField;
 use crate::fem::assembly::EdgeLoad;
@@ -94,6 +95,9 @@ pub struct DualSystem {
     pub elements: Vec<HctElement>,
     pub edges: Vec<BoundaryEdge>,
     pub affine: AffineDofs,
+    /// With contact: the local parametrisation of the contact part ([`super::local_contact`]),
+    /// when the boundary walk allows it (not when a contact run closes the walk).
+    pub local: Option<LocalContact>,
     pub material: Material,
     pub body_force: BodyLoad,
 }
@@ -188,7 +192,23 @@ impl DualSystem {
             edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components, contact });
         }
         let affine = boundary::eliminate(mesh, &dofs, &edges)?;
-        Ok(DualSystem { dofs, elements, edges, affine, material: *material, body_force: data.body_force.clone() })
+        let local = if num_contact_edges > 0 {
+            boundary::eliminate_local(mesh, &dofs, &edges)
+                .and_then(|(a, maps)| LocalContact::new(a, maps))
+                .ok()
+                .filter(|l| l.affine.num_masters == affine.num_masters && l.affine.anchor == affine.anchor)
+        } else {
+            None
+        };
+        Ok(DualSystem {
+            dofs,
+            elements,
+            edges,
+            affine,
+            local,
+            material: *material,
+            body_force: data.body_force.clone(),
+        })
     }
 
     /// The reduced unknowns: free HCT dofs, then the contact forces (if any).
@@ -235,9 +255,9 @@ impl DualSystem {
         out
     }
 
-    /// The expansion of dof `d` in the reduced unknowns: its terms and its constant.
-    fn expansion(&self, d: usize) -> (Terms<'_>, f64) {
-        match &self.affine.role[d] {
+    /// The expansion of dof `d` in the reduced unknowns of `affine`: its terms and its constant.
+    fn expansion<'a>(affine: &'a AffineDofs, d: usize) -> (Terms<'a>, f64) {
+        match &affine.role[d] {
             DofRole::Master(k) => (Terms { one: Some((*k, 1.0)), many: &[] }, 0.0),
             DofRole::Slave(t, c) => (Terms { one: None, many: t }, *c),
             DofRole::Fixed(v) => (Terms { one: None, many: &[] }, *v),
@@ -246,16 +266,22 @@ impl DualSystem {
 
     /// The reduced rows `rows` (every rank computes every element and keeps its rows).
     pub fn assemble(&self, mesh: &Mesh, rows: Range<usize>) -> ReducedRows {
+        self.assemble_in(&self.affine, mesh, rows)
+    }
+
+    /// The reduced rows `rows` in the reduced unknowns of `affine` (this system's, or its
+    /// [`LocalContact::affine`]).
+    pub fn assemble_in(&self, affine: &AffineDofs, mesh: &Mesh, rows: Range<usize>) -> ReducedRows {
         /// Elements whose twelve expansions have more terms than this in all take the dense
         /// product (the plain loop costs their square, with a search per entry).
         const LONG_EXPANSIONS: usize = 64;
         let l = self.load_functional();
-        let nm = self.num_unknowns();
+        let nm = affine.num_unknowns();
         let mut rhs = vec![0.0; rows.len()];
         // The load functional: l lives on vertex dofs.
         for (d, &ld) in l.iter().enumerate() {
             if ld != 0.0 {
-                for (k, a) in self.expansion(d).0.iter() {
+                for (k, a) in Self::expansion(affine, d).0.iter() {
                     if rows.contains(&k) {
                         rhs[k - rows.start] += a * ld;
                     }
@@ -269,7 +295,7 @@ impl DualSystem {
         for c in 0..self.elements.len() {
             let start = group_indices.len();
             for d in self.dofs.cell_dofs(mesh, c) {
-                group_indices.extend(self.expansion(d).0.iter().map(|(k, _)| k));
+                group_indices.extend(Self::expansion(affine, d).0.iter().map(|(k, _)| k));
             }
             group_indices[start..].sort_unstable();
             let mut kept = start;
@@ -286,7 +312,7 @@ impl DualSystem {
         drop((group_ptr, group_indices));
         for (c, element) in self.elements.iter().enumerate() {
             let cell_dofs = self.dofs.cell_dofs(mesh, c);
-            let exp: Vec<(Terms<'_>, f64)> = cell_dofs.iter().map(|&d| self.expansion(d)).collect();
+            let exp: Vec<(Terms<'_>, f64)> = cell_dofs.iter().map(|&d| Self::expansion(affine, d)).collect();
             // Elements whose expanded unknowns are all elsewhere contribute nothing here.
             if !exp.iter().any(|(t, _)| t.iter().any(|(k, _)| rows.contains(&k))) {
                 continue;
