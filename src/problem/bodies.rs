@@ -322,14 +322,13 @@ fn contact_of_bodies(
             obstacle: ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] },
             gap: 0.0,
             friction: FrictionSpec::None,
-            solver: ContactSolverSpec::Newton,
+            solver: ContactSolverSpec::FullSpaceNewton,
             tolerance: None,
             max_iterations: None,
             at: parts[0].at.clone(),
         },
     };
     match spec.solver {
-        ContactSolverSpec::FullSpaceNewton => spec.solver = ContactSolverSpec::Newton,
         ContactSolverSpec::SnesVi => {
             return Err(Error::Scene {
                 location: spec.at.clone(),
