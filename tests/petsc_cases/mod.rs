@@ -13,6 +13,7 @@ use signorini::Error;
 
 mod adapt;
 mod bodies_blocks;
+mod bodies_full_space;
 mod bodies_hertz;
 mod contact;
 mod dual;
@@ -112,6 +113,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),
     ("three_block_stack", bodies_blocks::three_block_stack),
     ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
+    ("bodies_full_space_patch_test", bodies_full_space::bodies_full_space_patch_test),
+    ("bodies_full_space_block_on_block", bodies_full_space::bodies_full_space_block_on_block),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {

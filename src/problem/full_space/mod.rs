@@ -213,6 +213,12 @@ impl ContactSetup {
         let comm = session.world();
         let rank = session.rank();
         let b = &self.boundary;
+        if b.is_coupled() && session.size() > 1 {
+            // Not yet: contact pairs under MPI (the mortar rows' layout over ranks).
+            let why =
+                "the full-space Newton for contact pairs runs on one process; under MPI the condensed route".into();
+            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
+        }
         let m = b.points();
         let n = 2 * mesh.num_nodes();
         let law = Law::of(self.friction_law());
@@ -325,7 +331,8 @@ impl ContactSetup {
         let scaled = |p: [f64; 2]| [(p[0] - centre[0]) / extent, (p[1] - centre[1]) / extent];
         // Rigid motions: 3 per connected piece of the mesh with contact pairs (each body moves
         // on its own), 3 for the whole mesh otherwise.
-        let (piece_of, pieces) = if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
+        let (piece_of, pieces) =
+            if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
         let rigid_of = |entries: &[(usize, [f64; 2])], k: usize| -> DVector<f64> {
             let mut r = DVector::<f64>::zeros(3 * pieces);
             for &(dof, coef) in entries {
@@ -400,14 +407,16 @@ impl ContactSetup {
         // contact dofs, removed in every step (floating_elimination.rs).
         let floating_applies = elimination.is_none() && session.size() == 1 && !user_inner && m > 0 && !coupled;
         let held_by_contact = match (&rigid, floating_applies) {
-            (Some(check), true) => match choose_pins(b, mesh, &scaled, &Matrix3::from_iterator(check.dirichlet.iter().copied())) {
-                Some(pins) => {
-                    progress.note("contact: factorising K with springs at pinned contact dofs");
-                    let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
-                    Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+            (Some(check), true) => {
+                match choose_pins(b, mesh, &scaled, &Matrix3::from_iterator(check.dirichlet.iter().copied())) {
+                    Some(pins) => {
+                        progress.note("contact: factorising K with springs at pinned contact dofs");
+                        let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
+                        Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+                    }
+                    None => None,
                 }
-                None => None,
-            },
+            }
             _ => None,
         };
         let mut mixed = MixedSystem {
