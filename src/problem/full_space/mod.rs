@@ -75,7 +75,21 @@
 //! ```
 //!
 //! the same pieces as the condensed semi-smooth Newton (`contact/semismooth_newton.rs`) with
-//! `uN = (B u)_N`. At `τN = 0` (a point touching with no force: every point of a body resting on
+//! `uN = (B u)_N`.
+//!
+//! ### Several bodies: mortar rows
+//!
+//! With contact pairs (`bodies.rs`, `contact/mortar/`) a point's rows of `B` touch its slave
+//! node and the master nodes (`ContactBoundary::b_row`): `nᵀ` above stands for the whole
+//! normal row (`n_i` on the slave node, `−(M_ij/D_i) n_i` on master node `j`), and `tᵀ` for
+//! the tangential one. The contact rows of the pattern hold every dof of the point's rows then
+//! its multipliers; the force rows of every dof a row touches get the `−Bᵀ` entries; `uN`,
+//! `uT` are `(B u)` over all entries. The rigid-motion check runs on 3 rigid motions per
+//! connected piece of the mesh (per body): a closed row constrains the relative motion of the
+//! two bodies it touches. The block elimination takes its Schur complement on every dof a row
+//! touches (`schur_dofs`, as the condensed route). Not yet: contact pairs under MPI, and the
+//! floating elimination for bodies held by a pair (`floating_elimination.rs` pins slave-node
+//! dofs only): those go to the condensed route, or to SNES's LU of the mixed Jacobian. At `τN = 0` (a point touching with no force: every point of a body resting on
 //! the obstacle at the first step) the closed branch is taken; a point with threshold `s = 0`
 //! is free. For Coulomb friction the first step therefore solves the *frictionless* problem on
 //! the touching points, and the next one classifies stick and slip from its tangential
