@@ -56,7 +56,7 @@
 //! system). `-contact_full_space_lu` turns it off (MUMPS LU of the mixed Jacobian in `(u, λ)`).
 use nalgebra::{DMatrix, DVector};
 
-use super::condensed_route::flexibility_from_schur;
+use super::condensed_route::{flexibility_from_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::schur::SchurFactor;
@@ -75,8 +75,8 @@ pub(super) enum ContactRow {
 /// `floating_elimination.rs`) share.
 pub(super) struct StepRows {
     nodes: Vec<usize>,
-    normal: Vec<[f64; 2]>,
-    tangent: Vec<[f64; 2]>,
+    /// The contact points with their rows of `B` (`gather`: `B y`, `scatter_add`: `Bᵀ λ`).
+    boundary: ContactBoundary,
     per_point: usize,
     /// The current step's rows (`per_point` per point, in point order).
     rows: Vec<ContactRow>,
@@ -92,8 +92,7 @@ impl StepRows {
     pub fn new(boundary: &ContactBoundary, per_point: usize) -> Self {
         StepRows {
             nodes: boundary.nodes.clone(),
-            normal: boundary.normal.clone(),
-            tangent: boundary.tangent.clone(),
+            boundary: boundary.clone(),
             per_point,
             rows: Vec::new(),
             unknowns: Vec::new(),
@@ -139,14 +138,10 @@ impl StepRows {
         Ok(())
     }
 
-    /// `B y`: the displacements `y` at the contact nodes in the points' frames.
+    /// `B y`: the contact displacements of `y` in the points' frames (with a contact pair, the
+    /// slave node's minus the mortar-weighted master nodes').
     pub fn frame_components(&self, y: &[f64]) -> Vec<f64> {
-        let mut by = vec![0.0; 2 * self.nodes.len()];
-        for (i, &k) in self.nodes.iter().enumerate() {
-            by[2 * i] = self.normal[i][0] * y[2 * k] + self.normal[i][1] * y[2 * k + 1];
-            by[2 * i + 1] = self.tangent[i][0] * y[2 * k] + self.tangent[i][1] * y[2 * k + 1];
-        }
-        by
+        self.boundary.gather(y)
     }
 
     /// The parts of `dλ` the contact rows `r_c` fix by themselves (force rows, the constant
@@ -181,11 +176,7 @@ impl StepRows {
     /// `Bᵀ λ` (`λ` in the points' frames) as a load on `n` dofs.
     pub fn load(&self, lambda: &[f64], n: usize) -> Vec<f64> {
         let mut load = vec![0.0; n];
-        for (i, &k) in self.nodes.iter().enumerate() {
-            for c in 0..2 {
-                load[2 * k + c] = self.normal[i][c] * lambda[2 * i] + self.tangent[i][c] * lambda[2 * i + 1];
-            }
-        }
+        self.boundary.scatter_add(lambda, &mut load);
         load
     }
 }
@@ -211,7 +202,8 @@ impl<'s> BlockElimination<'s> {
         boundary: &ContactBoundary,
         per_point: usize,
     ) -> Result<Self> {
-        let rows: Vec<usize> = boundary.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
+        // Every dof a row of B touches (with contact pairs, both sides'), as the condensed route.
+        let rows = schur_dofs(boundary);
         let factor = SchurFactor::new(session, stiffness, &rows)?;
         let w = flexibility_from_schur(&factor, boundary)?;
         let num_u = stiffness.global_size();

@@ -7,7 +7,8 @@
 //!           conditions on its own nodes; contact points of every pair from the mortar coupling
 //!           (contact::mortar: dual basis on the slave side, B rows on the slave node and on the
 //!           master nodes), and of every body's rigid obstacle, merged into one ContactBoundary
-//! solve     the condensed route of contact.rs: W = B K⁻¹ Bᵀ from one factorisation of the
+//! solve     the full-space Newton of full_space/ (default, one process), or the condensed
+//!           route of contact.rs: W = B K⁻¹ Bᵀ from one factorisation of the
 //!           block-diagonal K of all bodies (its Schur complement on every dof B touches, both
 //!           sides of every pair), any condensed solver, u = K⁻¹ (f + Bᵀ r), the independent
 //!           check on (r, B u) with u from the field solve
@@ -26,15 +27,15 @@
 //! is that of the unstabilised problem. A body that the contact cannot hold either (it lifts
 //! off, or friction cannot hold it sideways) never converges, and the run says so.
 //!
-//! ## Why the condensed route (and not yet the full-space Newton)
+//! ## Solver: the full-space Newton by default
 //!
-//! The full-space semi-smooth Newton of `full_space/` is written for contact rows with one node
-//! (a rigid obstacle): its layout, its block elimination and its MPI ownership assume it. The
-//! mortar rows couple a slave node with several master nodes, so two-body scenes use the
-//! condensed semi-smooth Newton method by default (`solver = "newton"`, the same generalized
-//! Newton iteration on the contact forces, `contact/semismooth_newton.rs`); every condensed
-//! solver works. The full-space route for mortar rows is future work (the run refuses
-//! `solver = "newton_full"` with several bodies rather than solving something else).
+//! `newton_full` (the default) is the full-space semi-smooth Newton of `full_space/` on
+//! `(u¹, u², …, λ)`: its contact rows carry every entry of the mortar rows of `B` (slave and
+//! master nodes), its rigid-motion check has 3 rigid motions per body. On one process only:
+//! under MPI, and when a body stays unheld in a mode the closed rows do not see (a cylinder
+//! turning about its centre on frictionless contact), it hands over to the condensed
+//! semi-smooth Newton (`solver = "newton"`), which any scene may also ask for; `snes_vi` is
+//! refused.
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::mortar::{MortarCoupling, MortarOptions, MortarSide, UncoveredNodes};
 use crate::error::{Error, Location, Result};
@@ -339,9 +340,7 @@ fn contact_of_bodies(
             hint: "give every contact the same law (frictionless contacts can be mixed with either)".into(),
         });
     }
-    // Solver settings: a body's [contact] table's, else the default. The full-space Newton is
-    // written for one node per contact row (module documentation): two bodies use the condensed
-    // semi-smooth Newton.
+    // Solver settings: a body's [contact] table's, else the default (the full-space Newton).
     let mut spec = match solver_spec {
         Some(s) => s.clone(),
         None => ContactSpec {
@@ -349,14 +348,13 @@ fn contact_of_bodies(
             obstacle: ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] },
             gap: 0.0,
             friction: FrictionSpec::None,
-            solver: ContactSolverSpec::Newton,
+            solver: ContactSolverSpec::FullSpaceNewton,
             tolerance: None,
             max_iterations: None,
             at: parts[0].at.clone(),
         },
     };
     match spec.solver {
-        ContactSolverSpec::FullSpaceNewton => spec.solver = ContactSolverSpec::Newton,
         ContactSolverSpec::SnesVi => {
             return Err(Error::Scene {
                 location: spec.at.clone(),

@@ -537,7 +537,14 @@ impl<'s> ElasticityProblem<'s> {
         let (matrix, rhs) = match (&self.system, &self.full_space_system) {
             (Some((m, b)), _) => (m, b),
             (None, Some(system)) => {
-                built = self.to_petsc(system)?;
+                // A body held by the contact: K with the stabilisation springs, as the
+                // condensed route factorises it (K alone is singular).
+                let mut system = system.clone();
+                if let Some((contact, k)) = self.contact.as_ref().and_then(|c| c.spring.map(|k| (c, k))) {
+                    let m = &mut system.matrix;
+                    contact.add_spring_values(k, m.first_row, &m.indptr, &m.indices, &mut m.values)?;
+                }
+                built = self.to_petsc(&system)?;
                 (&built.0, &built.1)
             }
             _ => return Err(Error::PetscUsage("linear_solve_seconds() before assemble()".into())),

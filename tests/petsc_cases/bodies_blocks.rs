@@ -44,7 +44,7 @@ fn slave_resultant(p: &ElasticityProblem) -> [f64; 2] {
 /// interface (upper near x = 0.5, lower near x = 1.4), so the interface nodes of the two sides
 /// are irregular and never match (apart from the two end corners). The two sides have the same
 /// extent: every slave node is fully covered by the master side.
-fn patch_text(order: u32) -> String {
+pub(super) fn patch_text(order: u32) -> String {
     format!(
         r#"title = "two-body contact patch test on non-matching meshes"
 

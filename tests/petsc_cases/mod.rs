@@ -13,6 +13,7 @@ use signorini::Error;
 
 mod adapt;
 mod bodies_blocks;
+mod bodies_full_space;
 mod bodies_hertz;
 mod contact;
 mod dual;
@@ -117,6 +118,9 @@ pub const TESTS: &[(&str, Case)] = &[
     ("three_block_stack", bodies_blocks::three_block_stack),
     ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
     ("point_condition_at_a_shared_place_is_its_bodys", bodies_blocks::point_condition_at_a_shared_place_is_its_bodys),
+    ("bodies_full_space_patch_test", bodies_full_space::bodies_full_space_patch_test),
+    ("bodies_full_space_block_on_block", bodies_full_space::bodies_full_space_block_on_block),
+    ("bodies_full_space_block_elimination", bodies_full_space::bodies_full_space_block_elimination),
 ];
 
 pub(crate) fn ensure(cond: bool, msg: impl FnOnce() -> String) -> Result<(), String> {

@@ -1,7 +1,7 @@
 //! The full-space mixed system of one rank for the SNES wrapper: the Alart–Curnier quantities
 //! of the contact points, the residual, the generalized Jacobian, the convergence test, the
 //! line search, and the rigid-motion checks (see the parent module's documentation).
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::{DMatrix, DVector, Dyn, Matrix3, SymmetricEigen, Vector3};
 
 use super::*;
 use crate::problem::block_elimination::{BlockElimination, ContactRow};
@@ -108,26 +108,29 @@ pub(super) fn status_of(law: &Law, e: &PointEval) -> PointStatus {
 #[derive(Debug, Clone)]
 pub(super) struct OwnedPoint {
     pub(super) index: usize,
-    pub(super) normal: [f64; 2],
-    pub(super) tangent: [f64; 2],
-    /// Node coordinates, centred and scaled (rigid-motion check).
-    pub(super) scaled: [f64; 2],
+    /// The coefficients of the point's normal and tangential rows of `B` on each dof they
+    /// touch (the point's node; with a contact pair also the master nodes), by increasing dof.
+    pub(super) coefficients: Vec<[f64; 2]>,
+    /// The positions of those dofs in the ghosted iterate.
+    pub(super) positions: Vec<usize>,
+    /// The normal and the tangential row applied to the rigid motions (3 per body).
+    pub(super) rigid: [DVector<f64>; 2],
     pub(super) gap: f64,
     pub(super) rho: [f64; 2],
-    /// Positions in the ghosted iterate: u_x, u_y of the node, then λN (and λT).
-    pub(super) ux: usize,
+    /// Position of λN (λT follows) in the ghosted iterate.
     pub(super) lambda: usize,
     /// Position in the owned residual of the normal row (the tangential row follows).
     pub(super) row: usize,
-    /// Pattern position of the first entry of the normal row (each contact row has
-    /// `2 + per_point` entries).
+    /// Pattern position of the first entry of the normal row (each contact row has one entry
+    /// per dof of `coefficients`, then `per_point` multiplier entries).
     pub(super) start: usize,
 }
 
-/// Rigid motions left free by the Dirichlet conditions: the Gram matrix of their rows.
+/// Rigid motions left free by the Dirichlet conditions: the Gram matrix of their rows, on the
+/// rigid motions of every body (3 each).
 #[derive(Debug, Clone)]
 pub(super) struct RigidCheck {
-    pub(super) dirichlet: Matrix3<f64>,
+    pub(super) dirichlet: DMatrix<f64>,
 }
 
 pub(super) fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
@@ -180,9 +183,17 @@ pub(super) fn choose_pins(
 }
 
 pub(super) fn full_rank(gram: &Matrix3<f64>) -> bool {
-    let eigen = SymmetricEigen::new(*gram);
-    let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
-    largest > 0.0 && eigen.eigenvalues.iter().all(|&l| l > 1e-10 * largest)
+    full_rank_of(SymmetricEigen::new(*gram).eigenvalues.as_slice().to_vec())
+}
+
+/// Whether a symmetric Gram matrix has full rank (eigenvalues above 1e-10 of the largest).
+pub(super) fn full_rank_dyn(gram: &DMatrix<f64>) -> bool {
+    full_rank_of(SymmetricEigen::<f64, Dyn>::new(gram.clone()).eigenvalues.as_slice().to_vec())
+}
+
+fn full_rank_of(eigenvalues: Vec<f64>) -> bool {
+    let largest = eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+    largest > 0.0 && eigenvalues.iter().all(|&l| l > 1e-10 * largest)
 }
 
 /// What the failure of a body that nothing holds looks like.
@@ -256,8 +267,12 @@ impl MixedSystem<'_, '_> {
     /// (`block_elimination.rs`). Linear in `x`.
     pub(super) fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
         let frame = |p: &OwnedPoint| {
-            let (ux, uy) = (x[p.ux], x[p.ux + 1]);
-            [p.normal[0] * ux + p.normal[1] * uy, p.tangent[0] * ux + p.tangent[1] * uy]
+            let mut bu = [0.0; 2];
+            for (&at, c) in p.positions.iter().zip(&p.coefficients) {
+                bu[0] += c[0] * x[at];
+                bu[1] += c[1] * x[at];
+            }
+            bu
         };
         match &self.elimination {
             None => self.points.iter().map(frame).collect(),
@@ -322,19 +337,18 @@ impl MixedSystem<'_, '_> {
     /// Do the Dirichlet rows and the closed/sticking rows of `states` block every rigid motion?
     pub(super) fn held(&self, states: &[PointState]) -> Result<bool> {
         let Some(rigid) = &self.rigid else { return Ok(true) };
-        let mut gram = Matrix3::<f64>::zeros();
+        let size = rigid.dirichlet.nrows();
+        let mut gram = DMatrix::<f64>::zeros(size, size);
         for (p, s) in self.points.iter().zip(states) {
             if s.contact {
-                let r = rigid_row(p.normal, p.scaled);
-                gram += r * r.transpose();
+                gram += &p.rigid[0] * p.rigid[0].transpose();
             }
             if s.tangential == TangentialState::Stick {
-                let r = rigid_row(p.tangent, p.scaled);
-                gram += r * r.transpose();
+                gram += &p.rigid[1] * p.rigid[1].transpose();
             }
         }
         let summed = self.comm.sum(gram.as_slice())?;
-        Ok(full_rank(&(rigid.dirichlet + Matrix3::from_column_slice(&summed))))
+        Ok(full_rank_dyn(&(&rigid.dirichlet + DMatrix::from_column_slice(size, size, &summed))))
     }
 }
 
@@ -386,36 +400,39 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
         };
         let mut rows = Vec::with_capacity(if own_solve { self.per_point * states.len() } else { 0 });
         for (p, s) in self.points.iter().zip(&states) {
-            let w = 2 + self.per_point;
-            let (n, t) = (p.normal, p.tangent);
+            let nd = p.coefficients.len();
+            let w = nd + self.per_point;
             let row_n = &mut values[p.start..p.start + w];
             if s.contact {
-                row_n[0] = n[0];
-                row_n[1] = n[1];
+                for (v, c) in row_n.iter_mut().zip(&p.coefficients) {
+                    *v = c[0];
+                }
                 rows.push(ContactRow::Displacement);
             } else {
-                row_n[2] = 1.0 / p.rho[0];
+                row_n[nd] = 1.0 / p.rho[0];
                 rows.push(ContactRow::Force { rho: p.rho[0] });
             }
             if self.per_point == 2 {
                 let row_t = &mut values[p.start + w..p.start + 2 * w];
                 match (s.tangential, coulomb) {
                     (TangentialState::Stick, _) => {
-                        row_t[0] = t[0];
-                        row_t[1] = t[1];
+                        for (v, c) in row_t.iter_mut().zip(&p.coefficients) {
+                            *v = c[1];
+                        }
                         rows.push(ContactRow::Displacement);
                     }
                     (TangentialState::Slip { positive }, Some(mu)) if s.contact => {
                         let sigma = if positive { 1.0 } else { -1.0 };
                         let a = -sigma * mu[p.index] * p.rho[0] / p.rho[1];
-                        row_t[0] = a * n[0];
-                        row_t[1] = a * n[1];
-                        row_t[2] = sigma * mu[p.index] / p.rho[1];
-                        row_t[3] = 1.0 / p.rho[1];
-                        rows.push(ContactRow::CoulombSlip { a, b: row_t[2], c: row_t[3] });
+                        for (v, c) in row_t.iter_mut().zip(&p.coefficients) {
+                            *v = a * c[0];
+                        }
+                        row_t[nd] = sigma * mu[p.index] / p.rho[1];
+                        row_t[nd + 1] = 1.0 / p.rho[1];
+                        rows.push(ContactRow::CoulombSlip { a, b: row_t[nd], c: row_t[nd + 1] });
                     }
                     _ => {
-                        row_t[3] = 1.0 / p.rho[1];
+                        row_t[nd + 1] = 1.0 / p.rho[1];
                         rows.push(ContactRow::Force { rho: p.rho[1] });
                     }
                 }

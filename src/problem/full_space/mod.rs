@@ -75,7 +75,29 @@
 //! ```
 //!
 //! the same pieces as the condensed semi-smooth Newton (`contact/semismooth_newton.rs`) with
-//! `uN = (B u)_N`. At `τN = 0` (a point touching with no force: every point of a body resting on
+//! `uN = (B u)_N`.
+//!
+//! ### Several bodies: mortar rows
+//!
+//! With contact pairs (`bodies.rs`, `contact/mortar/`) a point's rows of `B` touch its slave
+//! node and the master nodes (`ContactBoundary::b_row`): `nᵀ` above stands for the whole
+//! normal row (`n_i` on the slave node, `−(M_ij/D_i) n_i` on master node `j`), and `tᵀ` for
+//! the tangential one. The contact rows of the pattern hold every dof of the point's rows then
+//! its multipliers; the force rows of every dof a row touches get the `−Bᵀ` entries; `uN`,
+//! `uT` are `(B u)` over all entries. The rigid-motion check runs on 3 rigid motions per
+//! connected piece of the mesh (per body): a closed row constrains the relative motion of the
+//! two bodies it touches. The block elimination takes its Schur complement on every dof a row
+//! touches (`schur_dofs`, as the condensed route). Not yet: contact pairs under MPI, and the
+//! floating elimination for bodies held by a pair (`floating_elimination.rs` pins slave-node
+//! dofs only). Both go to the condensed route, saying so in the notes: under MPI always; a body
+//! held only by a pair's contact unless `-contact_full_space_floating_pairs` asks for the
+//! full-space Newton anyway (SNES's LU of the mixed Jacobian at every step: exact and without
+//! proximal steps — the non-matching patch test in one step, pressure to 5e-14 — but 2 to 5
+//! times slower than the condensed route on `bench contact`'s two-body row).
+//!
+//! ### The first steps
+//!
+//! At `τN = 0` (a point touching with no force: every point of a body resting on
 //! the obstacle at the first step) the closed branch is taken; a point with threshold `s = 0`
 //! is free. For Coulomb friction the first step therefore solves the *frictionless* problem on
 //! the touching points, and the next one classifies stick and slip from its tangential
@@ -149,7 +171,9 @@ mod mixed_system;
 
 use std::ops::Range;
 
-use nalgebra::Matrix3;
+use std::collections::HashMap;
+
+use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::block_elimination::BlockElimination;
 use super::contact::{ContactOutcome, ContactSetup};
@@ -178,6 +202,9 @@ const FLOATING_ELIMINATION_NAME: &str =
     "block elimination, MUMPS Cholesky of K + springs at pinned contact dofs (removed in each step)";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
 pub const FULL_SPACE_LU_OPTION: &str = "-contact_full_space_lu";
+/// Option running the full-space Newton on contact pairs whose bodies the contact alone holds
+/// (by default those go to the condensed route: module documentation, "Several bodies").
+pub const FULL_SPACE_FLOATING_PAIRS_OPTION: &str = "-contact_full_space_floating_pairs";
 /// Newton steps allowed when the scene does not say.
 const DEFAULT_MAX_ITERATIONS: usize = 100;
 /// Cycles of the active set before giving up on the full-space iteration.
@@ -211,6 +238,22 @@ impl ContactSetup {
         let comm = session.world();
         let rank = session.rank();
         let b = &self.boundary;
+        if b.is_coupled() && session.size() > 1 {
+            // Not yet: contact pairs under MPI (the mortar rows' layout over ranks).
+            let why =
+                "the full-space Newton for contact pairs runs on one process; under MPI the condensed route".into();
+            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
+        }
+        if b.is_coupled() && self.free_motions.is_some() && !session.has_option(FULL_SPACE_FLOATING_PAIRS_OPTION)? {
+            // A body held only by the contact of a pair: without the floating elimination (one
+            // node per point) every step factorises the whole mixed Jacobian, 2 to 5 times
+            // slower than the condensed route with its proximal springs.
+            let why = format!(
+                "a body is held only by the contact of a pair; the condensed route is faster there \
+                 ({FULL_SPACE_FLOATING_PAIRS_OPTION} runs the full-space Newton anyway)"
+            );
+            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
+        }
         let m = b.points();
         let n = 2 * mesh.num_nodes();
         let law = Law::of(self.friction_law());
@@ -247,6 +290,7 @@ impl ContactSetup {
         // Augmentation 2 E' w_i / L (module documentation): every rank knows every weight. The
         // diagonal blocks of K at the owned contact nodes must be positive definite.
         let rho = |i: usize| [augmentation * b.weight[i]; 2];
+        let coupled = b.is_coupled();
         for i in my_points.clone() {
             let node = b.nodes[i];
             let kb = [
@@ -255,13 +299,39 @@ impl ContactSetup {
             ];
             let quad =
                 |v: [f64; 2]| v[0] * (kb[0][0] * v[0] + kb[0][1] * v[1]) + v[1] * (kb[1][0] * v[0] + kb[1][1] * v[1]);
-            if !(quad(b.normal[i]) > 0.0 && quad(b.tangent[i]) > 0.0 && rho(i)[0] > 0.0) {
+            // A mortar point's slave entries are zero in a prescribed component (mortar/points.rs).
+            let positive = |v: [f64; 2]| (coupled && v == [0.0, 0.0]) || quad(v) > 0.0;
+            if !(positive(b.normal[i]) && positive(b.tangent[i]) && rho(i)[0] > 0.0) {
                 return Err(Error::mesh(
                     format!("node {node} of contact part '{}'", self.spec.part),
                     "its stiffness diagonal block is not positive definite: the node belongs to no element",
                 ));
             }
         }
+
+        // Each point's rows of B (every dof they touch: the point's node and, for a contact
+        // pair, the master nodes), and for each dof the points whose rows touch it (the −Bᵀ
+        // entries of the force rows).
+        let b_rows: Vec<Vec<(usize, [f64; 2])>> = (0..m).map(|i| point_row(b, i)).collect();
+        let mut touching: HashMap<usize, Vec<(usize, [f64; 2])>> = HashMap::new();
+        for (i, entries) in b_rows.iter().enumerate() {
+            for &(dof, coef) in entries {
+                touching.entry(dof).or_default().push((i, coef));
+            }
+        }
+        // Stabilisation springs (Jacobian only, while the contact leaves a rigid motion free):
+        // at the free dofs of the contact nodes, and with contact pairs at every free dof B
+        // touches (either side may be the body the contact holds).
+        let spring_set: std::collections::HashSet<usize> = self.spring_dofs.iter().copied().collect();
+        let spring_at = |dof: usize| -> bool {
+            if coupled {
+                return spring_set.contains(&dof);
+            }
+            match b.nodes.binary_search(&(dof / 2)) {
+                Ok(i) => !b.prescribed[i].is_some_and(|(pc, _)| pc == dof % 2),
+                Err(_) => false,
+            }
+        };
 
         // The pattern of the owned rows: force rows (K, −Bᵀ), then the contact rows.
         let mut indptr = vec![0usize];
@@ -274,51 +344,60 @@ impl ContactSetup {
             let (cols, vals) = k.row(dof);
             row.clear();
             row.extend(cols.iter().zip(vals).map(|(&c, &v)| (layout.u(c), v)));
-            if let Ok(i) = b.nodes.binary_search(&(dof / 2)) {
-                let c = dof % 2;
-                row.push((layout.lambda(i, 0), -b.normal[i][c]));
+            for &(i, coef) in touching.get(&dof).map_or(&[][..], |v| v.as_slice()) {
+                row.push((layout.lambda(i, 0), -coef[0]));
                 if per_point == 2 {
-                    row.push((layout.lambda(i, 1), -b.tangent[i][c]));
+                    row.push((layout.lambda(i, 1), -coef[1]));
                 }
-                row.sort_unstable_by_key(|e| e.0);
-                // No spring on a prescribed dof: its Dirichlet row stays as it is.
-                if !b.prescribed[i].is_some_and(|(pc, _)| pc == c) {
-                    let diagonal = layout.u(dof);
-                    let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
-                        Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
-                    })?;
-                    spring_positions.push(indices.len() + at);
-                }
-            } else {
-                row.sort_unstable_by_key(|e| e.0);
+            }
+            row.sort_unstable_by_key(|e| e.0);
+            // No spring on a prescribed dof: its Dirichlet row stays as it is.
+            if spring_at(dof) {
+                let diagonal = layout.u(dof);
+                let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
+                    Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
+                })?;
+                spring_positions.push(indices.len() + at);
             }
             indices.extend(row.iter().map(|e| e.0));
             base.extend(row.iter().map(|e| e.1));
             indptr.push(indices.len());
         }
         let scaled = |p: [f64; 2]| [(p[0] - centre[0]) / extent, (p[1] - centre[1]) / extent];
+        // Rigid motions: 3 per connected piece of the mesh with contact pairs (each body moves
+        // on its own), 3 for the whole mesh otherwise.
+        let (piece_of, pieces) =
+            if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
+        let rigid_of = |entries: &[(usize, [f64; 2])], k: usize| -> DVector<f64> {
+            let mut r = DVector::<f64>::zeros(3 * pieces);
+            for &(dof, coef) in entries {
+                let node = dof / 2;
+                let direction = if dof % 2 == 0 { [coef[k], 0.0] } else { [0.0, coef[k]] };
+                let v = rigid_row(direction, scaled(mesh.nodes[node]));
+                for a in 0..3 {
+                    r[3 * piece_of[node] + a] += v[a];
+                }
+            }
+            r
+        };
         let mut points = Vec::with_capacity(my_points.len());
         for i in my_points.clone() {
-            let node = b.nodes[i];
-            let columns: Vec<usize> =
-                [layout.u(2 * node), layout.u(2 * node + 1), layout.lambda(i, 0), layout.lambda(i, 1)]
-                    .into_iter()
-                    .take(2 + per_point)
-                    .collect();
+            let entries = &b_rows[i];
+            let lambda_columns: Vec<usize> = (0..per_point).map(|c| layout.lambda(i, c)).collect();
             let start = indices.len();
             for _ in 0..per_point {
-                indices.extend(&columns);
-                base.extend(std::iter::repeat_n(0.0, columns.len()));
+                indices.extend(entries.iter().map(|&(dof, _)| layout.u(dof)));
+                indices.extend(&lambda_columns);
+                base.extend(std::iter::repeat_n(0.0, entries.len() + per_point));
                 indptr.push(indices.len());
             }
             points.push(OwnedPoint {
                 index: i,
-                normal: b.normal[i],
-                tangent: b.tangent[i],
-                scaled: scaled(mesh.nodes[node]),
+                coefficients: entries.iter().map(|e| e.1).collect(),
+                positions: Vec::new(),
+                rigid: [rigid_of(entries, 0), rigid_of(entries, 1)],
                 gap: b.gap[i],
                 rho: rho(i),
-                ux: layout.u(2 * node) - block.start,
                 lambda: layout.lambda(i, 0) - block.start,
                 row: layout.lambda(i, 0) - block.start,
                 start,
@@ -326,13 +405,20 @@ impl ContactSetup {
         }
         let mut solver =
             NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
+        // Where each point's displacement columns sit in the ghosted iterate.
+        for p in &mut points {
+            p.positions = solver.local_columns()[p.start..p.start + p.coefficients.len()].to_vec();
+        }
         let rigid = self.free_motions.as_ref().map(|_| {
-            let mut gram = Matrix3::<f64>::zeros();
+            let mut gram = DMatrix::<f64>::zeros(3 * pieces, 3 * pieces);
             for (dof, _) in constraints.fixed() {
                 if let Some(&p) = mesh.nodes.get(dof / 2) {
                     let direction = if dof % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
                     let r = rigid_row(direction, scaled(p));
-                    gram += r * r.transpose();
+                    let at = 3 * piece_of[dof / 2];
+                    let mut rows = DVector::<f64>::zeros(3 * pieces);
+                    rows.rows_mut(at, 3).copy_from(&r);
+                    gram += &rows * rows.transpose();
                 }
             }
             RigidCheck { dirichlet: gram }
@@ -354,15 +440,18 @@ impl ContactSetup {
         };
         // A body the Dirichlet conditions do not hold: the same with springs at a few pinned
         // contact dofs, removed in every step (floating_elimination.rs).
-        let held_by_contact = match (&rigid, elimination.is_none() && session.size() == 1 && !user_inner && m > 0) {
-            (Some(check), true) => match choose_pins(b, mesh, &scaled, &check.dirichlet) {
-                Some(pins) => {
-                    progress.note("contact: factorising K with springs at pinned contact dofs");
-                    let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
-                    Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+        let floating_applies = elimination.is_none() && session.size() == 1 && !user_inner && m > 0 && !coupled;
+        let held_by_contact = match (&rigid, floating_applies) {
+            (Some(check), true) => {
+                match choose_pins(b, mesh, &scaled, &Matrix3::from_iterator(check.dirichlet.iter().copied())) {
+                    Some(pins) => {
+                        progress.note("contact: factorising K with springs at pinned contact dofs");
+                        let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
+                        Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+                    }
+                    None => None,
                 }
-                None => None,
-            },
+            }
             _ => None,
         };
         let mut mixed = MixedSystem {
@@ -420,7 +509,11 @@ impl ContactSetup {
         let run = match solver.solve(&mut z, &mut mixed, max_iterations) {
             Ok(run) => run,
             Err(Error::SolverDiverged { solver: method, reason, iterations, residual, tried }) => {
-                if let (true, Some(floating)) = (mixed.regularized, mixed.floating) {
+                // With contact pairs a body may stay unheld only in a mode the closed rows do
+                // not see (a cylinder turning about its centre on frictionless contact): the
+                // condensed route's proximal iterations handle that, and say so if the body is
+                // not held at all.
+                if let (true, Some(floating), false) = (mixed.regularized, mixed.floating, coupled) {
                     return Err(self.not_held(floating, iterations));
                 }
                 let failure = format!(
@@ -599,6 +692,21 @@ impl ContactSetup {
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
     }
+}
+
+/// The entries of point `i`'s rows of `B`: each dof any of them touches, with its coefficients
+/// in the normal and the tangential row (duplicates summed), by increasing dof.
+fn point_row(b: &crate::contact::boundary::ContactBoundary, i: usize) -> Vec<(usize, [f64; 2])> {
+    let mut entries: Vec<(usize, [f64; 2])> = Vec::new();
+    for k in 0..2 {
+        for (dof, v) in b.b_row(2 * i + k) {
+            match entries.binary_search_by_key(&dof, |e| e.0) {
+                Ok(at) => entries[at].1[k] += v,
+                Err(at) => entries.insert(at, (dof, if k == 0 { [v, 0.0] } else { [0.0, v] })),
+            }
+        }
+    }
+    entries
 }
 
 fn stats_of(run: &NonlinearSolve, equilibrium: f64, seconds: f64) -> SolveStats {

@@ -1,0 +1,141 @@
+//! The full-space semi-smooth Newton for several bodies (mortar contact rows): the same answer
+//! as the condensed route, in few Newton steps, the contact patch test exact.
+use signorini::petsc::Session;
+use signorini::problem::ElasticityProblem;
+use signorini::scene::{ContactSolverSpec, Scene};
+
+use super::bodies_blocks::patch_text;
+use super::contact::example;
+use super::{ensure, manifest};
+
+/// Solve `text` with the default contact solver (the full-space Newton, asked for even where
+/// a body is held only by the contact, `-contact_full_space_floating_pairs`), or with the
+/// condensed semi-smooth Newton.
+fn solve<'s>(
+    s: &'s Session,
+    text: &str,
+    path: &std::path::Path,
+    condensed: bool,
+) -> Result<ElasticityProblem<'s>, String> {
+    let scene = Scene::from_str(text, path).map_err(|e| e.to_string())?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    if condensed {
+        p.contact.as_mut().ok_or("no contact")?.spec.solver = ContactSolverSpec::Newton;
+    }
+    p.assemble().map_err(|e| e.to_string())?;
+    s.set_option(FLOATING, None).map_err(|e| e.to_string())?;
+    let solved = p.solve().map_err(|e| e.to_string());
+    s.clear_option(FLOATING).map_err(|e| e.to_string())?;
+    solved?;
+    p.postprocess().map_err(|e| e.to_string())?;
+    Ok(p)
+}
+
+/// The option (one PETSc session per process: set around each solve, cleared after).
+const FLOATING: &str = "-contact_full_space_floating_pairs";
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Full space (the default) against condensed on one scene: the route taken, its Newton steps
+/// (at most `max_steps`), and the displacements and contact forces within `1e-8` relative.
+/// Returns the full-space problem.
+fn agree<'s>(
+    s: &'s Session,
+    name: &str,
+    text: &str,
+    path: &std::path::Path,
+    max_steps: usize,
+) -> Result<ElasticityProblem<'s>, String> {
+    let full = solve(s, text, path, false).map_err(|e| format!("{name}, full space: {e}"))?;
+    let condensed = solve(s, text, path, true).map_err(|e| format!("{name}, condensed: {e}"))?;
+    let fo = full.contact_outcome.as_ref().ok_or("no contact outcome")?;
+    let co = condensed.contact_outcome.as_ref().ok_or("no contact outcome")?;
+    let (uf, uc) = (full.displacement.as_ref().unwrap(), condensed.displacement.as_ref().unwrap());
+    let du = max_diff(uf, uc) / max_abs(uc);
+    let df = max_diff(&fo.force, &co.force) / max_abs(&co.force);
+    eprintln!(
+        "    {name}: full space {} Newton steps ({}), condensed {} iterations; differences: displacement {du:.2e}, \
+         contact forces {df:.2e}",
+        fo.report.iterations, fo.report.solver, co.report.iterations
+    );
+    ensure(fo.report.solver.starts_with("full-space"), || format!("{name}: solved by {}", fo.report.solver))?;
+    ensure(fo.report.iterations <= max_steps, || {
+        format!("{name}: {} full-space Newton steps (at most {max_steps} expected)", fo.report.iterations)
+    })?;
+    ensure(du <= 1e-8 && df <= 1e-8, || format!("{name}: routes differ: displacement {du:e}, forces {df:e}"))?;
+    Ok(full)
+}
+
+/// The non-matching contact patch test (frictionless, the upper body held vertically by the
+/// contact alone), P1 and P2: the full space agrees with the condensed route, and its nodal
+/// pressures equal the applied one to 1e-12.
+pub fn bodies_full_space_patch_test(s: &Session) -> Result<(), String> {
+    for order in [1, 2] {
+        let path = manifest("two_body_patch.toml");
+        let p = agree(s, &format!("patch P{order}"), &patch_text(order), &path, 10)?;
+        let c = p.contact.as_ref().unwrap();
+        let o = p.contact_outcome.as_ref().unwrap();
+        let (pressure, _) = c.boundary.tractions(&o.force);
+        let pr = 1e6_f64;
+        let perr = pressure.iter().map(|q| (q - pr).abs() / pr).fold(0.0, f64::max);
+        eprintln!("    patch P{order}: full-space pressure error {perr:.2e}");
+        ensure(perr <= 1e-12, || format!("P{order}: full-space pressure off by {perr:e}"))?;
+    }
+    Ok(())
+}
+
+/// The square block on an elastic foundation with Coulomb friction (block_on_block.toml; the
+/// block held vertically by the contact alone); and without that option the default run of
+/// the same scene takes the condensed route and says why.
+pub fn bodies_full_space_block_on_block(s: &Session) -> Result<(), String> {
+    let (text, path) = example("block_on_block.toml");
+    agree(s, "block on block (Coulomb)", &text, &path, 10)?;
+    let p = super::contact::solve_text(s, &text, &path).map_err(|e| format!("default: {e}"))?;
+    let o = p.contact_outcome.as_ref().ok_or("no contact outcome")?;
+    let notes = o.report.notes.join("; ");
+    ensure(notes.contains("held only by the contact of a pair") && notes.contains(FLOATING), || {
+        format!("default run of block_on_block: solver {}, notes: {notes}", o.report.solver)
+    })
+}
+
+/// Every body held by its Dirichlet conditions (the block of block_on_block.toml pressed by a
+/// prescribed displacement of its top instead of a pressure): the full-space Newton with the
+/// block elimination (one MUMPS factorisation, Schur complement on every dof a mortar row
+/// touches) agrees with the condensed route, in few steps, with no option.
+pub fn bodies_full_space_block_elimination(s: &Session) -> Result<(), String> {
+    let (text, path) = example("block_on_block.toml");
+    let loads = "[[body.traction]]\npart = \"top\"\npressure = 5e7\n";
+    ensure(text.contains(loads), || "test bug: block_on_block.toml's top load changed".into())?;
+    let text = text.replacen(loads, "[[body.dirichlet]]\npart = \"top\"\nuy = -2e-5\n", 1);
+    let full = super::contact::solve_text(s, &text, &path).map_err(|e| format!("full space: {e}"))?;
+    let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    p.contact.as_mut().ok_or("no contact")?.spec.solver = ContactSolverSpec::Newton;
+    p.assemble().map_err(|e| e.to_string())?;
+    p.solve().map_err(|e| e.to_string())?;
+    p.postprocess().map_err(|e| e.to_string())?;
+    let (fo, co) = (full.contact_outcome.as_ref().unwrap(), p.contact_outcome.as_ref().unwrap());
+    let (uf, uc) = (full.displacement.as_ref().unwrap(), p.displacement.as_ref().unwrap());
+    let du = max_diff(uf, uc) / max_abs(uc);
+    let df = max_diff(&fo.force, &co.force) / max_abs(&co.force);
+    let stats = full.stats.as_ref().ok_or("no stats")?;
+    eprintln!(
+        "    held block: {} ({} steps, inner {}), condensed {} iterations; displacement {du:.2e}, forces {df:.2e}",
+        fo.report.solver,
+        fo.report.iterations,
+        format!("{} + {}", stats.ksp_type, stats.pc_type),
+        co.report.iterations
+    );
+    ensure(fo.report.solver.starts_with("full-space") && fo.report.iterations <= 10, || {
+        format!("solved by {} in {} steps", fo.report.solver, fo.report.iterations)
+    })?;
+    let inner = format!("{} + {}", stats.ksp_type, stats.pc_type);
+    ensure(inner.contains("block elimination"), || format!("inner solver {inner}"))?;
+    ensure(du <= 1e-8 && df <= 1e-8, || format!("routes differ: displacement {du:e}, forces {df:e}"))
+}
