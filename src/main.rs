@@ -315,9 +315,6 @@ fn export_command(session: &Session, args: RunArgs) -> Result<(), Error> {
 /// (SNESVI is frictionless only, TAO is for Tresca).
 fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
     use signorini::scene::{ContactSolverSpec as S, FrictionSpec};
-    let contact = scene.contact.as_mut().ok_or_else(|| {
-        Error::Usage(format!("--contact-solver {name}: the scene {} has no [contact] section", scene.source.display()))
-    })?;
     let candidates = [
         S::FullSpaceNewton,
         S::Newton,
@@ -332,6 +329,26 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
         Error::Usage(format!(
             "--contact-solver {name}: unknown solver; choose one of newton_full, newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
         ))
+    })?;
+    if scene.has_body_tables() {
+        // Several bodies: one solver for every contact, pairs included (snes_vi is refused
+        // with pairs by the setup, at the pair's line).
+        let mut frictions: Vec<FrictionSpec> = scene.contact_pairs.iter().map(|p| p.friction).collect();
+        frictions.extend(scene.bodies.iter().filter_map(|b| b.contact.as_ref()).map(|c| c.friction));
+        if frictions.is_empty() {
+            return Err(Error::Usage(format!(
+                "--contact-solver {name}: the scene {} has no contact (no [[contact_pair]], no [body.contact])",
+                scene.source.display()
+            )));
+        }
+        if solver == S::Tao && !frictions.iter().all(|f| matches!(f, FrictionSpec::Tresca { .. })) {
+            return Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()));
+        }
+        scene.contact_solver = Some(solver);
+        return Ok(());
+    }
+    let contact = scene.contact.as_mut().ok_or_else(|| {
+        Error::Usage(format!("--contact-solver {name}: the scene {} has no [contact] section", scene.source.display()))
     })?;
     match (&solver, &contact.friction) {
         (S::SnesVi, f) if *f != FrictionSpec::None => {

@@ -1283,3 +1283,24 @@ fn ict_preconditioner_from_the_command_line() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains("-pc_type ict runs on one process"), "{stderr}");
 }
+
+#[test]
+fn contact_solver_option_reaches_every_contact_of_several_bodies() {
+    // block_on_block.toml has one [[contact_pair]] and no [contact] table: the command line's
+    // solver applies to the pair.
+    let path = scene("examples/scenes/block_on_block.toml");
+    let dir = scratch("bodies-contact-solver");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "relaxation", "--out"]).arg(&dir));
+    let r = report(&dir);
+    let solver = r["contact"]["solver"].as_str().unwrap_or_default().to_lowercase();
+    assert!(solver.contains("relaxation"), "solver: {solver}");
+    // snes_vi cannot take a pair, tao only Tresca: usage errors, nothing written.
+    let out = scratch("bodies-contact-solver-bad");
+    let stderr =
+        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "snes_vi", "--out"]).arg(&out), 1);
+    assert!(stderr.contains("snes_vi"), "{stderr}");
+    let stderr =
+        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "tao", "--out"]).arg(&out), 1);
+    assert!(stderr.contains("Tresca"), "{stderr}");
+    assert!(!out.join("report.json").exists());
+}

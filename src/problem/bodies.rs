@@ -156,7 +156,7 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
         }
     }
     let free_motions = free_motions_of_bodies(&model, &constraints);
-    let contact = contact_of_bodies(&model, &constraints, free_motions.clone())?;
+    let contact = contact_of_bodies(&model, &constraints, free_motions.clone(), scene.contact_solver)?;
     check_every_body_is_held(&model, &constraints, contact.as_ref())?;
     if contact.is_none() {
         if let Some(free) = free_motions {
@@ -258,6 +258,7 @@ fn contact_of_bodies(
     model: &BodiesModel,
     constraints: &Constraints,
     free_motions: Option<String>,
+    run_solver: Option<ContactSolverSpec>,
 ) -> Result<Option<ContactSetup>> {
     let mesh = &model.mesh;
     let prescribed = |node: usize| [constraints.value(2 * node), constraints.value(2 * node + 1)];
@@ -354,6 +355,9 @@ fn contact_of_bodies(
             at: parts[0].at.clone(),
         },
     };
+    if let Some(solver) = run_solver {
+        spec.solver = solver;
+    }
     match spec.solver {
         ContactSolverSpec::SnesVi => {
             return Err(Error::Scene {

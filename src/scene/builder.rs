@@ -300,6 +300,7 @@ impl SceneBuilder {
                 output_dir: None,
                 bodies: Vec::new(),
                 contact_pairs: Vec::new(),
+                contact_solver: None,
             },
         }
     }

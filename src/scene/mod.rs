@@ -128,6 +128,10 @@ pub struct Scene {
     pub bodies: Vec<BodySpec>,
     /// The `[[contact_pair]]` tables, in file order (only with `[[body]]` tables).
     pub contact_pairs: Vec<ContactPairSpec>,
+    /// A contact solver for the whole run, set by the command line (`--contact-solver`), not
+    /// by the file: it replaces the `[contact]` table's `solver`, and with several bodies the
+    /// solver of every contact (pairs included).
+    pub contact_solver: Option<ContactSolverSpec>,
 }
 
 /// Which field the scene is solved for.
@@ -463,6 +467,7 @@ impl Scene {
             contact,
             petsc_options,
             output_dir,
+            contact_solver: None,
             bodies,
             contact_pairs,
         })
