@@ -114,12 +114,7 @@ pub fn bodies_full_space_block_elimination(s: &Session) -> Result<(), String> {
     ensure(text.contains(loads), || "test bug: block_on_block.toml's top load changed".into())?;
     let text = text.replacen(loads, "[[body.dirichlet]]\npart = \"top\"\nuy = -2e-5\n", 1);
     let full = super::contact::solve_text(s, &text, &path).map_err(|e| format!("full space: {e}"))?;
-    let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
-    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
-    p.contact.as_mut().ok_or("no contact")?.spec.solver = ContactSolverSpec::Newton;
-    p.assemble().map_err(|e| e.to_string())?;
-    p.solve().map_err(|e| e.to_string())?;
-    p.postprocess().map_err(|e| e.to_string())?;
+    let p = solve(s, &text, &path, true).map_err(|e| format!("condensed: {e}"))?;
     let (fo, co) = (full.contact_outcome.as_ref().unwrap(), p.contact_outcome.as_ref().unwrap());
     let (uf, uc) = (full.displacement.as_ref().unwrap(), p.displacement.as_ref().unwrap());
     let du = max_diff(uf, uc) / max_abs(uc);
