@@ -330,38 +330,34 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
             "--contact-solver {name}: unknown solver; choose one of newton_full, newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
         ))
     })?;
-    if scene.has_body_tables() {
-        // Several bodies: one solver for every contact, pairs included (snes_vi is refused
-        // with pairs by the setup, at the pair's line).
-        let mut frictions: Vec<FrictionSpec> = scene.contact_pairs.iter().map(|p| p.friction).collect();
-        frictions.extend(scene.bodies.iter().filter_map(|b| b.contact.as_ref()).map(|c| c.friction));
-        if frictions.is_empty() {
-            return Err(Error::Usage(format!(
-                "--contact-solver {name}: the scene {} has no contact (no [[contact_pair]], no [body.contact])",
-                scene.source.display()
-            )));
-        }
-        if solver == S::Tao && !frictions.iter().all(|f| matches!(f, FrictionSpec::Tresca { .. })) {
-            return Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()));
-        }
-        scene.contact_solver = Some(solver);
-        return Ok(());
+    // The friction law of every contact the solver would take: the [contact] table's, or with
+    // several bodies every pair's and every body's (the solver then applies to all of them;
+    // snes_vi is refused with a pair by the setup, at the pair's line).
+    let frictions: Vec<FrictionSpec> = if scene.has_body_tables() {
+        let pairs = scene.contact_pairs.iter().map(|p| p.friction);
+        pairs.chain(scene.bodies.iter().filter_map(|b| b.contact.as_ref()).map(|c| c.friction)).collect()
+    } else {
+        scene.contact.iter().map(|c| c.friction).collect()
+    };
+    if frictions.is_empty() {
+        return Err(Error::Usage(format!(
+            "--contact-solver {name}: the scene {} has no [contact] section (nor, with [[body]] tables, a \
+             [[contact_pair]] or a [body.contact])",
+            scene.source.display()
+        )));
     }
-    let contact = scene.contact.as_mut().ok_or_else(|| {
-        Error::Usage(format!("--contact-solver {name}: the scene {} has no [contact] section", scene.source.display()))
-    })?;
-    match (&solver, &contact.friction) {
-        (S::SnesVi, f) if *f != FrictionSpec::None => {
-            Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton_full".into()))
-        }
-        (S::Tao, f) if !matches!(f, FrictionSpec::Tresca { .. }) => {
-            Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()))
-        }
-        _ => {
-            contact.solver = solver;
-            Ok(())
-        }
+    if solver == S::SnesVi && frictions.iter().any(|f| *f != FrictionSpec::None) {
+        return Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton_full".into()));
     }
+    if solver == S::Tao && !frictions.iter().all(|f| matches!(f, FrictionSpec::Tresca { .. })) {
+        return Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()));
+    }
+    let several_bodies = scene.has_body_tables();
+    match scene.contact.as_mut().filter(|_| !several_bodies) {
+        Some(contact) => contact.solver = solver,
+        None => scene.contact_solver = Some(solver),
+    }
+    Ok(())
 }
 
 /// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.

@@ -447,21 +447,28 @@ impl ContactBoundary {
         }
     }
 
+    /// The force of contact point `i` (forces `r`) on its node before any support takes a
+    /// share: between two bodies along the unreduced [`ContactBoundary::frame`], so that each
+    /// master node `j` receives `−transfer_j` times it ([`CoupledNode::transfer`]); against a
+    /// rigid obstacle through `B`'s rows (there a prescribed component restricts the constraint
+    /// itself: module documentation).
+    pub fn point_force(&self, i: usize, r: &[f64]) -> [f64; 2] {
+        let (rn, rt) = (r[2 * i], r[2 * i + 1]);
+        let [n, t] = if self.coupled_to(i).is_empty() { [self.normal[i], self.tangent[i]] } else { self.frame[i] };
+        [n[0] * rn + t[0] * rt, n[1] * rn + t[1] * rt]
+    }
+
     /// Between two bodies, the forces that prescribed components took out of `B` (`f += B̄ᵀ r −
-    /// Bᵀ r`, `B̄` the rows along the unreduced [`ContactBoundary::frame`] with every master
-    /// node's share [`CoupledNode::transfer`]): nonzero only on prescribed dofs of pair points,
-    /// where the support, not the body, receives them. Against a rigid obstacle, nothing
-    /// (there a prescribed component restricts the constraint itself: module documentation).
+    /// Bᵀ r`, `B̄` the rows of [`ContactBoundary::point_force`] and its master shares): nonzero
+    /// only on prescribed dofs of pair points, where the support, not the body, receives them.
     pub fn add_forces_on_supports(&self, r: &[f64], f: &mut [f64]) {
         for i in (0..self.points()).filter(|&i| !self.coupled_to(i).is_empty()) {
             let (rn, rt) = (r[2 * i], r[2 * i + 1]);
-            let [n, t] = self.frame[i];
-            let k = self.nodes[i];
+            let whole = self.point_force(i, r);
             for comp in 0..2 {
-                let whole = n[comp] * rn + t[comp] * rt;
-                f[2 * k + comp] += whole - (self.normal[i][comp] * rn + self.tangent[i][comp] * rt);
+                f[2 * self.nodes[i] + comp] += whole[comp] - (self.normal[i][comp] * rn + self.tangent[i][comp] * rt);
                 for c in self.coupled_to(i) {
-                    f[2 * c.node + comp] += -c.transfer * whole - (c.normal[comp] * rn + c.tangent[comp] * rt);
+                    f[2 * c.node + comp] += -c.transfer * whole[comp] - (c.normal[comp] * rn + c.tangent[comp] * rt);
                 }
             }
         }

@@ -34,12 +34,11 @@ impl ElasticityProblem<'_> {
             let mut force: std::collections::BTreeMap<usize, [f64; 2]> = std::collections::BTreeMap::new();
             let mut strongest: std::collections::BTreeMap<usize, (f64, usize)> = std::collections::BTreeMap::new();
             for i in (0..b.points()).filter(|&i| parts.part_of[i] == p) {
-                let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
-                let [n, t] = b.frame[i];
+                let whole = b.point_force(i, &outcome.force);
                 for cn in b.coupled_to(i) {
                     let f = force.entry(cn.node).or_insert([0.0; 2]);
-                    for (comp, fc) in f.iter_mut().enumerate() {
-                        *fc -= cn.transfer * (n[comp] * rn + t[comp] * rt);
+                    for (fc, w) in f.iter_mut().zip(whole) {
+                        *fc -= cn.transfer * w;
                     }
                     let coupling = cn.transfer.abs();
                     let s = strongest.entry(cn.node).or_insert((0.0, i));

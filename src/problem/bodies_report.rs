@@ -100,7 +100,15 @@ pub struct NodePenetrationReport {
 impl ElasticityProblem<'_> {
     /// The checks of a solution with several bodies (module documentation); an error when a
     /// body is not in equilibrium.
-    pub(super) fn check_bodies(&self, u: &[f64], f: &[f64], ku: &[f64]) -> Result<Option<BodiesReport>> {
+    /// `on_supports`: the contact shares on supported dofs (`add_forces_on_supports`), which the
+    /// supports receive.
+    pub(super) fn check_bodies(
+        &self,
+        u: &[f64],
+        f: &[f64],
+        ku: &[f64],
+        on_supports: &[f64],
+    ) -> Result<Option<BodiesReport>> {
         let Some(model) = &self.bodies else { return Ok(None) };
         let contact = self.contact.as_ref().zip(self.contact_outcome.as_ref());
         // Bᵀ r split by contact part, slave and master sides apart.
@@ -114,33 +122,18 @@ impl ElasticityProblem<'_> {
             let b = &c.boundary;
             for i in 0..b.points() {
                 let p = parts.part_of[i];
-                let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
-                let k = b.nodes[i];
-                // On the dofs: B's entries (free dofs only; a support carries the rest, and
-                // its reaction counts it). Between the sides: the whole force along the
-                // unreduced frame, and each master node's share of it.
-                let [n, t] = b.frame[i];
-                let coupled = b.coupled_to(i);
+                // The whole force of the point on each side (`point_force`); the shares that
+                // land on supported dofs are taken out of those supports' reactions below.
+                let whole = b.point_force(i, &outcome.force);
                 for comp in 0..2 {
-                    // A rigid obstacle's point acts through B (its frame may be restricted).
-                    let whole = if coupled.is_empty() {
-                        b.normal[i][comp] * rn + b.tangent[i][comp] * rt
-                    } else {
-                        n[comp] * rn + t[comp] * rt
-                    };
-                    on_dofs[p][2 * k + comp] += whole;
-                    slave_force[p][comp] += whole;
-                    for cn in coupled {
-                        on_dofs[p][2 * cn.node + comp] -= cn.transfer * whole;
-                        master_force[p][comp] -= cn.transfer * whole;
+                    on_dofs[p][2 * b.nodes[i] + comp] += whole[comp];
+                    slave_force[p][comp] += whole[comp];
+                    for cn in b.coupled_to(i) {
+                        on_dofs[p][2 * cn.node + comp] -= cn.transfer * whole[comp];
+                        master_force[p][comp] -= cn.transfer * whole[comp];
                     }
                 }
             }
-        }
-        // Contact shares on supported dofs go to the supports (`add_forces_on_supports`).
-        let mut on_supports = vec![0.0; n];
-        if let Some((c, outcome)) = contact {
-            c.boundary.add_forces_on_supports(&outcome.force, &mut on_supports);
         }
         let plane_modulus = self.cell_materials.materials().iter().map(|m| m.plane_modulus()).fold(0.0, f64::max);
         let mut bodies = Vec::new();

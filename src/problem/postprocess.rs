@@ -130,7 +130,7 @@ impl ElasticityProblem<'_> {
                 });
             }
         }
-        let bodies_report = self.check_bodies(u, &f, &ku)?;
+        let bodies_report = self.check_bodies(u, &f, &ku, &on_supports)?;
         self.bodies_report = bodies_report;
         self.warnings.extend(warnings::after_solving(&self.mesh, u));
         self.results = Some(Results {

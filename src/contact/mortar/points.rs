@@ -58,26 +58,13 @@ impl ContactBoundary {
                         tangent: [-c * coupling.tangent[i][0], -c * coupling.tangent[i][1]],
                         transfer: c,
                     };
-                    for (comp, value) in prescribed(j).into_iter().enumerate() {
-                        if let Some(u0) = value {
-                            gap -= node.normal[comp] * u0;
-                            node.normal[comp] = 0.0;
-                            node.tangent[comp] = 0.0;
-                        }
-                    }
+                    take_out_prescribed(prescribed(j), &mut node.normal, &mut node.tangent, &mut gap);
                     node
                 })
                 .collect();
             let fixed = prescribed(k);
-            let mut first_fixed = None;
-            for comp in 0..2 {
-                if let Some(u0) = fixed[comp] {
-                    gap -= n[comp] * u0;
-                    n[comp] = 0.0;
-                    t[comp] = 0.0;
-                    first_fixed.get_or_insert((comp, u0));
-                }
-            }
+            take_out_prescribed(fixed, &mut n, &mut t, &mut gap);
+            let first_fixed = (0..2).find_map(|comp| fixed[comp].map(|u0| (comp, u0)));
             let no_master_entry = coupled.iter().all(|c| c.normal == [0.0; 2] && c.tangent == [0.0; 2]);
             if fixed.iter().all(Option::is_some) && no_master_entry {
                 continue;
@@ -146,6 +133,18 @@ impl ContactBoundary {
         all.edges.sort_unstable();
         all.edges.dedup();
         (all, part_of)
+    }
+}
+
+/// A node's prescribed components `fixed` leave its entries in a point's rows (`normal` in
+/// `B_N`, `tangent` in `B_T`): the known displacement `u0` moves into the gap, `g −= B_N,c u0`.
+fn take_out_prescribed(fixed: [Option<f64>; 2], normal: &mut [f64; 2], tangent: &mut [f64; 2], gap: &mut f64) {
+    for (comp, value) in fixed.into_iter().enumerate() {
+        if let Some(u0) = value {
+            *gap -= normal[comp] * u0;
+            normal[comp] = 0.0;
+            tangent[comp] = 0.0;
+        }
     }
 }
 

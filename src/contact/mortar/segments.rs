@@ -167,18 +167,24 @@ struct Pairing {
 /// normal line meets the edge (`η ∈ [0, 1]` up to the tolerance). With `checked`, the master
 /// edge must also face the slave (`n_master·n < 0`) and lie within `max_distance`.
 fn pair(slave: &SlaveEdge, s: f64, master: &Edge, max_distance: f64, checked: bool) -> Option<Pairing> {
-    let p = slave.edge.at(s);
-    let n = slave.unit_normal(s);
-    let eta = intersect(master, p.x, n)?;
+    let (q, gap) = meet(slave.edge.at(s).x, slave.unit_normal(s), master, max_distance, checked)?;
+    Some(Pairing { values: q.values, gap })
+}
+
+/// Where the line `p + τ n` (`n` a unit normal) meets `master` (`η ∈ [0, 1]` up to the
+/// tolerance): the master point and the gap `(x_master − p)·n`; with `checked`, only if the
+/// edge faces the line (`n_master·n < 0`) within `max_distance`.
+fn meet(p: [f64; 2], n: [f64; 2], master: &Edge, max_distance: f64, checked: bool) -> Option<(EdgePoint, f64)> {
+    let eta = intersect(master, p, n)?;
     if !(-PARAMETER_TOLERANCE..=1.0 + PARAMETER_TOLERANCE).contains(&eta) {
         return None;
     }
     let q = master.at(eta);
-    let gap = dot(sub(q.x, p.x), n);
+    let gap = dot(sub(q.x, p), n);
     if checked && (dot(q.normal, n) >= 0.0 || gap.abs() > max_distance) {
         return None;
     }
-    Some(Pairing { values: q.values, gap })
+    Some((q, gap))
 }
 
 /// The master side's unit normal where the line `p + t n` (a slave node and its normal) meets
@@ -194,13 +200,8 @@ pub(super) fn master_normal_at(
 ) -> Option<[f64; 2]> {
     let mut best: Option<(f64, [f64; 2])> = None;
     for (f, master) in masters.iter().enumerate() {
-        let Some(eta) = intersect(master, p, n) else { continue };
-        if !(-PARAMETER_TOLERANCE..=1.0 + PARAMETER_TOLERANCE).contains(&eta) {
-            continue;
-        }
-        let q = master.at(eta);
-        let gap = dot(sub(q.x, p), n);
-        if dot(q.normal, n) >= 0.0 || gap.abs() > max_distance || best.is_some_and(|b| b.0 <= gap.abs()) {
+        let Some((q, gap)) = meet(p, n, master, max_distance, true) else { continue };
+        if best.is_some_and(|b| b.0 <= gap.abs()) {
             continue;
         }
         let mut m = [0.0; 2];
