@@ -105,11 +105,6 @@ impl StepRows {
         2 * (r / self.per_point) + r % self.per_point
     }
 
-    /// The contact node of each point.
-    pub fn nodes(&self) -> &[usize] {
-        &self.nodes
-    }
-
     /// The contact row of a `W` index.
     pub fn contact_row(&self, wi: usize) -> usize {
         self.per_point * (wi / 2) + wi % 2

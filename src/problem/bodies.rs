@@ -7,9 +7,8 @@
 //!           conditions on its own nodes; contact points of every pair from the mortar coupling
 //!           (contact::mortar: dual basis on the slave side, B rows on the slave node and on the
 //!           master nodes), and of every body's rigid obstacle, merged into one ContactBoundary
-//! solve     the full-space Newton of full_space/ (default, one process, every body held by
-//!           its Dirichlet conditions), or the condensed route of contact.rs: W = B K⁻¹ Bᵀ from
-//!           one factorisation of the
+//! solve     the full-space Newton of full_space/ (default), or the condensed route of
+//!           contact.rs: W = B K⁻¹ Bᵀ from one factorisation of the
 //!           block-diagonal K of all bodies (its Schur complement on every dof B touches, both
 //!           sides of every pair), any condensed solver, u = K⁻¹ (f + Bᵀ r), the independent
 //!           check on (r, B u) with u from the field solve
@@ -32,13 +31,15 @@
 //!
 //! `newton_full` (the default) is the full-space semi-smooth Newton of `full_space/` on
 //! `(u¹, u², …, λ)`: its contact rows carry every entry of the mortar rows of `B` (slave and
-//! master nodes), its rigid-motion check has 3 rigid motions per body. It hands over to the
-//! condensed semi-smooth Newton (`solver = "newton"`, which any scene may also ask for), saying
-//! so in the contact notes: under MPI; when a body is held only by a pair's contact, unless
-//! `-contact_full_space_floating_pairs` (the floating elimination is not written for mortar
-//! rows, so each step would factorise the whole mixed Jacobian: 2 to 5 times slower); and when
-//! a body stays unheld in a mode the closed rows do not see (a cylinder turning about its
-//! centre on frictionless contact). `snes_vi` is refused.
+//! master nodes), its rigid-motion check has 3 rigid motions per body. On one process its
+//! Jacobian solves use one MUMPS factorisation for the whole iteration: the block elimination
+//! when every body is held by its Dirichlet conditions, the floating elimination (springs at
+//! pinned dofs of each body the contact holds, removed in every step) otherwise. A body free to
+//! move in a mode the closed rows do not see (a cylinder turning about its centre on
+//! frictionless contact) gets springs on that mode only, which leave the Newton steps exact
+//! while the loads do not drive it. It hands over to the condensed semi-smooth Newton
+//! (`solver = "newton"`, which any scene may also ask for), saying so in the contact notes:
+//! under MPI, and when the full-space iteration fails. `snes_vi` is refused.
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::mortar::{MortarCoupling, MortarOptions, MortarSide, UncoveredNodes};
 use crate::error::{Error, Location, Result};

@@ -31,16 +31,7 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
             "the Schur complement of the stiffness on the contact dofs is not positive definite".into(),
         ));
     }
-    // Rows of B on the Schur dofs' positions.
-    let rows: Vec<Vec<(usize, f64)>> = (0..2 * m)
-        .map(|j| {
-            b.b_row(j)
-                .into_iter()
-                .filter(|&(_, c)| c != 0.0)
-                .filter_map(|(dof, c)| dofs.binary_search(&dof).ok().map(|p| (p, c)))
-                .collect()
-        })
-        .collect();
+    let rows = rows_on_schur(b, &dofs);
     let mut w = DMatrix::<f64>::zeros(2 * m, 2 * m);
     for a in 0..2 * m {
         for c in 0..=a {
@@ -55,6 +46,20 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
         }
     }
     Ok(w)
+}
+
+/// The rows of `B` (`2m`, each point's normal then tangential row) on the positions of
+/// `dofs` (increasing; [`schur_dofs`]): `(position, coefficient)` pairs, zeros left out.
+pub(super) fn rows_on_schur(b: &ContactBoundary, dofs: &[usize]) -> Vec<Vec<(usize, f64)>> {
+    (0..2 * b.points())
+        .map(|j| {
+            b.b_row(j)
+                .into_iter()
+                .filter(|&(_, c)| c != 0.0)
+                .filter_map(|(dof, c)| dofs.binary_search(&dof).ok().map(|p| (p, c)))
+                .collect()
+        })
+        .collect()
 }
 
 /// The dofs of the Schur complement of the condensed route: both dofs of every node `B`

@@ -33,13 +33,27 @@
 //! the held body's reduced system plus the number of pins. It is nonsingular exactly when `J`
 //! is, that is when the closed and sticking rows with the Dirichlet rows block every rigid
 //! motion (`full_space.rs` checks that at every Jacobian). While they do not (the first steps of
-//! a body resting on the obstacle, before the contact zone has formed), the step is regularised
-//! as on the full-space route — springs `k = 10⁻³ max diag K / m` at every free contact dof,
-//! Levenberg–Marquardt on the free rigid motions — but with springs on the rigid motions only:
-//! `K + k Q Qᵀ`, `Q` an orthonormal basis of the rigid motions over the contact dofs (the same
-//! energy for every rigid motion). Both changes of `K̂` are low-rank and live on the contact
-//! dofs, `U C Uᵀ` (`C = −k_q` for the pins, `+k` for `Q`), and enter the small system the same
-//! way: `(I + H C) π − Gᵀ dλ = …` with `G = B K̂⁻¹ U`, `H = Uᵀ K̂⁻¹ U`, `π = Uᵀ du`.
+//! a body resting on the obstacle, before the contact zone has formed; a cylinder free to turn
+//! about its centre on frictionless contact), the step is regularised with springs on the
+//! *free* rigid motions only — those that neither the Dirichlet rows nor the closed and
+//! sticking rows block, the null space of the rigid-motion check's Gram matrix: `K + k Q Qᵀ`,
+//! `Q` an orthonormal basis of those motions over the contact dofs, `k = 10⁻³ max diag K / m`
+//! (the energy of springs `k` at every contact dof). The regularised Jacobian differs from `J`
+//! on `J`'s null space only, so when the residual has no part along a free motion (a cylinder
+//! whose loads have no moment about its centre) the step is an exact Newton step, the one
+//! without rigid motion along `Q`; otherwise it is a Levenberg–Marquardt step that moves the
+//! body towards the contact. Both changes of `K̂` are low-rank and live on the contact dofs,
+//! `U C Uᵀ` (`C = −k_q` for the pins, `+k` for `Q`), and enter the small system the same way:
+//! `(I + H C) π − Gᵀ dλ = …` with `G = B K̂⁻¹ U`, `H = Uᵀ K̂⁻¹ U`, `π = Uᵀ du`.
+//!
+//! ## Several bodies
+//!
+//! With contact pairs a row of `B` touches the slave node and master nodes of another body
+//! (mortar rows): the Schur complement is taken on every dof a row touches (`schur_dofs`, as
+//! the condensed route and `block_elimination.rs`), `B` acts on those dofs through its rows
+//! (`rows_on_schur`), and the pins and rigid motions are per body: pins on each body the
+//! Dirichlet rows do not hold, chosen among the dofs the rows touch (`choose_pins` in
+//! `full_space/mixed_system.rs`), 3 rigid motions per body.
 //!
 //! The iterate stays `(u, λ)` (unlike the held body's `(v, λ)`): each step costs one solve with
 //! the factor for `du` (two when the force rows are not at round-off) and the small system.
@@ -48,13 +62,13 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::block_elimination::{ContactRow, StepRows};
-use super::condensed_route::flexibility_from_schur;
+use super::condensed_route::{flexibility_from_schur, rows_on_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::schur::SchurFactor;
 use crate::petsc::{Matrix, Session, Vector};
 
-/// A change `U C Uᵀ` of `K̂` supported on the contact dofs: `u` (`2m × q`, columns over the Schur
+/// A change `U C Uᵀ` of `K̂` supported on the contact dofs: `u` (`s × q`, columns over the Schur
 /// rows), `c` (the diagonal of `C`), and `G = B K̂⁻¹ U` (frames), `H = Uᵀ K̂⁻¹ U`.
 struct Correction {
     u: DMatrix<f64>,
@@ -64,13 +78,10 @@ struct Correction {
 }
 
 impl Correction {
-    fn new(u: DMatrix<f64>, c: Vec<f64>, inverse: &DMatrix<f64>, b: &ContactBoundary) -> Self {
+    fn new(u: DMatrix<f64>, c: Vec<f64>, inverse: &DMatrix<f64>, b_rows: &[Vec<(usize, f64)>]) -> Self {
         let vu = inverse * &u;
-        let m = b.points();
-        let g = DMatrix::from_fn(2 * m, u.ncols(), |wi, q| {
-            let (i, a) = (wi / 2, wi % 2);
-            let dir = if a == 0 { b.normal[i] } else { b.tangent[i] };
-            dir[0] * vu[(2 * i, q)] + dir[1] * vu[(2 * i + 1, q)]
+        let g = DMatrix::from_fn(b_rows.len(), u.ncols(), |wi, q| {
+            b_rows[wi].iter().map(|&(position, coef)| coef * vu[(position, q)]).sum()
         });
         let h = u.transpose() * vu;
         Correction { u, c, g, h }
@@ -81,22 +92,27 @@ impl Correction {
     }
 }
 
-/// One pinned dof: its global dof, its index among the Schur rows and its spring.
-#[derive(Debug, Clone, Copy)]
-struct Pin {
-    dof: usize,
-    schur: usize,
-    spring: f64,
-}
-
 pub(super) struct FloatingElimination<'s> {
     factor: SchurFactor<'s>,
+    /// The Schur rows: every dof a row of `B` touches, increasing.
+    schur: Vec<usize>,
+    /// `(K̂⁻¹)` on the Schur rows (`S⁻¹`), and `B`'s rows on their positions.
+    inverse: DMatrix<f64>,
+    b_rows: Vec<Vec<(usize, f64)>>,
     /// `Ŵ` in the points' frames (`2m × 2m`).
     w: DMatrix<f64>,
-    /// The low-rank changes of `K̂` of the exact step (the pins, removed) and of the regularised
-    /// step (the pins removed, springs on the rigid motions added).
+    /// The pins' columns of `U` and their springs.
+    pins: DMatrix<f64>,
+    pin_springs: Vec<f64>,
+    /// The rigid motions over the Schur rows (3 per body; zero on prescribed dofs) and the
+    /// spring of the regularised steps.
+    rigid: DMatrix<f64>,
+    spring: f64,
+    /// The low-rank change of `K̂` of the exact step (the pins, removed).
     exact: Correction,
-    regularizing: Correction,
+    /// That of the last regularised step (the pins removed, springs on the free rigid
+    /// motions), with the free motions it was built for.
+    regularizing: Option<(DMatrix<f64>, Correction)>,
     step: StepRows,
     num_u: usize,
     rhs: Vector<'s>,
@@ -108,41 +124,47 @@ pub(super) struct FloatingElimination<'s> {
 
 impl<'s> FloatingElimination<'s> {
     /// Factorise `K + Eᵀ k E` (`stiffness` holds `K`: every row, one process; `pinned` the
-    /// dofs of `E`, each a dof of a contact node) with the Schur complement on the contact
-    /// nodes' dofs.
+    /// dofs of `E`, each a dof some row of `B` touches) with the Schur complement on the dofs
+    /// the rows of `B` touch. `rigid`: the rigid motions over those dofs (`schur_dofs` order,
+    /// one column per rigid motion of each body, zero on prescribed dofs).
     pub fn new(
         session: &'s Session,
         stiffness: &crate::fem::assembly::CsrRows,
         boundary: &ContactBoundary,
         per_point: usize,
         pinned: &[usize],
-        scaled_positions: &[[f64; 2]],
+        rigid: DMatrix<f64>,
     ) -> Result<Self> {
         let n = stiffness.num_cols;
         if stiffness.first_row != 0 || stiffness.num_rows() != n {
             return Err(Error::PetscUsage("the floating-body elimination needs every row of K (one process)".into()));
         }
-        let rows: Vec<usize> = boundary.nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
-        let mut pins = Vec::with_capacity(pinned.len());
-        for &dof in pinned {
-            let schur = rows
-                .iter()
-                .position(|&r| r == dof)
-                .ok_or_else(|| Error::PetscUsage(format!("pinned dof {dof} is not a dof of a contact node")))?;
+        let schur = schur_dofs(boundary);
+        if rigid.nrows() != schur.len() {
+            return Err(Error::PetscUsage(format!(
+                "{} rigid-motion rows for {} dofs touched by the contact rows",
+                rigid.nrows(),
+                schur.len()
+            )));
+        }
+        let mut values = stiffness.values.clone();
+        let mut pins = DMatrix::<f64>::zeros(schur.len(), pinned.len());
+        let mut pin_springs = Vec::with_capacity(pinned.len());
+        for (q, &dof) in pinned.iter().enumerate() {
+            let position = schur
+                .binary_search(&dof)
+                .map_err(|_| Error::PetscUsage(format!("pinned dof {dof} is not a dof the contact rows touch")))?;
             let spring = stiffness.get(dof, dof);
             if !(spring > 0.0 && spring.is_finite()) {
                 return Err(Error::PetscUsage(format!("pinned dof {dof} has no positive stiffness")));
             }
-            pins.push(Pin { dof, schur, spring });
-        }
-        let mut values = stiffness.values.clone();
-        for pin in &pins {
-            let (start, end) =
-                (stiffness.indptr[pin.dof - stiffness.first_row], stiffness.indptr[pin.dof - stiffness.first_row + 1]);
+            let (start, end) = (stiffness.indptr[dof], stiffness.indptr[dof + 1]);
             let at = (start..end)
-                .find(|&p| stiffness.indices[p] == pin.dof)
-                .ok_or_else(|| Error::PetscUsage(format!("pinned dof {}: no diagonal stiffness entry", pin.dof)))?;
-            values[at] += pin.spring;
+                .find(|&p| stiffness.indices[p] == dof)
+                .ok_or_else(|| Error::PetscUsage(format!("pinned dof {dof}: no diagonal stiffness entry")))?;
+            values[at] += spring;
+            pins[(position, q)] = 1.0;
+            pin_springs.push(spring);
         }
         let matrix = Matrix::from_csr_rows(
             session,
@@ -155,52 +177,32 @@ impl<'s> FloatingElimination<'s> {
             2,
             true,
         )?;
-        let factor = SchurFactor::new(session, &matrix, &rows)?;
+        let factor = SchurFactor::new(session, &matrix, &schur)?;
         let w = flexibility_from_schur(&factor, boundary)?;
-        let size = rows.len();
+        let size = schur.len();
         let inverse = DMatrix::from_row_slice(size, size, factor.inverse_block());
-        let mut u_pins = DMatrix::<f64>::zeros(size, pins.len());
-        for (q, pin) in pins.iter().enumerate() {
-            u_pins[(pin.schur, q)] = 1.0;
-        }
-        let removed: Vec<f64> = pins.iter().map(|p| -p.spring).collect();
-        let exact = Correction::new(u_pins.clone(), removed.clone(), &inverse, boundary);
-        // The regularised step: the springs of the full-space route on the rigid motions only
-        // (the same energy for a rigid motion as k at every free contact dof, k = 10⁻³ max diag K
-        // / m), an orthonormal basis of the rigid motions over the contact dofs.
+        let b_rows = rows_on_schur(boundary, &schur);
+        let removed: Vec<f64> = pin_springs.iter().map(|k| -k).collect();
+        let exact = Correction::new(pins.clone(), removed, &inverse, &b_rows);
+        // k = 10⁻³ max diag K / m: the energy of a rigid motion under springs k at every
+        // contact dof (module documentation).
         let m = boundary.points();
         let max_diagonal = (0..n).map(|d| stiffness.get(d, d).abs()).fold(0.0f64, f64::max);
         let spring = 1e-3 * max_diagonal / m.max(1) as f64;
-        let mut rigid = DMatrix::<f64>::zeros(size, 3);
-        for i in 0..m {
-            let p = scaled_positions[i];
-            for c in 0..2 {
-                if boundary.prescribed[i].is_some_and(|(pc, _)| pc == c) {
-                    continue;
-                }
-                rigid[(2 * i + c, c)] = 1.0;
-                rigid[(2 * i + c, 2)] = if c == 0 { -p[1] } else { p[0] };
-            }
-        }
-        let svd = rigid.svd(true, false);
-        let largest = svd.singular_values.max();
-        let basis: Vec<usize> = (0..3).filter(|&j| svd.singular_values[j] > 1e-10 * largest).collect();
-        let left = svd.u.ok_or_else(|| Error::PetscUsage("no SVD basis of the rigid motions".into()))?;
-        let mut u_reg = DMatrix::<f64>::zeros(size, pins.len() + basis.len());
-        u_reg.columns_mut(0, pins.len()).copy_from(&u_pins);
-        for (k, &j) in basis.iter().enumerate() {
-            u_reg.set_column(pins.len() + k, &left.column(j));
-        }
-        let mut c_reg = removed;
-        c_reg.extend(std::iter::repeat_n(spring, basis.len()));
-        let regularizing = Correction::new(u_reg, c_reg, &inverse, boundary);
         Ok(FloatingElimination {
             rhs: matrix.create_vector()?,
             solution: matrix.create_vector()?,
             factor,
+            schur,
+            inverse,
+            b_rows,
             w,
+            pins,
+            pin_springs,
+            rigid,
+            spring,
             exact,
-            regularizing,
+            regularizing: None,
             step: StepRows::new(boundary, per_point),
             num_u: n,
             regularized: false,
@@ -208,14 +210,44 @@ impl<'s> FloatingElimination<'s> {
         })
     }
 
-    /// Take the pieces of a new Jacobian and factorise the small system; `regularized`: keep the
-    /// springs in this step (the contact rows do not hold the body yet).
-    pub fn set_rows(&mut self, rows: Vec<ContactRow>, regularized: bool) -> Result<()> {
+    /// The change of `K̂` of a regularised step with free rigid motions `free` (columns over
+    /// the rigid-motion coordinates): the pins removed, springs on an orthonormal basis of the
+    /// free motions over the contact dofs. Kept while the free motions stay the same.
+    fn regularizing_for(&mut self, free: &DMatrix<f64>) -> Result<&Correction> {
+        let same = self.regularizing.as_ref().is_some_and(|(f, _)| f.shape() == free.shape() && f == free);
+        if !same {
+            let motions = &self.rigid * free;
+            let svd = motions.clone().svd(true, false);
+            let largest = svd.singular_values.max();
+            let basis: Vec<usize> =
+                (0..svd.singular_values.len()).filter(|&j| svd.singular_values[j] > 1e-10 * largest).collect();
+            let left = svd.u.ok_or_else(|| Error::PetscUsage("no SVD basis of the free rigid motions".into()))?;
+            let p = self.pin_springs.len();
+            let mut u = DMatrix::<f64>::zeros(self.schur.len(), p + basis.len());
+            u.columns_mut(0, p).copy_from(&self.pins);
+            for (k, &j) in basis.iter().enumerate() {
+                u.set_column(p + k, &left.column(j));
+            }
+            let mut c: Vec<f64> = self.pin_springs.iter().map(|k| -k).collect();
+            c.extend(std::iter::repeat_n(self.spring, basis.len()));
+            let correction = Correction::new(u, c, &self.inverse, &self.b_rows);
+            self.regularizing = Some((free.clone(), correction));
+        }
+        self.regularizing.as_ref().map(|(_, c)| c).ok_or_else(|| Error::PetscUsage("no regularising correction".into()))
+    }
+
+    /// Take the pieces of a new Jacobian and factorise the small system; `free`: the rigid
+    /// motions the Dirichlet, closed and sticking rows leave free (columns over the rigid-motion
+    /// coordinates), `None` when they hold every body: springs on those in this step.
+    pub fn set_rows(&mut self, rows: Vec<ContactRow>, free: Option<&DMatrix<f64>>) -> Result<()> {
         self.step.set(rows)?;
-        self.regularized = regularized;
+        self.regularized = free.is_some();
+        if let Some(free) = free {
+            self.regularizing_for(free)?;
+        }
         let (unknowns, columns) = (&self.step.unknowns, &self.step.columns);
         let d = unknowns.len();
-        let cor = if regularized { &self.regularizing } else { &self.exact };
+        let cor = self.correction();
         let p = cor.len();
         // Rows: Ŵ_D dλ − G_D C π = …, (I + H C) π − Gᵀ dλ = … (module documentation, C = −k for
         // the pins).
@@ -240,13 +272,20 @@ impl<'s> FloatingElimination<'s> {
         Ok(())
     }
 
+    /// The change of `K̂` of the current step.
+    fn correction(&self) -> &Correction {
+        match (&self.regularizing, self.regularized) {
+            (Some((_, c)), true) => c,
+            _ => &self.exact,
+        }
+    }
+
     /// `(du, dλ) = J⁻¹ (r_u, r_λ)` with the pieces of the last [`FloatingElimination::set_rows`]
     /// (`r`, `d`: the force entries, then the contact entries). Force residuals no larger than
     /// `negligible` are round-off: `y = 0` without a solve.
     pub fn solve(&mut self, r: &[f64], d: &mut [f64], negligible: f64) -> Result<()> {
         let n = self.num_u;
         let (r_u, r_c) = r.split_at(n);
-        let m = self.step.nodes().len();
         let largest = r_u.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let y = if largest > negligible {
             self.rhs.set_owned(r_u)?;
@@ -258,11 +297,11 @@ impl<'s> FloatingElimination<'s> {
         let by = self.step.frame_components(&y);
         let mut dl = self.step.known_changes(r_c);
         let d_count = self.step.unknowns.len();
-        let cor = if self.regularized { &self.regularizing } else { &self.exact };
+        let cor = self.correction();
         let p = cor.len();
         let mut pi = vec![0.0; p];
         // Uᵀ y over the contact dofs.
-        let y_contact = DVector::from_iterator(2 * m, self.step.nodes().iter().flat_map(|&k| [y[2 * k], y[2 * k + 1]]));
+        let y_contact = DVector::from_iterator(self.schur.len(), self.schur.iter().map(|&dof| y[dof]));
         let uty = cor.u.transpose() * &y_contact;
         if let Some(lu) = &self.reduced {
             let known = DVector::from_column_slice(&dl);
@@ -290,10 +329,8 @@ impl<'s> FloatingElimination<'s> {
         // du = y + K̂⁻¹ (Bᵀ dλ − U C π).
         let change = &cor.u * DVector::from_iterator(p, (0..p).map(|q| cor.c[q] * pi[q]));
         let mut load = self.step.load(&dl, n);
-        for (k, &node) in self.step.nodes().iter().enumerate() {
-            for c in 0..2 {
-                load[2 * node + c] -= change[2 * k + c];
-            }
+        for (position, &dof) in self.schur.iter().enumerate() {
+            load[dof] -= change[position];
         }
         if load.iter().any(|&v| v != 0.0) {
             self.rhs.set_owned(&load)?;

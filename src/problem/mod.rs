@@ -432,7 +432,7 @@ impl<'s> ElasticityProblem<'s> {
             let (u, outcome, mut stats) = contact.solve_full_space(
                 self.session,
                 &self.mesh,
-                &self.material,
+                &self.cell_materials,
                 &self.constraints,
                 system,
                 &ranges,

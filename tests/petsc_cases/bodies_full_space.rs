@@ -8,9 +8,8 @@ use super::bodies_blocks::patch_text;
 use super::contact::example;
 use super::{ensure, manifest};
 
-/// Solve `text` with the default contact solver (the full-space Newton, asked for even where
-/// a body is held only by the contact, `-contact_full_space_floating_pairs`), or with the
-/// condensed semi-smooth Newton.
+/// Solve `text` with the default contact solver (the full-space Newton), or with the condensed
+/// semi-smooth Newton.
 fn solve<'s>(
     s: &'s Session,
     text: &str,
@@ -23,16 +22,13 @@ fn solve<'s>(
         p.contact.as_mut().ok_or("no contact")?.spec.solver = ContactSolverSpec::Newton;
     }
     p.assemble().map_err(|e| e.to_string())?;
-    s.set_option(FLOATING, None).map_err(|e| e.to_string())?;
-    let solved = p.solve().map_err(|e| e.to_string());
-    s.clear_option(FLOATING).map_err(|e| e.to_string())?;
-    solved?;
+    p.solve().map_err(|e| e.to_string())?;
     p.postprocess().map_err(|e| e.to_string())?;
     Ok(p)
 }
 
-/// The option (one PETSc session per process: set around each solve, cleared after).
-const FLOATING: &str = "-contact_full_space_floating_pairs";
+/// The inner solver of a body the contact holds (floating_elimination.rs).
+const PINNED: &str = "springs at pinned contact dofs";
 
 fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
@@ -42,15 +38,16 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
 }
 
-/// Full space (the default) against condensed on one scene: the route taken, its Newton steps
-/// (at most `max_steps`), and the displacements and contact forces within `1e-8` relative.
-/// Returns the full-space problem.
+/// Full space (the default) against condensed on one scene: the route taken (with the inner
+/// solver `inner`), its Newton steps (at most `max_steps`), and the displacements and contact
+/// forces within `1e-8` relative. Returns the full-space problem.
 fn agree<'s>(
     s: &'s Session,
     name: &str,
     text: &str,
     path: &std::path::Path,
     max_steps: usize,
+    inner: &str,
 ) -> Result<ElasticityProblem<'s>, String> {
     let full = solve(s, text, path, false).map_err(|e| format!("{name}, full space: {e}"))?;
     let condensed = solve(s, text, path, true).map_err(|e| format!("{name}, condensed: {e}"))?;
@@ -64,7 +61,9 @@ fn agree<'s>(
          contact forces {df:.2e}",
         fo.report.iterations, fo.report.solver, co.report.iterations
     );
-    ensure(fo.report.solver.starts_with("full-space"), || format!("{name}: solved by {}", fo.report.solver))?;
+    ensure(fo.report.solver.starts_with("full-space") && fo.report.solver.contains(inner), || {
+        format!("{name}: solved by {} (inner solver with '{inner}' expected)", fo.report.solver)
+    })?;
     ensure(fo.report.iterations <= max_steps, || {
         format!("{name}: {} full-space Newton steps (at most {max_steps} expected)", fo.report.iterations)
     })?;
@@ -78,7 +77,7 @@ fn agree<'s>(
 pub fn bodies_full_space_patch_test(s: &Session) -> Result<(), String> {
     for order in [1, 2] {
         let path = manifest("two_body_patch.toml");
-        let p = agree(s, &format!("patch P{order}"), &patch_text(order), &path, 10)?;
+        let p = agree(s, &format!("patch P{order}"), &patch_text(order), &path, 10, PINNED)?;
         let c = p.contact.as_ref().unwrap();
         let o = p.contact_outcome.as_ref().unwrap();
         let (pressure, _) = c.boundary.tractions(&o.force);
@@ -91,16 +90,29 @@ pub fn bodies_full_space_patch_test(s: &Session) -> Result<(), String> {
 }
 
 /// The square block on an elastic foundation with Coulomb friction (block_on_block.toml; the
-/// block held vertically by the contact alone); and without that option the default run of
-/// the same scene takes the condensed route and says why.
+/// block held vertically by the contact alone): the default run takes the full-space Newton
+/// with pins on the block (floating_elimination.rs), and agrees with SNES's LU of the whole
+/// mixed Jacobian (`-contact_full_space_lu`) to round-off.
 pub fn bodies_full_space_block_on_block(s: &Session) -> Result<(), String> {
     let (text, path) = example("block_on_block.toml");
-    agree(s, "block on block (Coulomb)", &text, &path, 10)?;
-    let p = super::contact::solve_text(s, &text, &path).map_err(|e| format!("default: {e}"))?;
-    let o = p.contact_outcome.as_ref().ok_or("no contact outcome")?;
-    let notes = o.report.notes.join("; ");
-    ensure(notes.contains("held only by the contact of a pair") && notes.contains(FLOATING), || {
-        format!("default run of block_on_block: solver {}, notes: {notes}", o.report.solver)
+    let pinned = agree(s, "block on block (Coulomb)", &text, &path, 10, PINNED)?;
+    s.set_option("-contact_full_space_lu", None).map_err(|e| e.to_string())?;
+    let lu = solve(s, &text, &path, false);
+    s.clear_option("-contact_full_space_lu").map_err(|e| e.to_string())?;
+    let lu = lu.map_err(|e| format!("LU of the mixed Jacobian: {e}"))?;
+    let (po, lo) = (pinned.contact_outcome.as_ref().unwrap(), lu.contact_outcome.as_ref().unwrap());
+    let df = max_diff(&po.force, &lo.force) / max_abs(&lo.force);
+    let du = max_diff(pinned.displacement.as_ref().unwrap(), lu.displacement.as_ref().unwrap())
+        / max_abs(lu.displacement.as_ref().unwrap());
+    eprintln!(
+        "    block on block: pinned elimination {} steps, LU {} steps ({}); displacement {du:.2e}, forces {df:.2e}",
+        po.report.iterations, lo.report.iterations, lo.report.solver
+    );
+    ensure(!lo.report.solver.contains(PINNED) && lo.report.solver.starts_with("full-space"), || {
+        format!("with -contact_full_space_lu: solved by {}", lo.report.solver)
+    })?;
+    ensure(du <= 1e-10 && df <= 1e-10, || {
+        format!("pinned elimination and LU differ: displacement {du:e}, forces {df:e}")
     })
 }
 

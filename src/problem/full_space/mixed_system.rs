@@ -137,58 +137,87 @@ pub(super) fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
     Vector3::new(direction[0], direction[1], direction[1] * scaled[0] - direction[0] * scaled[1])
 }
 
-/// Contact dofs to pin with springs so that, with the Dirichlet rows (`dirichlet`: their Gram
-/// matrix of rigid-motion rows), every rigid motion is blocked: the free dofs of the contact
-/// node farthest from the contact nodes' centre, then of the node farthest from it, then of the
-/// others by decreasing distance from the first, until the rank is full. `None` if even every
-/// contact dof leaves a rigid motion free.
+/// Dofs to pin with springs so that, with the Dirichlet rows (`dirichlet`: their Gram matrix of
+/// rigid-motion rows, 3 per body), every rigid motion is blocked, chosen among `candidates`
+/// (the dofs the contact rows touch, increasing) that are not prescribed. Per body that the
+/// Dirichlet rows do not hold: the free dofs of its candidate node farthest from their centre,
+/// then of the node farthest from that one, then of the others by decreasing distance from the
+/// first, until that body's rigid motions are blocked. `None` if even every candidate leaves a
+/// rigid motion free.
 pub(super) fn choose_pins(
-    b: &crate::contact::boundary::ContactBoundary,
+    candidates: &[usize],
     mesh: &Mesh,
+    piece_of: &[usize],
+    is_fixed: &dyn Fn(usize) -> bool,
     scaled: &dyn Fn([f64; 2]) -> [f64; 2],
-    dirichlet: &Matrix3<f64>,
+    dirichlet: &DMatrix<f64>,
 ) -> Option<Vec<usize>> {
-    let m = b.points();
-    if m == 0 {
+    let mut nodes: Vec<usize> = candidates.iter().map(|&dof| dof / 2).collect();
+    nodes.dedup();
+    let pieces = dirichlet.nrows() / 3;
+    let distance = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
+    let mut pins = Vec::new();
+    for piece in 0..pieces {
+        let mut gram: Matrix3<f64> = dirichlet.fixed_view::<3, 3>(3 * piece, 3 * piece).into_owned();
+        if full_rank(&gram) {
+            continue;
+        }
+        let own: Vec<usize> = nodes.iter().copied().filter(|&k| piece_of[k] == piece).collect();
+        if own.is_empty() {
+            return None;
+        }
+        let position = |k: usize| mesh.nodes[k];
+        let mut centre = [0.0; 2];
+        for &k in &own {
+            centre[0] += position(k)[0] / own.len() as f64;
+            centre[1] += position(k)[1] / own.len() as f64;
+        }
+        let first =
+            *own.iter().max_by(|&&i, &&j| distance(position(i), centre).total_cmp(&distance(position(j), centre)))?;
+        let mut order: Vec<usize> = own.iter().copied().filter(|&k| k != first).collect();
+        order.sort_by(|&i, &j| {
+            distance(position(j), position(first)).total_cmp(&distance(position(i), position(first)))
+        });
+        order.insert(0, first);
+        let mut held = false;
+        for k in order {
+            for c in 0..2 {
+                if is_fixed(2 * k + c) || candidates.binary_search(&(2 * k + c)).is_err() {
+                    continue;
+                }
+                let direction = if c == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
+                let r = rigid_row(direction, scaled(position(k)));
+                gram += r * r.transpose();
+                pins.push(2 * k + c);
+            }
+            if full_rank(&gram) {
+                held = true;
+                break;
+            }
+        }
+        if !held {
+            return None;
+        }
+    }
+    pins.sort_unstable();
+    Some(pins)
+}
+
+/// An orthonormal basis of the null space of a symmetric Gram matrix (eigenvalues at or below
+/// 1e-10 of the largest, as [`full_rank`]); `None` when it has full rank.
+pub(super) fn null_space(gram: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let eigen = SymmetricEigen::<f64, Dyn>::new(gram.clone());
+    let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+    let free: Vec<usize> =
+        (0..gram.nrows()).filter(|&j| !(largest > 0.0 && eigen.eigenvalues[j] > 1e-10 * largest)).collect();
+    if free.is_empty() {
         return None;
     }
-    let position = |i: usize| mesh.nodes[b.nodes[i]];
-    let mut centre = [0.0; 2];
-    for i in 0..m {
-        centre[0] += position(i)[0] / m as f64;
-        centre[1] += position(i)[1] / m as f64;
-    }
-    let distance = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
-    let first = (0..m).max_by(|&i, &j| distance(position(i), centre).total_cmp(&distance(position(j), centre)))?;
-    let mut order: Vec<usize> = (0..m).filter(|&i| i != first).collect();
-    order.sort_by(|&i, &j| distance(position(j), position(first)).total_cmp(&distance(position(i), position(first))));
-    order.insert(0, first);
-    let mut gram = *dirichlet;
-    let mut pins = Vec::new();
-    for i in order {
-        for c in 0..2 {
-            if b.prescribed[i].is_some_and(|(pc, _)| pc == c) {
-                continue;
-            }
-            let direction = if c == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
-            let r = rigid_row(direction, scaled(position(i)));
-            gram += r * r.transpose();
-            pins.push(2 * b.nodes[i] + c);
-        }
-        if full_rank(&gram) {
-            return Some(pins);
-        }
-    }
-    None
+    Some(DMatrix::from_fn(gram.nrows(), free.len(), |r, c| eigen.eigenvectors[(r, free[c])]))
 }
 
 pub(super) fn full_rank(gram: &Matrix3<f64>) -> bool {
     full_rank_of(SymmetricEigen::new(*gram).eigenvalues.as_slice().to_vec())
-}
-
-/// Whether a symmetric Gram matrix has full rank (eigenvalues above 1e-10 of the largest).
-pub(super) fn full_rank_dyn(gram: &DMatrix<f64>) -> bool {
-    full_rank_of(SymmetricEigen::<f64, Dyn>::new(gram.clone()).eigenvalues.as_slice().to_vec())
 }
 
 fn full_rank_of(eigenvalues: Vec<f64>) -> bool {
@@ -334,9 +363,11 @@ impl MixedSystem<'_, '_> {
         self.evaluations(x).iter().map(|e| classify(&self.law, e, self.rigid.is_some())).collect()
     }
 
-    /// Do the Dirichlet rows and the closed/sticking rows of `states` block every rigid motion?
-    pub(super) fn held(&self, states: &[PointState]) -> Result<bool> {
-        let Some(rigid) = &self.rigid else { return Ok(true) };
+    /// The rigid motions the Dirichlet rows and the closed/sticking rows of `states` leave
+    /// free: an orthonormal basis (columns over the rigid-motion coordinates, 3 per body) of
+    /// the null space of their Gram matrix; `None` when they block every rigid motion.
+    pub(super) fn free_motions(&self, states: &[PointState]) -> Result<Option<DMatrix<f64>>> {
+        let Some(rigid) = &self.rigid else { return Ok(None) };
         let size = rigid.dirichlet.nrows();
         let mut gram = DMatrix::<f64>::zeros(size, size);
         for (p, s) in self.points.iter().zip(states) {
@@ -348,7 +379,7 @@ impl MixedSystem<'_, '_> {
             }
         }
         let summed = self.comm.sum(gram.as_slice())?;
-        Ok(full_rank_dyn(&(&rigid.dirichlet + DMatrix::from_column_slice(size, size, &summed))))
+        Ok(null_space(&(&rigid.dirichlet + DMatrix::from_column_slice(size, size, &summed))))
     }
 }
 
@@ -385,7 +416,8 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
         if let Some(before) = &self.step_states {
             contact::stick_reversed_slips(&mut states, before);
         }
-        let held = self.held(&states)?;
+        let free = self.free_motions(&states)?;
+        let held = free.is_none();
         self.regularized = !held;
         if !held && !own_solve {
             if let Some((k, positions)) = &self.spring {
@@ -439,7 +471,7 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
             }
         }
         if let Some(floating) = &mut self.held_by_contact {
-            floating.set_rows(rows, !held)?;
+            floating.set_rows(rows, free.as_ref())?;
         } else if let Some(elimination) = &mut self.elimination {
             elimination.set_rows(rows)?;
         }

@@ -54,6 +54,11 @@
 //! made the slip front creep by one or two nodes per step: 7, 10, 12, 14 steps on the square
 //! block from 10³ to 10⁶ dofs, against 4, 5, 8, 10 now. The factor 2 was the best of
 //! 1/4 … 4 on that benchmark (the others took 2 to 6 more steps at 10⁴–10⁶ dofs; none failed).
+//!
+//! With contact pairs a point's two sides are two bodies whose stiffnesses act in series:
+//! `ρ_i = 2 w_i / (L_s/E'_s + L_m/E'_m)`, each body's own plane modulus and diameter (one body
+//! against a rigid obstacle: the formula above). A stiff foundation under a soft block gets the
+//! block's scale, whichever body comes first in the scene.
 //! `ρN` and `ρT` are kept equal: with `ρT ≪ ρN` a point coming back from open was taken as
 //! sticking, and single points then flipped open/stick for dozens of steps.
 //!
@@ -87,13 +92,10 @@
 //! `uT` are `(B u)` over all entries. The rigid-motion check runs on 3 rigid motions per
 //! connected piece of the mesh (per body): a closed row constrains the relative motion of the
 //! two bodies it touches. The block elimination takes its Schur complement on every dof a row
-//! touches (`schur_dofs`, as the condensed route). Not yet: contact pairs under MPI, and the
-//! floating elimination for bodies held by a pair (`floating_elimination.rs` pins slave-node
-//! dofs only). Both go to the condensed route, saying so in the notes: under MPI always; a body
-//! held only by a pair's contact unless `-contact_full_space_floating_pairs` asks for the
-//! full-space Newton anyway (SNES's LU of the mixed Jacobian at every step: exact and without
-//! proximal steps — the non-matching patch test in one step, pressure to 5e-14 — but 2 to 5
-//! times slower than the condensed route on `bench contact`'s two-body row).
+//! touches (`schur_dofs`, as the condensed route), and so does the floating elimination of the
+//! bodies held only by the contact of a pair (pins among the dofs the rows touch, per body;
+//! springs of the regularised steps on each body's free rigid motions). Not yet: contact pairs
+//! under MPI, which go to the condensed route, saying so in the notes.
 //!
 //! ### The first steps
 //!
@@ -141,8 +143,11 @@
 //! — typically at the first steps, before the contact zone has formed — springs `S = k I` at the
 //! contact nodes (`k = 10⁻³ · max diag K / m`, as the condensed route's) are added to the
 //! Jacobian only: the residual is unchanged, so the step is a regularised Newton step
-//! (Levenberg–Marquardt on the free rigid motions) and the solution is the exact one. Once the
-//! set closes, steps are exact Newton steps again. A body that stays unheld (it lifts off, or
+//! (Levenberg–Marquardt on the free rigid motions) and the solution is the exact one. With
+//! the floating elimination (one process) the springs act on the free rigid motions only — the
+//! null space of that Gram matrix — so a mode the loads do not drive (a cylinder free to turn
+//! about its centre on frictionless contact) leaves the steps exact Newton steps
+//! (`floating_elimination.rs`). Once the set closes, steps are exact Newton steps again. A body that stays unheld (it lifts off, or
 //! friction cannot hold the tangential load) keeps a regularised Jacobian and an equilibrium
 //! residual that does not decrease: after three such steps the run stops and says why
 //! ([`Error::Unconstrained`] "lifts off", or [`Error::NoEquilibrium`] "slides").
@@ -173,15 +178,16 @@ use std::ops::Range;
 
 use std::collections::HashMap;
 
-use nalgebra::{DMatrix, DVector, Matrix3};
+use nalgebra::{DMatrix, DVector};
 
 use super::block_elimination::BlockElimination;
+use super::condensed_route::schur_dofs;
 use super::contact::{ContactOutcome, ContactSetup};
 use super::floating_elimination::FloatingElimination;
 use crate::contact::{self, ContactSolution, FrictionLaw, IterationRecord, PointState, PointStatus, TangentialState};
 use crate::error::{Error, Result};
 use crate::fem::assembly::{Constraints, LinearSystem};
-use crate::fem::material::Material;
+use crate::fem::material::CellMaterials;
 use crate::mesh::Mesh;
 use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
 use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
@@ -202,9 +208,6 @@ const FLOATING_ELIMINATION_NAME: &str =
     "block elimination, MUMPS Cholesky of K + springs at pinned contact dofs (removed in each step)";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
 pub const FULL_SPACE_LU_OPTION: &str = "-contact_full_space_lu";
-/// Option running the full-space Newton on contact pairs whose bodies the contact alone holds
-/// (by default those go to the condensed route: module documentation, "Several bodies").
-pub const FULL_SPACE_FLOATING_PAIRS_OPTION: &str = "-contact_full_space_floating_pairs";
 /// Newton steps allowed when the scene does not say.
 const DEFAULT_MAX_ITERATIONS: usize = 100;
 /// Cycles of the active set before giving up on the full-space iteration.
@@ -228,7 +231,7 @@ impl ContactSetup {
         &self,
         session: &'s Session,
         mesh: &Mesh,
-        material: &Material,
+        materials: &CellMaterials,
         constraints: &Constraints,
         system: &LinearSystem,
         dof_ranges: &[Range<usize>],
@@ -242,16 +245,6 @@ impl ContactSetup {
             // Not yet: contact pairs under MPI (the mortar rows' layout over ranks).
             let why =
                 "the full-space Newton for contact pairs runs on one process; under MPI the condensed route".into();
-            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
-        }
-        if b.is_coupled() && self.free_motions.is_some() && !session.has_option(FULL_SPACE_FLOATING_PAIRS_OPTION)? {
-            // A body held only by the contact of a pair: without the floating elimination (one
-            // node per point) every step factorises the whole mixed Jacobian, 2 to 5 times
-            // slower than the condensed route with its proximal springs.
-            let why = format!(
-                "a body is held only by the contact of a pair; the condensed route is faster there \
-                 ({FULL_SPACE_FLOATING_PAIRS_OPTION} runs the full-space Newton anyway)"
-            );
             return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
         }
         let m = b.points();
@@ -286,11 +279,28 @@ impl ContactSetup {
         if !(extent.is_finite() && extent > 0.0) {
             extent = 1.0;
         }
-        let augmentation = AUGMENTATION * material.plane_modulus() / extent;
-        // Augmentation 2 E' w_i / L (module documentation): every rank knows every weight. The
-        // diagonal blocks of K at the owned contact nodes must be positive definite.
-        let rho = |i: usize| [augmentation * b.weight[i]; 2];
         let coupled = b.is_coupled();
+        // Rigid motions: 3 per connected piece of the mesh with contact pairs (each body moves
+        // on its own), 3 for the whole mesh otherwise.
+        let (piece_of, pieces) =
+            if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
+        // Augmentation 2 E' w_i / L (module documentation), with two bodies those of the point's
+        // two sides in series, 2 w_i / (L_s/E'_s + L_m/E'_m): every rank knows every weight.
+        let (modulus, diameter) = piece_moduli_and_diameters(mesh, materials, &piece_of, pieces, extent);
+        let compliance = |node: usize| diameter[piece_of[node]] / modulus[piece_of[node]];
+        let rho_of: Vec<f64> = (0..m)
+            .map(|i| {
+                let other = b.coupled_to(i).first().map_or(0.0, |c| compliance(c.node));
+                AUGMENTATION * b.weight[i] / (compliance(b.nodes[i]) + other)
+            })
+            .collect();
+        let augmentation = rho_of
+            .iter()
+            .zip(&b.weight)
+            .filter(|(_, &w)| w > 0.0)
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), (r, w)| (lo.min(r / w), hi.max(r / w)));
+        // The diagonal blocks of K at the owned contact nodes must be positive definite.
+        let rho = |i: usize| [rho_of[i]; 2];
         for i in my_points.clone() {
             let node = b.nodes[i];
             let kb = [
@@ -364,10 +374,6 @@ impl ContactSetup {
             indptr.push(indices.len());
         }
         let scaled = |p: [f64; 2]| [(p[0] - centre[0]) / extent, (p[1] - centre[1]) / extent];
-        // Rigid motions: 3 per connected piece of the mesh with contact pairs (each body moves
-        // on its own), 3 for the whole mesh otherwise.
-        let (piece_of, pieces) =
-            if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
         let rigid_of = |entries: &[(usize, [f64; 2])], k: usize| -> DVector<f64> {
             let mut r = DVector::<f64>::zeros(3 * pieces);
             for &(dof, coef) in entries {
@@ -440,14 +446,25 @@ impl ContactSetup {
         };
         // A body the Dirichlet conditions do not hold: the same with springs at a few pinned
         // contact dofs, removed in every step (floating_elimination.rs).
-        let floating_applies = elimination.is_none() && session.size() == 1 && !user_inner && m > 0 && !coupled;
+        let floating_applies = elimination.is_none() && session.size() == 1 && !user_inner && m > 0;
         let held_by_contact = match (&rigid, floating_applies) {
             (Some(check), true) => {
-                match choose_pins(b, mesh, &scaled, &Matrix3::from_iterator(check.dirichlet.iter().copied())) {
+                let candidates = schur_dofs(b);
+                let fixed = |dof: usize| constraints.is_fixed(dof);
+                match choose_pins(&candidates, mesh, &piece_of, &fixed, &scaled, &check.dirichlet) {
                     Some(pins) => {
                         progress.note("contact: factorising K with springs at pinned contact dofs");
-                        let positions: Vec<[f64; 2]> = b.nodes.iter().map(|&node| scaled(mesh.nodes[node])).collect();
-                        Some(FloatingElimination::new(session, k, b, per_point, &pins, &positions)?)
+                        // The rigid motions over the dofs the rows touch (zero on prescribed ones).
+                        let motions = DMatrix::from_fn(candidates.len(), 3 * pieces, |r, c| {
+                            let dof = candidates[r];
+                            let node = dof / 2;
+                            if c / 3 != piece_of[node] || constraints.is_fixed(dof) {
+                                return 0.0;
+                            }
+                            let direction = if dof % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
+                            rigid_row(direction, scaled(mesh.nodes[node]))[c % 3]
+                        });
+                        Some(FloatingElimination::new(session, k, b, per_point, &pins, motions)?)
                     }
                     None => None,
                 }
@@ -590,7 +607,18 @@ impl ContactSetup {
             .collect();
         let mut notes = vec![
             run.converged_reason.clone(),
-            format!("augmentation ρ_i = 2 E' w_i / L = {augmentation:.4e} · w_i (E' plane modulus, w_i point weight, L body diameter)"),
+            if coupled {
+                format!(
+                    "augmentation ρ_i = 2 w_i / (L_s/E'_s + L_m/E'_m) = {:.4e} to {:.4e} · w_i (the point's two bodies in \
+                     series: E' plane modulus, L body diameter; w_i point weight)",
+                    augmentation.0, augmentation.1
+                )
+            } else {
+                format!(
+                    "augmentation ρ_i = 2 E' w_i / L = {:.4e} · w_i (E' plane modulus, w_i point weight, L body diameter)",
+                    augmentation.1
+                )
+            },
         ];
         if mixed.shortened_steps > 0 {
             notes.push(format!("{} steps shortened by the line search", mixed.shortened_steps));
@@ -692,6 +720,43 @@ impl ContactSetup {
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
     }
+}
+
+/// Each piece's (body's) plane modulus (the largest of its cells') and diameter (the larger
+/// side of its bounding box; `fallback` for a degenerate one).
+fn piece_moduli_and_diameters(
+    mesh: &Mesh,
+    materials: &CellMaterials,
+    piece_of: &[usize],
+    pieces: usize,
+    fallback: f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let per_cell = mesh.order.nodes_per_cell();
+    let mut modulus = vec![0.0f64; pieces];
+    for c in 0..mesh.num_cells() {
+        let piece = piece_of[mesh.cells[per_cell * c]];
+        modulus[piece] = modulus[piece].max(materials.of(c).plane_modulus());
+    }
+    let mut lo = vec![[f64::INFINITY; 2]; pieces];
+    let mut hi = vec![[f64::NEG_INFINITY; 2]; pieces];
+    for (k, p) in mesh.nodes.iter().enumerate() {
+        let piece = piece_of[k];
+        for c in 0..2 {
+            lo[piece][c] = lo[piece][c].min(p[c]);
+            hi[piece][c] = hi[piece][c].max(p[c]);
+        }
+    }
+    let diameter = (0..pieces)
+        .map(|q| {
+            let d = (hi[q][0] - lo[q][0]).max(hi[q][1] - lo[q][1]);
+            if d.is_finite() && d > 0.0 {
+                d
+            } else {
+                fallback
+            }
+        })
+        .collect();
+    (modulus, diameter)
 }
 
 /// The entries of point `i`'s rows of `B`: each dof any of them touches, with its coefficients
