@@ -238,12 +238,6 @@ impl ContactSetup {
         let comm = session.world();
         let rank = session.rank();
         let b = &self.boundary;
-        if b.is_coupled() && session.size() > 1 {
-            // Not yet: contact pairs under MPI (the mortar rows' layout over ranks).
-            let why =
-                "the full-space Newton for contact pairs runs on one process; under MPI the condensed route".into();
-            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
-        }
         if b.is_coupled() && self.free_motions.is_some() && !session.has_option(FULL_SPACE_FLOATING_PAIRS_OPTION)? {
             // A body held only by the contact of a pair: without the floating elimination (one
             // node per point) every step factorises the whole mixed Jacobian, 2 to 5 times
@@ -383,18 +377,28 @@ impl ContactSetup {
         let mut points = Vec::with_capacity(my_points.len());
         for i in my_points.clone() {
             let entries = &b_rows[i];
-            let lambda_columns: Vec<usize> = (0..per_point).map(|c| layout.lambda(i, c)).collect();
+            // The row's columns in the order the Jacobian fills them (the dofs of `entries`,
+            // then the multipliers), and where each sits in the stored, increasing row: under
+            // MPI a master dof of a later rank comes after this rank's multipliers.
+            let columns: Vec<usize> = entries
+                .iter()
+                .map(|&(dof, _)| layout.u(dof))
+                .chain((0..per_point).map(|c| layout.lambda(i, c)))
+                .collect();
+            let mut sorted = columns.clone();
+            sorted.sort_unstable();
+            let slots: Vec<usize> = columns.iter().map(|c| sorted.partition_point(|s| s < c)).collect();
             let start = indices.len();
             for _ in 0..per_point {
-                indices.extend(entries.iter().map(|&(dof, _)| layout.u(dof)));
-                indices.extend(&lambda_columns);
-                base.extend(std::iter::repeat_n(0.0, entries.len() + per_point));
+                indices.extend(&sorted);
+                base.extend(std::iter::repeat_n(0.0, sorted.len()));
                 indptr.push(indices.len());
             }
             points.push(OwnedPoint {
                 index: i,
                 coefficients: entries.iter().map(|e| e.1).collect(),
                 positions: Vec::new(),
+                slots,
                 rigid: [rigid_of(entries, 0), rigid_of(entries, 1)],
                 gap: b.gap[i],
                 rho: rho(i),
@@ -407,7 +411,8 @@ impl ContactSetup {
             NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
         // Where each point's displacement columns sit in the ghosted iterate.
         for p in &mut points {
-            p.positions = solver.local_columns()[p.start..p.start + p.coefficients.len()].to_vec();
+            p.positions =
+                p.slots[..p.coefficients.len()].iter().map(|&s| solver.local_columns()[p.start + s]).collect();
         }
         let rigid = self.free_motions.as_ref().map(|_| {
             let mut gram = DMatrix::<f64>::zeros(3 * pieces, 3 * pieces);
