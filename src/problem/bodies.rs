@@ -34,7 +34,7 @@
 //! `(u¹, u², …, λ)`: its contact rows carry every entry of the mortar rows of `B` (slave and
 //! master nodes), its rigid-motion check has 3 rigid motions per body. It hands over to the
 //! condensed semi-smooth Newton (`solver = "newton"`, which any scene may also ask for), saying
-//! so in the contact notes: under MPI; when a body is held only by a pair's contact, unless
+//! so in the contact notes: when a body is held only by a pair's contact, unless
 //! `-contact_full_space_floating_pairs` (the floating elimination is not written for mortar
 //! rows, so each step would factorise the whole mixed Jacobian: 2 to 5 times slower); and when
 //! a body stays unheld in a mode the closed rows do not see (a cylinder turning about its

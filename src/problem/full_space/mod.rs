@@ -87,11 +87,15 @@
 //! `uT` are `(B u)` over all entries. The rigid-motion check runs on 3 rigid motions per
 //! connected piece of the mesh (per body): a closed row constrains the relative motion of the
 //! two bodies it touches. The block elimination takes its Schur complement on every dof a row
-//! touches (`schur_dofs`, as the condensed route). Not yet: contact pairs under MPI, and the
-//! floating elimination for bodies held by a pair (`floating_elimination.rs` pins slave-node
-//! dofs only). Both go to the condensed route, saying so in the notes: under MPI always; a body
-//! held only by a pair's contact unless `-contact_full_space_floating_pairs` asks for the
-//! full-space Newton anyway (SNES's LU of the mixed Jacobian at every step: exact and without
+//! touches (`schur_dofs`, as the condensed route). Under MPI the mortar rows run as they are,
+//! with SNES's LU of the mixed Jacobian (the eliminations are one-process): a row's master
+//! dofs may be another rank's (ghosts, "Layout over MPI ranks"); `mpirun -n 2` and `-n 3`
+//! take the serial Newton steps to the serial answer (displacements to 1e-14 on the block
+//! scenes, 1e-11 on `two_cylinders.toml`). Not yet: the floating
+//! elimination for bodies held by a pair (`floating_elimination.rs` pins slave-node dofs
+//! only). That goes to the condensed route, saying so in the notes: a body held only by a
+//! pair's contact unless `-contact_full_space_floating_pairs` asks for the full-space Newton
+//! anyway (SNES's LU of the mixed Jacobian at every step: exact and without
 //! proximal steps — the non-matching patch test in one step, pressure to 5e-14 — but 2 to 5
 //! times slower than the condensed route on `bench contact`'s two-body row).
 //!
@@ -124,11 +128,16 @@
 //! Rank `r` owns the rows of its nodes (the driver's contiguous node blocks) and the contact
 //! points whose node it owns (contact nodes are sorted, so these are a contiguous run of
 //! points). Every rank computes the whole map ([`MixedLayout`]) from the node partition and the
-//! contact nodes, which every rank knows. A contact row couples only to unknowns of its own
-//! rank; the force rows couple to off-rank displacements through `K` (the ghosts of the SNES
-//! wrapper, `petsc/nonlinear.rs`). The Jacobian's pattern `[K  Bᵀ; B  D]` (every entry of the
-//! 4-entry contact rows stored, zeros included) is preallocated exactly and refilled at every
-//! Newton step.
+//! contact nodes, which every rank knows. The force rows couple to off-rank displacements
+//! through `K` (the ghosts of the SNES wrapper, `petsc/nonlinear.rs`). Against a rigid
+//! obstacle a contact row couples only to unknowns of its own rank; a mortar row (contact
+//! pairs) also to its master dofs, which may be another rank's, and the force row of such a
+//! dof gets the `−Bᵀ` entries of points another rank owns: both are ghosts too, and every
+//! callback (the step length included) sees them. Rows are stored with increasing global
+//! columns, so a master dof of a later rank comes after the point's multipliers
+//! (`OwnedPoint::slots` says where each entry goes). The Jacobian's pattern `[K  Bᵀ; B  D]`
+//! (every entry of the contact rows stored, zeros included) is preallocated exactly and
+//! refilled at every Newton step.
 //!
 //! ## Bodies held by contact (before the contact set closes)
 //!
@@ -285,6 +294,9 @@ impl ContactSetup {
         // diagonal blocks of K at the owned contact nodes must be positive definite.
         let rho = |i: usize| [augmentation * b.weight[i]; 2];
         let coupled = b.is_coupled();
+        // Every rank takes the same decision (the first bad node of any rank): an error
+        // returned by one rank alone would leave the others waiting in the solver's setup.
+        let mut bad_node = f64::INFINITY;
         for i in my_points.clone() {
             let node = b.nodes[i];
             let kb = [
@@ -296,11 +308,16 @@ impl ContactSetup {
             // A mortar point's slave entries are zero in a prescribed component (mortar/points.rs).
             let positive = |v: [f64; 2]| (coupled && v == [0.0, 0.0]) || quad(v) > 0.0;
             if !(positive(b.normal[i]) && positive(b.tangent[i]) && rho(i)[0] > 0.0) {
-                return Err(Error::mesh(
-                    format!("node {node} of contact part '{}'", self.spec.part),
-                    "its stiffness diagonal block is not positive definite: the node belongs to no element",
-                ));
+                bad_node = node as f64;
+                break;
             }
+        }
+        let bad_node = comm.min(&[bad_node])?[0];
+        if bad_node.is_finite() {
+            return Err(Error::mesh(
+                format!("node {bad_node} of contact part '{}'", self.spec.part),
+                "its stiffness diagonal block is not positive definite: the node belongs to no element",
+            ));
         }
 
         // Each point's rows of B (every dof they touch: the point's node and, for a contact
