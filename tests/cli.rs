@@ -210,28 +210,109 @@ fn mpirun_two_ranks_contact_equals_serial() {
     }
 }
 
+/// A block pushed sideways against a wall body, every body held by its Dirichlet conditions:
+/// the slave face (the block's right side) runs across the ranks' node blocks, and so do the
+/// master nodes.
+const SIDEWAYS_PAIR: &str = r#"title = "Block pushed against a wall body"
+
+[[body]]
+name = "block"
+mesh = { shape = "rectangle", origin = [0.0, 0.0], size = [0.04, 0.04], cell_size = 1.25e-3 }
+material = { young = 1.3e11, poisson = 0.2, plane = "strain" }
+
+[[body.dirichlet]]
+part = "left"
+ux = 2e-5
+
+[[body.dirichlet]]
+part = "bottom"
+uy = 0.0
+
+[[body.traction]]
+part = "top"
+pressure = 5e7
+
+[[body]]
+name = "wall"
+mesh = { shape = "rectangle", origin = [0.04, -0.02], size = [0.02, 0.08], cell_size = 2.5e-3 }
+material = { young = 7e10, poisson = 0.3, plane = "strain" }
+
+[[body.dirichlet]]
+part = "right"
+ux = 0.0
+uy = 0.0
+
+[[contact_pair]]
+slave = "block.right"
+master = "wall.left"
+friction = "coulomb"
+mu = 0.3
+"#;
+
 #[test]
 fn mpirun_two_ranks_bodies_equal_serial() {
-    // Two bodies (mortar contact pair, Coulomb): the same answer on two processes as on one.
-    let path = scene("examples/scenes/block_on_block.toml");
-    let serial = scratch("mpi-bodies-serial");
-    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
-    let parallel = scratch("mpi-bodies");
-    let out = mpirun_two().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let (rs, rp) = (report(&serial), report(&parallel));
-    assert_eq!(rp["mpi_ranks"], 2);
-    let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
-    assert!(d < 1e-8, "MPI displacement differs from serial by {d:e}");
-    let resultant = |r: &serde_json::Value| -> Vec<f64> {
-        r["bodies"]["contacts"][0]["slave_resultant"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
-    };
-    let (a, b) = (resultant(&rs), resultant(&rp));
-    let size = a[0].hypot(a[1]);
-    assert!(size > 1e6, "{rs}");
-    assert!((a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-8 * size, "contact resultant serial {a:?}, MPI {b:?}");
-    assert_eq!(rp["bodies"]["bodies"].as_array().map(|b| b.len()), Some(2), "{rp}");
-    assert_eq!(rp["bodies"]["contacts"][0]["stick"], rs["bodies"]["contacts"][0]["stick"]);
+    // Two bodies (mortar contact pair, Coulomb): the same answer on two processes as on one,
+    // on the full-space Newton (its mortar rows read master dofs of the other rank) and on the
+    // condensed route.
+    let dir = scratch("mpi-bodies-scenes");
+    let block_on_block = scene("examples/scenes/block_on_block.toml");
+    // Every body held by its Dirichlet conditions: the block pressed by a prescribed
+    // displacement of its top (its slave points on rank 0, the master nodes on rank 1).
+    let text = std::fs::read_to_string(&block_on_block).unwrap();
+    let loads = "[[body.traction]]\npart = \"top\"\npressure = 5e7\n";
+    assert!(text.contains(loads), "test bug: block_on_block.toml's top load changed");
+    let held = dir.join("block_on_block_held.toml");
+    std::fs::write(&held, text.replacen(loads, "[[body.dirichlet]]\npart = \"top\"\nuy = -2e-5\n", 1)).unwrap();
+    let sideways = dir.join("sideways.toml");
+    std::fs::write(&sideways, SIDEWAYS_PAIR).unwrap();
+    for (name, path, options, full_space) in [
+        ("held", &held, &[][..], true),
+        ("sideways", &sideways, &[][..], true),
+        // The block held vertically by the contact alone: the full-space Newton (the floating
+        // elimination in serial, SNES's LU of the mixed Jacobian on two ranks), and the
+        // condensed route when asked for.
+        ("floating", &block_on_block, &[][..], true),
+        ("condensed", &block_on_block, &["--contact-solver", "newton"][..], false),
+    ] {
+        let serial = scratch(&format!("mpi-bodies-serial-{name}"));
+        run_ok(bin().arg("run").arg(path).args(["--quiet", "--out"]).arg(&serial).args(options));
+        let parallel = scratch(&format!("mpi-bodies-{name}"));
+        let out = mpirun_two()
+            .arg("run")
+            .arg(path)
+            .args(["--quiet", "--out"])
+            .arg(&parallel)
+            .args(options)
+            .output()
+            .expect("mpirun");
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let (rs, rp) = (report(&serial), report(&parallel));
+        assert_eq!(rp["mpi_ranks"], 2);
+        for r in [&rs, &rp] {
+            let solver = r["contact"]["solver"].as_str().unwrap();
+            assert_eq!(solver.starts_with("full-space"), full_space, "{name}: {solver}, {}", r["contact"]["notes"]);
+        }
+        if full_space {
+            // The same Newton steps (the same generalized Jacobians, solved exactly).
+            assert_eq!(rp["contact"]["iterations"], rs["contact"]["iterations"], "{name}");
+        }
+        let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+        assert!(d < 1e-10, "{name}: MPI displacement differs from serial by {d:e}");
+        let resultant = |r: &serde_json::Value| -> Vec<f64> {
+            r["bodies"]["contacts"][0]["slave_resultant"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect()
+        };
+        let (a, b) = (resultant(&rs), resultant(&rp));
+        let size = a[0].hypot(a[1]);
+        assert!(size > 1e6, "{name}: {rs}");
+        assert!((a[0] - b[0]).hypot(a[1] - b[1]) <= 1e-10 * size, "{name}: contact resultant serial {a:?}, MPI {b:?}");
+        assert_eq!(rp["bodies"]["bodies"].as_array().map(|b| b.len()), Some(2), "{name}: {rp}");
+        assert_eq!(rp["bodies"]["contacts"][0]["stick"], rs["bodies"]["contacts"][0]["stick"], "{name}");
+    }
 }
 
 #[test]

@@ -34,7 +34,7 @@
 //! - step length: a factor in `(0, 1]` applied to every Newton direction before PETSc's line
 //!   search (with the default line search "basic", the step actually taken): the system's own
 //!   globalization (a line search on its own merit function, damping when its active set
-//!   cycles). It sees the owned entries of the iterate and of the direction.
+//!   cycles). It sees the ghosted iterate and the ghosted direction.
 //!
 //! ## Safety rules
 //!
@@ -74,8 +74,8 @@ pub trait NonlinearSystem {
     /// After Newton step `iteration` (0: the initial guess), with `f = F(x)` on the owned rows.
     fn converged(&mut self, iteration: usize, x: &[f64], f: &[f64]) -> Result<Convergence>;
     /// Length `t ∈ (0, 1]` of the next step along the Newton direction `d` (the update is
-    /// `x − t d`, PETSc's sign convention), from this rank's owned entries of `x` and `d`:
-    /// the system's own line search or damping. Default 1 (full steps).
+    /// `x − t d`, PETSc's sign convention), from the ghosted `x` and `d` (as the other
+    /// callbacks see `x`): the system's own line search or damping. Default 1 (full steps).
     fn step_length(&mut self, x: &[f64], direction: &[f64]) -> Result<f64> {
         let _ = (x, direction);
         Ok(1.0)
@@ -644,7 +644,9 @@ unsafe extern "C" fn precheck_callback(
     ctx: *mut c_void,
 ) -> sys::PetscErrorCode {
     guarded(ctx, |c| {
-        let (xs, ys) = (read_owned(x, c.owned)?, read_owned(y, c.owned)?);
+        // Both ghosted: a row's quantities may read off-rank entries (every rank scatters).
+        let xs = c.with_ghosted(x, |_, xl| xl.to_vec())?;
+        let ys = c.with_ghosted(y, |_, yl| yl.to_vec())?;
         let scale = c.system.step_length(&xs, &ys)?;
         if !(scale > 0.0 && scale <= 1.0) {
             return Err(Error::PetscUsage(format!("step scale {scale} is not in (0, 1]")));

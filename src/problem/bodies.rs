@@ -34,12 +34,13 @@
 //! master nodes), its rigid-motion check has 3 rigid motions per body. On one process its
 //! Jacobian solves use one MUMPS factorisation for the whole iteration: the block elimination
 //! when every body is held by its Dirichlet conditions, the floating elimination (springs at
-//! pinned dofs of each body the contact holds, removed in every step) otherwise. A body free to
-//! move in a mode the closed rows do not see (a cylinder turning about its centre on
-//! frictionless contact) gets springs on that mode only, which leave the Newton steps exact
-//! while the loads do not drive it. It hands over to the condensed semi-smooth Newton
-//! (`solver = "newton"`, which any scene may also ask for), saying so in the contact notes:
-//! under MPI, and when the full-space iteration fails. `snes_vi` is refused.
+//! pinned dofs of each body the contact holds, removed in every step) otherwise; under MPI,
+//! SNES's LU of the mixed Jacobian (`mpirun -n 2` takes the serial steps to the serial answer).
+//! A body free to move in a mode the closed rows do not see (a cylinder turning about its
+//! centre on frictionless contact) gets springs on that mode only, which leave the Newton steps
+//! exact while the loads do not drive it. If the full-space iteration fails it hands over to
+//! the condensed semi-smooth Newton (`solver = "newton"`, which any scene may also ask for),
+//! saying so in the contact notes. `snes_vi` is refused.
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::mortar::{MortarCoupling, MortarOptions, MortarSide, UncoveredNodes};
 use crate::error::{Error, Location, Result};

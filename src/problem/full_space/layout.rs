@@ -86,6 +86,9 @@ mod tests {
         assert_eq!((layout.lambda(0, 0), layout.lambda(0, 1), layout.lambda(1, 0)), (10, 11, 12));
         assert_eq!((layout.lambda(2, 0), layout.lambda(2, 1)), (24, 25));
         assert_eq!((layout.points(0), layout.points(1)), (0..2, 2..3));
+        // A dof of rank 1 comes after rank 0's multipliers: a mortar row of point 1 touching
+        // node 5 is stored λ first (the parent module's `OwnedPoint::slots`).
+        assert!(layout.u(10) > layout.lambda(1, 1));
         // Frictionless: one unknown per point; a rank with no contact point.
         let layout = MixedLayout::new(&ranges, &[7, 8], 1);
         assert_eq!((layout.owned(0), layout.owned(1)), (0..10, 10..22));

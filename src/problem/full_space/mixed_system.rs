@@ -113,6 +113,11 @@ pub(super) struct OwnedPoint {
     pub(super) coefficients: Vec<[f64; 2]>,
     /// The positions of those dofs in the ghosted iterate.
     pub(super) positions: Vec<usize>,
+    /// Where each entry of a contact row sits among the row's stored entries (increasing
+    /// global columns): entry `e < coefficients.len()` is the dof of `coefficients[e]`, then the
+    /// multipliers λN (λT). The identity on one process; under MPI a master dof owned by a
+    /// later rank is stored after this rank's multipliers.
+    pub(super) slots: Vec<usize>,
     /// The normal and the tangential row applied to the rigid motions (3 per body).
     pub(super) rigid: [DVector<f64>; 2],
     pub(super) gap: f64,
@@ -122,7 +127,7 @@ pub(super) struct OwnedPoint {
     /// Position in the owned residual of the normal row (the tangential row follows).
     pub(super) row: usize,
     /// Pattern position of the first entry of the normal row (each contact row has one entry
-    /// per dof of `coefficients`, then `per_point` multiplier entries).
+    /// per dof of `coefficients` and `per_point` multiplier entries, placed as `slots` says).
     pub(super) start: usize,
 }
 
@@ -435,36 +440,38 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
             let nd = p.coefficients.len();
             let w = nd + self.per_point;
             let row_n = &mut values[p.start..p.start + w];
+            let at = &p.slots;
             if s.contact {
-                for (v, c) in row_n.iter_mut().zip(&p.coefficients) {
-                    *v = c[0];
+                for (&e, c) in at.iter().zip(&p.coefficients) {
+                    row_n[e] = c[0];
                 }
                 rows.push(ContactRow::Displacement);
             } else {
-                row_n[nd] = 1.0 / p.rho[0];
+                row_n[at[nd]] = 1.0 / p.rho[0];
                 rows.push(ContactRow::Force { rho: p.rho[0] });
             }
             if self.per_point == 2 {
                 let row_t = &mut values[p.start + w..p.start + 2 * w];
                 match (s.tangential, coulomb) {
                     (TangentialState::Stick, _) => {
-                        for (v, c) in row_t.iter_mut().zip(&p.coefficients) {
-                            *v = c[1];
+                        for (&e, c) in at.iter().zip(&p.coefficients) {
+                            row_t[e] = c[1];
                         }
                         rows.push(ContactRow::Displacement);
                     }
                     (TangentialState::Slip { positive }, Some(mu)) if s.contact => {
                         let sigma = if positive { 1.0 } else { -1.0 };
                         let a = -sigma * mu[p.index] * p.rho[0] / p.rho[1];
-                        for (v, c) in row_t.iter_mut().zip(&p.coefficients) {
-                            *v = a * c[0];
+                        for (&e, c) in at.iter().zip(&p.coefficients) {
+                            row_t[e] = a * c[0];
                         }
-                        row_t[nd] = sigma * mu[p.index] / p.rho[1];
-                        row_t[nd + 1] = 1.0 / p.rho[1];
-                        rows.push(ContactRow::CoulombSlip { a, b: row_t[nd], c: row_t[nd + 1] });
+                        let (b, c) = (sigma * mu[p.index] / p.rho[1], 1.0 / p.rho[1]);
+                        row_t[at[nd]] = b;
+                        row_t[at[nd + 1]] = c;
+                        rows.push(ContactRow::CoulombSlip { a, b, c });
                     }
                     _ => {
-                        row_t[nd + 1] = 1.0 / p.rho[1];
+                        row_t[at[nd + 1]] = 1.0 / p.rho[1];
                         rows.push(ContactRow::Force { rho: p.rho[1] });
                     }
                 }

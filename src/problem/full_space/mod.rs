@@ -94,8 +94,11 @@
 //! two bodies it touches. The block elimination takes its Schur complement on every dof a row
 //! touches (`schur_dofs`, as the condensed route), and so does the floating elimination of the
 //! bodies held only by the contact of a pair (pins among the dofs the rows touch, per body;
-//! springs of the regularised steps on each body's free rigid motions). Not yet: contact pairs
-//! under MPI, which go to the condensed route, saying so in the notes.
+//! springs of the regularised steps on each body's free rigid motions). Under MPI the mortar
+//! rows run as they are, with SNES's LU of the mixed Jacobian (the eliminations are
+//! one-process): a row's master dofs may be another rank's (ghosts, "Layout over MPI ranks");
+//! `mpirun -n 2` and `-n 3` take the serial Newton steps to the serial answer (displacements to
+//! 1e-14 on the block scenes, 1e-11 on `two_cylinders.toml`).
 //!
 //! ### The first steps
 //!
@@ -126,11 +129,16 @@
 //! Rank `r` owns the rows of its nodes (the driver's contiguous node blocks) and the contact
 //! points whose node it owns (contact nodes are sorted, so these are a contiguous run of
 //! points). Every rank computes the whole map ([`MixedLayout`]) from the node partition and the
-//! contact nodes, which every rank knows. A contact row couples only to unknowns of its own
-//! rank; the force rows couple to off-rank displacements through `K` (the ghosts of the SNES
-//! wrapper, `petsc/nonlinear.rs`). The Jacobian's pattern `[K  Bᵀ; B  D]` (every entry of the
-//! 4-entry contact rows stored, zeros included) is preallocated exactly and refilled at every
-//! Newton step.
+//! contact nodes, which every rank knows. The force rows couple to off-rank displacements
+//! through `K` (the ghosts of the SNES wrapper, `petsc/nonlinear.rs`). Against a rigid
+//! obstacle a contact row couples only to unknowns of its own rank; a mortar row (contact
+//! pairs) also to its master dofs, which may be another rank's, and the force row of such a
+//! dof gets the `−Bᵀ` entries of points another rank owns: both are ghosts too, and every
+//! callback (the step length included) sees them. Rows are stored with increasing global
+//! columns, so a master dof of a later rank comes after the point's multipliers
+//! (`OwnedPoint::slots` says where each entry goes). The Jacobian's pattern `[K  Bᵀ; B  D]`
+//! (every entry of the contact rows stored, zeros included) is preallocated exactly and
+//! refilled at every Newton step.
 //!
 //! ## Bodies held by contact (before the contact set closes)
 //!
@@ -241,12 +249,6 @@ impl ContactSetup {
         let comm = session.world();
         let rank = session.rank();
         let b = &self.boundary;
-        if b.is_coupled() && session.size() > 1 {
-            // Not yet: contact pairs under MPI (the mortar rows' layout over ranks).
-            let why =
-                "the full-space Newton for contact pairs runs on one process; under MPI the condensed route".into();
-            return self.fall_back(session, mesh, system, why, Vec::new(), start, progress);
-        }
         let m = b.points();
         let n = 2 * mesh.num_nodes();
         let law = Law::of(self.friction_law());
@@ -301,6 +303,9 @@ impl ContactSetup {
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), (r, w)| (lo.min(r / w), hi.max(r / w)));
         // The diagonal blocks of K at the owned contact nodes must be positive definite.
         let rho = |i: usize| [rho_of[i]; 2];
+        // Every rank takes the same decision (the first bad node of any rank): an error
+        // returned by one rank alone would leave the others waiting in the solver's setup.
+        let mut bad_node = f64::INFINITY;
         for i in my_points.clone() {
             let node = b.nodes[i];
             let kb = [
@@ -312,11 +317,16 @@ impl ContactSetup {
             // A mortar point's slave entries are zero in a prescribed component (mortar/points.rs).
             let positive = |v: [f64; 2]| (coupled && v == [0.0, 0.0]) || quad(v) > 0.0;
             if !(positive(b.normal[i]) && positive(b.tangent[i]) && rho(i)[0] > 0.0) {
-                return Err(Error::mesh(
-                    format!("node {node} of contact part '{}'", self.spec.part),
-                    "its stiffness diagonal block is not positive definite: the node belongs to no element",
-                ));
+                bad_node = node as f64;
+                break;
             }
+        }
+        let bad_node = comm.min(&[bad_node])?[0];
+        if bad_node.is_finite() {
+            return Err(Error::mesh(
+                format!("node {bad_node} of contact part '{}'", self.spec.part),
+                "its stiffness diagonal block is not positive definite: the node belongs to no element",
+            ));
         }
 
         // Each point's rows of B (every dof they touch: the point's node and, for a contact
@@ -389,18 +399,28 @@ impl ContactSetup {
         let mut points = Vec::with_capacity(my_points.len());
         for i in my_points.clone() {
             let entries = &b_rows[i];
-            let lambda_columns: Vec<usize> = (0..per_point).map(|c| layout.lambda(i, c)).collect();
+            // The row's columns in the order the Jacobian fills them (the dofs of `entries`,
+            // then the multipliers), and where each sits in the stored, increasing row: under
+            // MPI a master dof of a later rank comes after this rank's multipliers.
+            let columns: Vec<usize> = entries
+                .iter()
+                .map(|&(dof, _)| layout.u(dof))
+                .chain((0..per_point).map(|c| layout.lambda(i, c)))
+                .collect();
+            let mut sorted = columns.clone();
+            sorted.sort_unstable();
+            let slots: Vec<usize> = columns.iter().map(|c| sorted.partition_point(|s| s < c)).collect();
             let start = indices.len();
             for _ in 0..per_point {
-                indices.extend(entries.iter().map(|&(dof, _)| layout.u(dof)));
-                indices.extend(&lambda_columns);
-                base.extend(std::iter::repeat_n(0.0, entries.len() + per_point));
+                indices.extend(&sorted);
+                base.extend(std::iter::repeat_n(0.0, sorted.len()));
                 indptr.push(indices.len());
             }
             points.push(OwnedPoint {
                 index: i,
                 coefficients: entries.iter().map(|e| e.1).collect(),
                 positions: Vec::new(),
+                slots,
                 rigid: [rigid_of(entries, 0), rigid_of(entries, 1)],
                 gap: b.gap[i],
                 rho: rho(i),
@@ -413,7 +433,8 @@ impl ContactSetup {
             NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
         // Where each point's displacement columns sit in the ghosted iterate.
         for p in &mut points {
-            p.positions = solver.local_columns()[p.start..p.start + p.coefficients.len()].to_vec();
+            p.positions =
+                p.slots[..p.coefficients.len()].iter().map(|&s| solver.local_columns()[p.start + s]).collect();
         }
         let rigid = self.free_motions.as_ref().map(|_| {
             let mut gram = DMatrix::<f64>::zeros(3 * pieces, 3 * pieces);
