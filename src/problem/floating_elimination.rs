@@ -250,7 +250,8 @@ impl<'s> FloatingElimination<'s> {
         let cor = self.correction();
         let p = cor.len();
         // Rows: Ŵ_D dλ − G_D C π = …, (I + H C) π − Gᵀ dλ = … (module documentation, C = −k for
-        // the pins).
+        // the pins), in the unknowns dλ and |C| π (forces, like dλ: every entry is then a
+        // compliance, and the LU loses no digits to the scales of E and 1/E).
         let mut a = DMatrix::<f64>::zeros(d + p, d + p);
         for &(col, wj, coef) in columns {
             for (row, &wi) in unknowns.iter().enumerate() {
@@ -261,11 +262,12 @@ impl<'s> FloatingElimination<'s> {
             }
         }
         for q in 0..p {
+            let sign = cor.c[q].signum();
             for (row, &wi) in unknowns.iter().enumerate() {
-                a[(row, d + q)] = -cor.g[(wi, q)] * cor.c[q];
+                a[(row, d + q)] = -cor.g[(wi, q)] * sign;
             }
             for q2 in 0..p {
-                a[(d + q2, d + q)] = if q == q2 { 1.0 } else { 0.0 } + cor.h[(q2, q)] * cor.c[q];
+                a[(d + q2, d + q)] = (if q == q2 { 1.0 } else { 0.0 }) / cor.c[q].abs() + cor.h[(q2, q)] * sign;
             }
         }
         self.reduced = if d + p == 0 { None } else { Some(a.lu()) };
@@ -324,7 +326,9 @@ impl<'s> FloatingElimination<'s> {
                     .into(),
             })?;
             self.step.add_unknowns(&mut dl, x.as_slice());
-            pi.copy_from_slice(&x.as_slice()[d_count..]);
+            for (q, v) in pi.iter_mut().enumerate() {
+                *v = x[d_count + q] / cor.c[q].abs();
+            }
         }
         // du = y + K̂⁻¹ (Bᵀ dλ − U C π).
         let change = &cor.u * DVector::from_iterator(p, (0..p).map(|q| cor.c[q] * pi[q]));
