@@ -246,7 +246,8 @@ pub fn write_elasticity_outputs(rows: &[BenchRow], record: &BenchRecord, dir: &P
 /// The contact solvers compared (scene names).
 /// `two_bodies` is not a solver: the square block on an elastic foundation
 /// (`examples/scenes/block_on_block.toml`, non-matching meshes, mortar coupling), solved with its
-/// default (the condensed semi-smooth Newton).
+/// default (the full-space semi-smooth Newton with the floating elimination: the block is held
+/// vertically by the contact alone).
 pub static CONTACT_SOLVERS: &[&str] =
     &["newton_full", "newton", "relaxation", "uzawa", "tresca_fixed_point", "dpana", "two_bodies"];
 
