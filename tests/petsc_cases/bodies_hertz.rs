@@ -150,11 +150,23 @@ fn hertz_case(
     let (normal, _) = contact_loads(&p);
     ensure((normal - load).abs() < 1e-3 * load, || format!("{what}: contact carries {normal:e}, load {load:e}"))?;
     let (eq, ar) = check_bodies_report(&p, &what, 1e-10)?;
+    // The default route: the full-space Newton, the upper cylinder held by the contact alone
+    // (floating elimination) and free to turn about its centre on frictionless contact (springs
+    // on that motion only): no hand-over to the condensed route.
+    let o = p.contact_outcome.as_ref().ok_or("no contact outcome")?;
+    let notes = o.report.notes.join("; ");
+    ensure(o.report.solver.starts_with("full-space") && !notes.contains("fell back"), || {
+        format!("{what}: solved by {} ({notes})", o.report.solver)
+    })?;
+    ensure(o.report.iterations <= 20 && eq < 1e-10, || {
+        format!("{what}: {} Newton steps, equilibrium {eq:e}", o.report.iterations)
+    })?;
     let line = format!(
         "{what}: a = {a:.5e} (Hertz {a_exact:.5e}, {:+.3} %), p0 = {p0:.5e} (Hertz {p0_exact:.5e}, {:+.3} %); \
-         equilibrium {eq:.1e}, action-reaction {ar:.1e}",
+         equilibrium {eq:.1e}, action-reaction {ar:.1e}, {} Newton steps",
         100.0 * (a - a_exact) / a_exact,
-        100.0 * (p0 - p0_exact) / p0_exact
+        100.0 * (p0 - p0_exact) / p0_exact,
+        o.report.iterations
     );
     eprintln!("    {line}");
     ensure(ea < tolerance && ep < tolerance, || format!("{line}: beyond {} %", 100.0 * tolerance))?;
