@@ -47,7 +47,7 @@ impl<'s> Matrix<'s> {
                 first_row + nrows
             )));
         }
-        if block_size == 0 || nrows % block_size != 0 || first_row % block_size != 0 {
+        if block_size == 0 || nrows % block_size != 0 || !first_row.is_multiple_of(block_size) {
             return Err(Error::PetscUsage(format!(
                 "owned rows {first_row}..{} are not aligned on the block size {block_size}",
                 first_row + nrows

@@ -363,17 +363,14 @@ fn contact_of_bodies(
     if let Some(solver) = run_solver {
         spec.solver = solver;
     }
-    match spec.solver {
-        ContactSolverSpec::SnesVi => {
-            return Err(Error::Scene {
-                location: spec.at.clone(),
-                message: "solver \"snes_vi\" bounds one node's displacement per contact point, and the contact \
-                          between two bodies couples several nodes per point"
-                    .into(),
-                hint: "leave out `solver` (the condensed semi-smooth Newton) or choose a condensed solver".into(),
-            })
-        }
-        _ => {}
+    if spec.solver == ContactSolverSpec::SnesVi {
+        return Err(Error::Scene {
+            location: spec.at.clone(),
+            message: "solver \"snes_vi\" bounds one node's displacement per contact point, and the contact \
+                      between two bodies couples several nodes per point"
+                .into(),
+            hint: "leave out `solver` (the full-space semi-smooth Newton) or choose a condensed solver".into(),
+        });
     }
     spec.part = parts.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ");
     spec.friction = coulomb.or(tresca).map_or(FrictionSpec::None, |p| p.friction);

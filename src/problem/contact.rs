@@ -247,7 +247,7 @@ impl ContactSetup {
                 let col = indices[k];
                 let node = col / 2;
                 if let Some(rb) = frame[node] {
-                    if col % 2 != 0 || k + 1 >= b || indices[k + 1] != col + 1 {
+                    if !col.is_multiple_of(2) || k + 1 >= b || indices[k + 1] != col + 1 {
                         return Err(Error::PetscUsage(format!(
                             "row {}: contact node {node} lacks a full 2×2 block",
                             first_row + r
@@ -263,7 +263,7 @@ impl ContactSetup {
             }
         }
         // Left multiplication by R_aᵀ on the rows of contact nodes (rows 2a, 2a+1 share a pattern).
-        for r in (0..nrows).filter(|r| (first_row + r) % 2 == 0) {
+        for r in (0..nrows).filter(|r| (first_row + r).is_multiple_of(2)) {
             let node = (first_row + r) / 2;
             let Some(ra) = frame[node] else { continue };
             if r + 1 >= nrows || indptr[r + 1] - indptr[r] != indptr[r + 2] - indptr[r + 1] {

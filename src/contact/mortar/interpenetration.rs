@@ -143,7 +143,7 @@ impl MortarSide {
                 let t = ((r[0] * d[0] + r[1] * d[1]) / (d[0] * d[0] + d[1] * d[1])).clamp(0.0, 1.0);
                 let p = [chord.x[0][0] + t * d[0], chord.x[0][1] + t * d[1]];
                 let dist2 = (xq[0] - p[0]).powi(2) + (xq[1] - p[1]).powi(2);
-                if best.map_or(true, |b| dist2 < b.0) {
+                if best.is_none_or(|b| dist2 < b.0) {
                     best = Some((dist2, c, t));
                 }
             }
@@ -192,7 +192,7 @@ impl MortarSide {
             let gap = initial_gap + normal[0] * (uq[0] - up[0]) + normal[1] * (uq[1] - up[1]);
             let excess = (initial_gap.min(0.0) - gap).max(0.0);
             result.measured += 1;
-            if result.worst.map_or(true, |w| excess > w.excess) {
+            if result.worst.is_none_or(|w| excess > w.excess) {
                 result.worst = Some(NodePenetration { node: q, initial_gap, gap, excess, facing: chord.nodes });
             }
         }

@@ -235,9 +235,9 @@ impl ContactSetup {
     /// `dof_ranges` the owned dofs of every rank. Returns the displacement field (every rank),
     /// the checked contact outcome and what the solver did.
     #[allow(clippy::too_many_arguments)]
-    pub fn solve_full_space<'s>(
+    pub fn solve_full_space(
         &self,
-        session: &'s Session,
+        session: &Session,
         mesh: &Mesh,
         materials: &CellMaterials,
         constraints: &Constraints,
@@ -348,7 +348,7 @@ impl ContactSetup {
                 return spring_set.contains(&dof);
             }
             match b.nodes.binary_search(&(dof / 2)) {
-                Ok(i) => !b.prescribed[i].is_some_and(|(pc, _)| pc == dof % 2),
+                Ok(i) => b.prescribed[i].is_none_or(|(pc, _)| pc != dof % 2),
                 Err(_) => false,
             }
         };
@@ -482,7 +482,7 @@ impl ContactSetup {
                             if c / 3 != piece_of[node] || constraints.is_fixed(dof) {
                                 return 0.0;
                             }
-                            let direction = if dof % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
+                            let direction = if dof.is_multiple_of(2) { [1.0, 0.0] } else { [0.0, 1.0] };
                             rigid_row(direction, scaled(mesh.nodes[node]))[c % 3]
                         });
                         Some(FloatingElimination::new(session, k, b, per_point, &pins, motions)?)
@@ -694,9 +694,9 @@ impl ContactSetup {
 
     /// The condensed semi-smooth Newton on the same problem, after a failed full-space run.
     #[allow(clippy::too_many_arguments)]
-    fn fall_back<'s>(
+    fn fall_back(
         &self,
-        session: &'s Session,
+        session: &Session,
         mesh: &Mesh,
         system: &LinearSystem,
         failure: String,
