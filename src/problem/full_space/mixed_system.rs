@@ -297,8 +297,8 @@ pub(super) struct MixedSystem<'s, 'p> {
 
 impl MixedSystem<'_, '_> {
     /// The contact displacements `B u` of the owned points in their frames: read from `u` in
-    /// the unknowns `(u, λ)`, or `B v + W λ` in the block elimination's `(v, λ)`
-    /// (`block_elimination.rs`). Linear in `x`.
+    /// the unknowns `(u, λ)`, or `B v + W λ` in the eliminations' `(v, λ)`
+    /// (`block_elimination.rs`, `floating_elimination.rs`). Linear in `x`.
     pub(super) fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
         let frame = |p: &OwnedPoint| {
             let mut bu = [0.0; 2];
@@ -308,11 +308,15 @@ impl MixedSystem<'_, '_> {
             }
             bu
         };
-        match &self.elimination {
+        let response = match (&self.elimination, &self.held_by_contact) {
+            (Some(elimination), _) => Some(elimination.flexibility_times(&self.multipliers(x))),
+            (None, Some(floating)) if floating.in_v => Some(floating.flexibility_times(&self.multipliers(x))),
+            _ => None,
+        };
+        match response {
             None => self.points.iter().map(frame).collect(),
-            Some(elimination) => {
+            Some(response) => {
                 // One process: every point is owned, in boundary order.
-                let response = elimination.flexibility_times(&self.multipliers(x));
                 self.points
                     .iter()
                     .map(|p| {
@@ -349,8 +353,13 @@ impl MixedSystem<'_, '_> {
 
     /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
     /// rows are `K v − f`: their `−Bᵀ` entries drop out.
+    /// Do the unknowns read `(v, λ)` (an elimination's change of unknowns) rather than `(u, λ)`?
+    pub(super) fn in_v(&self) -> bool {
+        self.elimination.is_some() || self.held_by_contact.as_ref().is_some_and(|f| f.in_v)
+    }
+
     pub(super) fn in_force_rows(&self, c: usize) -> bool {
-        self.elimination.is_none() || c < self.num_u
+        !self.in_v() || c < self.num_u
     }
 
     /// The merit `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` at `x − t d` (every rank; see `step_length`).
@@ -399,6 +408,12 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
                 .map(|(v, &c)| v * x[c])
                 .sum::<f64>()
                 - self.rhs[r];
+        }
+        if let Some(floating) = self.held_by_contact.as_ref().filter(|f| f.in_v) {
+            // In (v, λ) the pinned rows keep a part of the contact forces (floating_elimination.rs).
+            for (dof, v) in floating.pinned_forces(&self.multipliers(x)) {
+                f[dof - self.first_dof] += v;
+            }
         }
         for (p, e) in self.points.iter().zip(self.evaluations(x)) {
             f[p.row] = e.c_n;
@@ -505,7 +520,7 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
                 imbalance[(self.first_dof + r) % 2] += f[r];
             }
         }
-        if self.elimination.is_some() {
+        if self.in_v() {
             // In (v, λ) the displacement scale also takes the contact displacements B v + W λ.
             for u in self.contact_displacements(x) {
                 umax = umax.max(u[0].abs()).max(u[1].abs());

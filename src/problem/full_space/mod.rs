@@ -16,7 +16,8 @@
 //! held sideways by friction alone) has a singular `K`: springs at a few pinned contact dofs
 //! make it definite, it is factorised once the same way, and the springs are removed inside
 //! every Newton step by a low-rank correction of the small system (`floating_elimination.rs`);
-//! the SNES then iterates on `(u, λ)` with one solve with the factor per step. Otherwise (MPI,
+//! the SNES then iterates on `(v, λ)` too, with no solve per step after the first (and again in
+//! `(u, λ)`, one solve per step, if that answer fails the independent check). Otherwise (MPI,
 //! or `-contact_ksp_type`, `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves
 //! the mixed Jacobian in `(u, λ)` (MUMPS LU by default): one sparse LU per step.
 //!
@@ -245,6 +246,36 @@ impl ContactSetup {
         dof_ranges: &[Range<usize>],
         progress: &dyn super::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
+        let run = |in_v: Option<String>| {
+            self.full_space_run(session, mesh, materials, constraints, system, dof_ranges, progress, in_v)
+        };
+        match run(None)? {
+            Ok(done) => Ok(done),
+            Err(failure) => {
+                // The floating elimination's (v, λ) answer failed the independent check: the
+                // same Newton iteration in (u, λ), whose residual is evaluated on u itself.
+                progress.note(&format!("contact: {failure}; iterating again in (u, λ)"));
+                run(Some(failure))?
+                    .map_err(|f| Error::PetscUsage(format!("the (u, λ) iteration asked for a second rerun: {f}")))
+            }
+        }
+    }
+
+    /// One full-space run; `retry`: the failure of a first run in `(v, λ)`, when this one
+    /// iterates in `(u, λ)`. `Ok(Err(why))`: the floating elimination ran in `(v, λ)` and its
+    /// answer failed the independent check.
+    #[allow(clippy::too_many_arguments)]
+    fn full_space_run(
+        &self,
+        session: &Session,
+        mesh: &Mesh,
+        materials: &CellMaterials,
+        constraints: &Constraints,
+        system: &LinearSystem,
+        dof_ranges: &[Range<usize>],
+        progress: &dyn super::Progress,
+        retry: Option<String>,
+    ) -> Result<std::result::Result<(Vec<f64>, ContactOutcome, SolveStats), String>> {
         let start = std::time::Instant::now();
         let comm = session.world();
         let rank = session.rank();
@@ -485,7 +516,7 @@ impl ContactSetup {
                             let direction = if dof.is_multiple_of(2) { [1.0, 0.0] } else { [0.0, 1.0] };
                             rigid_row(direction, scaled(mesh.nodes[node]))[c % 3]
                         });
-                        Some(FloatingElimination::new(session, k, b, per_point, &pins, motions)?)
+                        Some(FloatingElimination::new(session, k, b, per_point, &pins, motions, retry.is_none())?)
                     }
                     None => None,
                 }
@@ -557,7 +588,7 @@ impl ContactSetup {
                 let failure = format!(
                     "{method} stopped after {iterations} Newton steps: {reason} (residual {residual:.3e}; {tried})"
                 );
-                return self.fall_back(session, mesh, system, failure, mixed.notes, start, progress);
+                return self.fall_back(session, mesh, system, failure, mixed.notes, start, progress).map(Ok);
             }
             Err(e) => return Err(e),
         };
@@ -577,6 +608,15 @@ impl ContactSetup {
                 }
             }
             u = elimination.displacement(&u, &lambda)?;
+        } else if let Some(floating) = mixed.held_by_contact.as_mut().filter(|f| f.in_v) {
+            // The same with the floating elimination's u = v + K̂⁻¹ Bᵀ λ.
+            let mut lambda = vec![0.0; 2 * m];
+            for i in 0..m {
+                for c in 0..per_point {
+                    lambda[2 * i + c] = z_all[layout.lambda(i, c)];
+                }
+            }
+            u = floating.displacement(&u, &lambda)?;
         }
         let mut force = vec![0.0; 2 * m];
         for i in 0..m {
@@ -608,6 +648,12 @@ impl ContactSetup {
         let equilibrium = if nd[1] > 0.0 { nd[0] / nd[1] } else { nd[0] };
         let accepted = self.acceptance(tolerance);
         if !residuals.is_acceptable(accepted) || equilibrium.is_nan() || equilibrium > accepted {
+            if mixed.held_by_contact.as_ref().is_some_and(|f| f.in_v) {
+                return Ok(Err(format!(
+                    "the floating elimination's answer in (v, λ) fails the independent check ({residuals}; \
+                     equilibrium of the force rows {equilibrium:.3e})"
+                )));
+            }
             return Err(Error::SolverDiverged {
                 solver: run.method.clone(),
                 reason: format!(
@@ -650,6 +696,9 @@ impl ContactSetup {
                 mixed.regularized_steps
             ));
         }
+        if let Some(first) = &retry {
+            notes.push(format!("{first}; iterated again in (u, λ), one solve per step"));
+        }
         notes.extend(mixed.notes.iter().cloned());
         let solution = ContactSolution {
             force: force.clone(),
@@ -666,7 +715,7 @@ impl ContactSetup {
         if mixed.elimination.is_some() {
             stats.factor_package = Some("mumps (Cholesky of K, Schur complement on the contact dofs)".into());
         }
-        Ok((u, ContactOutcome { force, status, report }, stats))
+        Ok(Ok((u, ContactOutcome { force, status, report }, stats)))
     }
 
     /// The error for a body that the contact does not hold (see the module documentation).
