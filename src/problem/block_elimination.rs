@@ -277,9 +277,20 @@ impl<'s> BlockElimination<'s> {
     /// The displacement `u = v + K⁻¹ Bᵀ λ` (`λ` in the points' frames): one solve.
     pub fn displacement(&mut self, v: &[f64], lambda: &[f64]) -> Result<Vec<f64>> {
         let load = self.step.load(lambda, self.num_u);
-        self.rhs.set_owned(&load)?;
-        self.factor.solve(&self.rhs, &mut self.solution)?;
-        let response = self.solution.owned_values()?;
-        Ok(v.iter().zip(&response).map(|(a, b)| a + b).collect())
+        v_plus_response(&self.factor, &mut self.rhs, &mut self.solution, &load, v)
     }
+}
+
+/// `v + F⁻¹ load` with the factor `F` (one solve; `rhs`, `solution`: its work vectors).
+pub(super) fn v_plus_response<'s>(
+    factor: &SchurFactor<'s>,
+    rhs: &mut Vector<'s>,
+    solution: &mut Vector<'s>,
+    load: &[f64],
+    v: &[f64],
+) -> Result<Vec<f64>> {
+    rhs.set_owned(load)?;
+    factor.solve(rhs, solution)?;
+    let response = solution.owned_values()?;
+    Ok(v.iter().zip(&response).map(|(a, b)| a + b).collect())
 }

@@ -80,7 +80,7 @@
 //! `u` itself), and says so in the contact notes.
 use nalgebra::{DMatrix, DVector};
 
-use super::block_elimination::{ContactRow, StepRows};
+use super::block_elimination::{v_plus_response, ContactRow, StepRows};
 use super::condensed_route::{flexibility_from_schur, rows_on_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
@@ -395,12 +395,8 @@ impl<'s> FloatingElimination<'s> {
             for (position, &dof) in self.schur.iter().enumerate() {
                 load[dof] -= change[position];
             }
-            self.rhs.set_owned(&load)?;
-            self.factor.solve(&self.rhs, &mut self.solution)?;
-            let response = self.solution.owned_values()?;
-            for (out, (a, b)) in d[..n].iter_mut().zip(y.iter().zip(&response)) {
-                *out = a + b;
-            }
+            let du = v_plus_response(&self.factor, &mut self.rhs, &mut self.solution, &load, &y)?;
+            d[..n].copy_from_slice(&du);
         }
         self.step.write_changes(&dl, &mut d[n..]);
         Ok(())
@@ -422,10 +418,7 @@ impl<'s> FloatingElimination<'s> {
     /// The displacement `u = v + K̂⁻¹ Bᵀ λ` (`λ` in the points' frames): one solve.
     pub fn displacement(&mut self, v: &[f64], lambda: &[f64]) -> Result<Vec<f64>> {
         let load = self.step.load(lambda, self.num_u);
-        self.rhs.set_owned(&load)?;
-        self.factor.solve(&self.rhs, &mut self.solution)?;
-        let response = self.solution.owned_values()?;
-        Ok(v.iter().zip(&response).map(|(a, b)| a + b).collect())
+        v_plus_response(&self.factor, &mut self.rhs, &mut self.solution, &load, v)
     }
 }
 

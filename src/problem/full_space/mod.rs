@@ -599,30 +599,18 @@ impl ContactSetup {
         zv.set_owned(&z)?;
         let z_all = zv.gather_all()?;
         let mut u: Vec<f64> = (0..n).map(|d| z_all[layout.u(d)]).collect();
-        if let Some(elimination) = &mut mixed.elimination {
-            // The iteration ran in (v, λ): u = v + K⁻¹ Bᵀ λ (block_elimination.rs).
-            let mut lambda = vec![0.0; 2 * m];
-            for i in 0..m {
-                for c in 0..per_point {
-                    lambda[2 * i + c] = z_all[layout.lambda(i, c)];
-                }
-            }
-            u = elimination.displacement(&u, &lambda)?;
-        } else if let Some(floating) = mixed.held_by_contact.as_mut().filter(|f| f.in_v) {
-            // The same with the floating elimination's u = v + K̂⁻¹ Bᵀ λ.
-            let mut lambda = vec![0.0; 2 * m];
-            for i in 0..m {
-                for c in 0..per_point {
-                    lambda[2 * i + c] = z_all[layout.lambda(i, c)];
-                }
-            }
-            u = floating.displacement(&u, &lambda)?;
-        }
         let mut force = vec![0.0; 2 * m];
         for i in 0..m {
             for c in 0..per_point {
                 force[2 * i + c] = z_all[layout.lambda(i, c)];
             }
+        }
+        // The iteration ran in (v, λ): u = v + K⁻¹ Bᵀ λ (block_elimination.rs), or
+        // v + K̂⁻¹ Bᵀ λ (floating_elimination.rs).
+        if let Some(elimination) = &mut mixed.elimination {
+            u = elimination.displacement(&u, &force)?;
+        } else if let Some(floating) = mixed.held_by_contact.as_mut().filter(|f| f.in_v) {
+            u = floating.displacement(&u, &force)?;
         }
         let uc = b.gather(&u);
         // Displacement scale: the largest displacement of the body or gap (the contact
