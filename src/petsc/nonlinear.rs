@@ -40,7 +40,11 @@
 //!
 //! Callbacks run inside `catch_unwind` (a panic never crosses the FFI boundary: it becomes an
 //! error). A callback's `Err` is kept and returned by [`NonlinearSolver::solve`] instead of
-//! PETSc's generic code. The context pointer given to PETSc points to a box that lives on
+//! PETSc's generic code. Under MPI every callback's outcome is agreed over the ranks (one
+//! reduction per callback): a failure on one rank makes every rank's callback fail, so that
+//! SNES stops everywhere at the same point instead of leaving the other ranks waiting in its
+//! next collective operation (a failure before a collective operation inside a callback can
+//! still leave the others waiting there). The context pointer given to PETSc points to a box that lives on
 //! `solve`'s stack frame until the SNES, which holds the pointer, is destroyed (a guard
 //! destroys it before the box is dropped). A negative SNES reason becomes
 //! [`Error::SolverDiverged`] with the method that ran and the options to try.
@@ -266,6 +270,8 @@ impl<'s> NonlinearSolver<'s> {
             error: None,
             verdict: None,
             own_solver: false,
+            comm: self.comm,
+            ranks: self.comm.size()?,
         });
         let ctx = &mut *context as *mut Context as *mut c_void;
         let mut snes: sys::SNES = std::ptr::null_mut();
@@ -447,6 +453,9 @@ struct Context<'a> {
     verdict: Option<Convergence>,
     /// The system solves its own Jacobians (shell preconditioner, KSP preonly).
     own_solver: bool,
+    /// The solver's communicator and its size: every callback's outcome is agreed over it.
+    comm: Comm,
+    ranks: usize,
 }
 
 impl Context<'_> {
@@ -494,14 +503,30 @@ fn guarded(ctx: *mut c_void, body: impl FnOnce(&mut Context) -> Result<()>) -> s
     // on this thread only, one callback at a time.
     let context = unsafe { &mut *(ctx as *mut Context) };
     let outcome = catch_unwind(AssertUnwindSafe(|| body(&mut *context)));
-    match outcome {
+    let code = match outcome {
         Ok(Ok(())) => 0,
         Ok(Err(e)) => context.keep(e),
         Err(panic) => {
             let message = super::panic_message(panic.as_ref());
             context.keep(Error::PetscUsage(format!("a nonlinear-system callback panicked: {message}")))
         }
+    };
+    // Every rank returns the same verdict: a failure on one rank alone would leave the others
+    // waiting in SNES's next collective operation.
+    if context.ranks > 1 {
+        let failed = if code == 0 { 0.0 } else { 1.0 };
+        match context.comm.max(&[failed]) {
+            Ok(any) if any[0] > 0.0 && code == 0 => {
+                return context.keep(Error::PetscUsage(
+                    "a nonlinear-system callback failed on another MPI rank (its error is in that rank's output)"
+                        .into(),
+                ))
+            }
+            Ok(_) => {}
+            Err(e) => return context.keep(e),
+        }
     }
+    code
 }
 
 unsafe extern "C" fn residual_callback(
