@@ -1,8 +1,6 @@
 //! Solver fallbacks, the options the messages recommend, and two MPI ranks.
 
-use crate::{answer, error, scratch, SQUARE_BLOCK};
-use serde_json::Value;
-use std::process::Command;
+use crate::{answer, error, SQUARE_BLOCK};
 
 // ---------------------------------------------------------------- fallbacks and options
 
@@ -38,25 +36,8 @@ fn advice_after_an_iteration_limit_works() {
 
 #[test]
 fn mpi_two_ranks_square_block() {
-    let dir = scratch("mpi");
-    let file = dir.join("scene.toml");
-    std::fs::write(&file, SQUARE_BLOCK).unwrap();
-    let out = Command::new("mpirun")
-        .args(["--allow-run-as-root", "--oversubscribe", "-n", "2"])
-        .env("OMP_NUM_THREADS", "1")
-        .env("OPENBLAS_NUM_THREADS", "1")
-        .arg(env!("CARGO_BIN_EXE_signorini"))
-        .arg("run")
-        .arg(&file)
-        .arg("--quiet")
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .expect("mpirun (./setup.sh installs openmpi-bin)");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (_, parallel) = crate::mpi::mpi_answer("mpi", SQUARE_BLOCK, &[]);
     let (_, serial) = answer("mpi_serial", SQUARE_BLOCK, &[]);
-    let text = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
-    let parallel: Value = serde_json::from_str(&text).unwrap();
     let (a, b) = (
         serial["results"]["max_displacement"].as_f64().unwrap(),
         parallel["results"]["max_displacement"].as_f64().unwrap(),

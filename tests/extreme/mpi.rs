@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 /// Run a scene on two MPI ranks; its report.
-fn mpi_answer(name: &str, scene: &str, args: &[&str]) -> (PathBuf, Value) {
+pub(crate) fn mpi_answer(name: &str, scene: &str, args: &[&str]) -> (PathBuf, Value) {
     let dir = scratch(name);
     let file = dir.join("scene.toml");
     std::fs::write(&file, scene).unwrap();

@@ -138,8 +138,13 @@ pub(super) struct RigidCheck {
     pub(super) dirichlet: DMatrix<f64>,
 }
 
-pub(super) fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
+fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
     Vector3::new(direction[0], direction[1], direction[1] * scaled[0] - direction[0] * scaled[1])
+}
+
+/// The rigid-motion row of one dof (`2·node + component`) at its node's scaled position.
+pub(super) fn dof_rigid_row(dof: usize, scaled: [f64; 2]) -> Vector3<f64> {
+    rigid_row(if dof.is_multiple_of(2) { [1.0, 0.0] } else { [0.0, 1.0] }, scaled)
 }
 
 /// Dofs to pin with springs so that, with the Dirichlet rows (`dirichlet`: their Gram matrix of
@@ -190,8 +195,7 @@ pub(super) fn choose_pins(
                 if is_fixed(2 * k + c) || candidates.binary_search(&(2 * k + c)).is_err() {
                     continue;
                 }
-                let direction = if c == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
-                let r = rigid_row(direction, scaled(position(k)));
+                let r = dof_rigid_row(2 * k + c, scaled(position(k)));
                 gram += r * r.transpose();
                 pins.push(2 * k + c);
             }
@@ -213,8 +217,7 @@ pub(super) fn choose_pins(
 pub(super) fn null_space(gram: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let eigen = SymmetricEigen::<f64, Dyn>::new(gram.clone());
     let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
-    let free: Vec<usize> =
-        (0..gram.nrows()).filter(|&j| !(largest > 0.0 && eigen.eigenvalues[j] > 1e-10 * largest)).collect();
+    let free: Vec<usize> = (0..gram.nrows()).filter(|&j| !blocks(eigen.eigenvalues[j], largest)).collect();
     if free.is_empty() {
         return None;
     }
@@ -227,7 +230,12 @@ pub(super) fn full_rank(gram: &Matrix3<f64>) -> bool {
 
 fn full_rank_of(eigenvalues: Vec<f64>) -> bool {
     let largest = eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
-    largest > 0.0 && eigenvalues.iter().all(|&l| l > 1e-10 * largest)
+    eigenvalues.iter().all(|&l| blocks(l, largest))
+}
+
+/// Does an eigenvalue `l` of a Gram matrix whose largest is `largest` count (above 1e-10 of it)?
+fn blocks(l: f64, largest: f64) -> bool {
+    largest > 0.0 && l > 1e-10 * largest
 }
 
 /// What the failure of a body that nothing holds looks like.
@@ -351,13 +359,14 @@ impl MixedSystem<'_, '_> {
         evaluate(&self.law, p.index, p.rho, p.gap, u, lambda)
     }
 
-    /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
-    /// rows are `K v − f`: their `−Bᵀ` entries drop out.
     /// Do the unknowns read `(v, λ)` (an elimination's change of unknowns) rather than `(u, λ)`?
     pub(super) fn in_v(&self) -> bool {
         self.elimination.is_some() || self.held_by_contact.as_ref().is_some_and(|f| f.in_v)
     }
 
+    /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
+    /// rows are `K v − f` (and the floating elimination's pinned terms): their `−Bᵀ` entries
+    /// drop out.
     pub(super) fn in_force_rows(&self, c: usize) -> bool {
         !self.in_v() || c < self.num_u
     }

@@ -201,7 +201,9 @@ use crate::mesh::Mesh;
 use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
 use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
 pub use layout::{dof_ranges, MixedLayout};
-use mixed_system::{choose_pins, evaluate, rigid_row, status_of, Floating, Law, MixedSystem, OwnedPoint, RigidCheck};
+use mixed_system::{
+    choose_pins, dof_rigid_row, evaluate, status_of, Floating, Law, MixedSystem, OwnedPoint, RigidCheck,
+};
 
 /// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
 pub const OPTIONS_PREFIX: &str = "contact_";
@@ -419,8 +421,7 @@ impl ContactSetup {
             let mut r = DVector::<f64>::zeros(3 * pieces);
             for &(dof, coef) in entries {
                 let node = dof / 2;
-                let direction = if dof % 2 == 0 { [coef[k], 0.0] } else { [0.0, coef[k]] };
-                let v = rigid_row(direction, scaled(mesh.nodes[node]));
+                let v = coef[k] * dof_rigid_row(dof, scaled(mesh.nodes[node]));
                 for a in 0..3 {
                     r[3 * piece_of[node] + a] += v[a];
                 }
@@ -471,8 +472,7 @@ impl ContactSetup {
             let mut gram = DMatrix::<f64>::zeros(3 * pieces, 3 * pieces);
             for (dof, _) in constraints.fixed() {
                 if let Some(&p) = mesh.nodes.get(dof / 2) {
-                    let direction = if dof % 2 == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
-                    let r = rigid_row(direction, scaled(p));
+                    let r = dof_rigid_row(dof, scaled(p));
                     let at = 3 * piece_of[dof / 2];
                     let mut rows = DVector::<f64>::zeros(3 * pieces);
                     rows.rows_mut(at, 3).copy_from(&r);
@@ -513,8 +513,7 @@ impl ContactSetup {
                             if c / 3 != piece_of[node] || constraints.is_fixed(dof) {
                                 return 0.0;
                             }
-                            let direction = if dof.is_multiple_of(2) { [1.0, 0.0] } else { [0.0, 1.0] };
-                            rigid_row(direction, scaled(mesh.nodes[node]))[c % 3]
+                            dof_rigid_row(dof, scaled(mesh.nodes[node]))[c % 3]
                         });
                         Some(FloatingElimination::new(session, k, b, per_point, &pins, motions, retry.is_none())?)
                     }
