@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use signorini_sys as sys;
 
 pub mod bounded;
+pub mod dense_lu;
 mod ict;
 mod linear_solver;
 mod matrix;

@@ -59,6 +59,7 @@ use nalgebra::{DMatrix, DVector};
 use super::condensed_route::{flexibility_from_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
+use crate::petsc::dense_lu::DenseLu;
 use crate::petsc::schur::SchurFactor;
 use crate::petsc::{Matrix, Session, Vector};
 
@@ -185,7 +186,35 @@ pub(super) struct BlockElimination<'s> {
     rhs: Vector<'s>,
     solution: Vector<'s>,
     /// The factorised reduced matrix of the current step.
-    reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    reduced: Reduced<'s>,
+    session: &'s Session,
+}
+
+/// The factorised small system of a Newton step (LAPACK's LU, `petsc/dense_lu.rs`).
+pub(super) enum Reduced<'s> {
+    /// No unknowns left (every row a force row).
+    Empty,
+    /// An exactly zero pivot.
+    Singular,
+    Factor(DenseLu<'s>),
+}
+
+impl<'s> Reduced<'s> {
+    pub fn factorise(session: &'s Session, a: &DMatrix<f64>) -> Result<Self> {
+        if a.nrows() == 0 {
+            return Ok(Reduced::Empty);
+        }
+        Ok(DenseLu::new(session, a)?.map_or(Reduced::Singular, Reduced::Factor))
+    }
+
+    /// `A⁻¹ b`; `None` when there are no unknowns; `singular` is the error of a zero pivot.
+    pub fn solve(&self, b: &[f64], singular: impl FnOnce() -> Error) -> Result<Option<Vec<f64>>> {
+        match self {
+            Reduced::Empty => Ok(None),
+            Reduced::Singular => Err(singular()),
+            Reduced::Factor(lu) => lu.solve(b).map(Some),
+        }
+    }
 }
 
 impl<'s> BlockElimination<'s> {
@@ -209,7 +238,8 @@ impl<'s> BlockElimination<'s> {
             num_u,
             rhs: stiffness.create_vector()?,
             solution: stiffness.create_vector()?,
-            reduced: None,
+            reduced: Reduced::Empty,
+            session,
         })
     }
 
@@ -224,7 +254,7 @@ impl<'s> BlockElimination<'s> {
                 a[(p, q)] += coef * self.w[(row, col)];
             }
         }
-        self.reduced = if unknowns.is_empty() { None } else { Some(a.lu()) };
+        self.reduced = Reduced::factorise(self.session, &a)?;
         Ok(())
     }
 
@@ -246,24 +276,26 @@ impl<'s> BlockElimination<'s> {
             vec![0.0; self.w.nrows()]
         };
         let mut dl = self.step.known_changes(r_c);
-        if let Some(lu) = &self.reduced {
-            let unknowns = &self.step.unknowns;
-            let mut rhs = DVector::<f64>::zeros(unknowns.len());
-            let known_columns: Vec<usize> = (0..dl.len()).filter(|&j| dl[j] != 0.0).collect();
-            for (p, &wi) in unknowns.iter().enumerate() {
+        let unknowns = &self.step.unknowns;
+        let known_columns: Vec<usize> = (0..dl.len()).filter(|&j| dl[j] != 0.0).collect();
+        let rhs: Vec<f64> = unknowns
+            .iter()
+            .map(|&wi| {
                 let known: f64 = known_columns.iter().map(|&j| self.w[(wi, j)] * dl[j]).sum();
-                rhs[p] = r_c[self.step.contact_row(wi)] - by[wi] - known;
-            }
-            let x = lu.solve(&rhs).ok_or_else(|| Error::SolverDiverged {
-                solver: "block elimination of the mixed Jacobian".into(),
-                reason: "the reduced contact system is singular".into(),
-                iterations: 0,
-                residual: f64::NAN,
-                tried: "MUMPS Cholesky of K with the Schur complement on the contact dofs; \
-                        -contact_full_space_lu factorises the whole mixed Jacobian instead"
-                    .into(),
-            })?;
-            self.step.add_unknowns(&mut dl, x.as_slice());
+                r_c[self.step.contact_row(wi)] - by[wi] - known
+            })
+            .collect();
+        let x = self.reduced.solve(&rhs, || Error::SolverDiverged {
+            solver: "block elimination of the mixed Jacobian".into(),
+            reason: "the reduced contact system is singular".into(),
+            iterations: 0,
+            residual: f64::NAN,
+            tried: "MUMPS Cholesky of K with the Schur complement on the contact dofs; \
+                    -contact_full_space_lu factorises the whole mixed Jacobian instead"
+                .into(),
+        })?;
+        if let Some(x) = x {
+            self.step.add_unknowns(&mut dl, &x);
         }
         self.step.write_changes(&dl, &mut d[n..]);
         Ok(())

@@ -80,7 +80,7 @@
 //! `u` itself), and says so in the contact notes.
 use nalgebra::{DMatrix, DVector};
 
-use super::block_elimination::{v_plus_response, ContactRow, StepRows};
+use super::block_elimination::{v_plus_response, ContactRow, Reduced, StepRows};
 use super::condensed_route::{flexibility_from_schur, rows_on_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
@@ -149,7 +149,8 @@ pub(super) struct FloatingElimination<'s> {
     regularized: bool,
     /// The iteration runs on `(v, λ)` (no solve per step) rather than on `(u, λ)`.
     pub in_v: bool,
-    reduced: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    reduced: Reduced<'s>,
+    session: &'s Session,
 }
 
 impl<'s> FloatingElimination<'s> {
@@ -242,7 +243,8 @@ impl<'s> FloatingElimination<'s> {
             num_u: n,
             regularized: false,
             in_v,
-            reduced: None,
+            reduced: Reduced::Empty,
+            session,
         })
     }
 
@@ -316,7 +318,7 @@ impl<'s> FloatingElimination<'s> {
                 a[(d + q2, d + q)] = (if q == q2 { 1.0 } else { 0.0 }) / cor.c[q].abs() + cor.h[(q2, q)] * sign;
             }
         }
-        self.reduced = if d + p == 0 { None } else { Some(a.lu()) };
+        self.reduced = Reduced::factorise(self.session, &a)?;
         Ok(())
     }
 
@@ -351,7 +353,7 @@ impl<'s> FloatingElimination<'s> {
         // Uᵀ y over the contact dofs.
         let y_contact = DVector::from_iterator(self.schur.len(), self.schur.iter().map(|&dof| y[dof]));
         let uty = cor.u.transpose() * &y_contact;
-        if let Some(lu) = &self.reduced {
+        if !matches!(self.reduced, Reduced::Empty) {
             let known = DVector::from_column_slice(&dl);
             let w_known = &self.w * &known;
             let g_known = cor.g.transpose() * &known;
@@ -362,7 +364,7 @@ impl<'s> FloatingElimination<'s> {
             for q in 0..p {
                 rhs[d_count + q] = uty[q] + g_known[q];
             }
-            let x = lu.solve(&rhs).ok_or_else(|| Error::SolverDiverged {
+            let x = self.reduced.solve(rhs.as_slice(), || Error::SolverDiverged {
                 solver: "block elimination of the mixed Jacobian (body held by the contact)".into(),
                 reason: "the reduced contact system is singular".into(),
                 iterations: 0,
@@ -371,7 +373,8 @@ impl<'s> FloatingElimination<'s> {
                         -contact_full_space_lu factorises the whole mixed Jacobian instead"
                     .into(),
             })?;
-            self.step.add_unknowns(&mut dl, x.as_slice());
+            let x = x.unwrap_or_default();
+            self.step.add_unknowns(&mut dl, &x);
             for (q, v) in pi.iter_mut().enumerate() {
                 *v = x[d_count + q] / cor.c[q].abs();
             }

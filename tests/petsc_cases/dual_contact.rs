@@ -107,9 +107,16 @@ pub fn dual_contact_patch_tests_exact(s: &signorini::petsc::Session) -> Result<(
     let peak = c.report.peak_pressure.as_ref().unwrap().pressure;
     ensure((peak - p).abs() < 1e-9 * p, || format!("peak pressure {peak:e}"))?;
     let e = &pr.estimate.as_ref().unwrap().estimate;
-    // Both fields are exact: the estimate, contact part included, vanishes to round-off.
-    ensure(e.contact <= 1e-8 * e.reference_norm && e.relative_percent < 1e-6, || {
-        format!("estimate on the patch: contact {:e}, error {:e}, norm {:e}", e.contact, e.error, e.reference_norm)
+    // Both fields are exact: the estimate, contact part included, vanishes to round-off. The
+    // contact part is the square root of an integral linear in the gaps `uN − g0`, so a gap at
+    // round-off (5e-15 of the displacement scale) shows as its square root: 8.8e-8 of the norm
+    // measured with LAPACK's LU in the Newton step, 1e-2 for a wrong contact answer. The volume
+    // part is quadratic in the stress error and stays at round-off itself (4e-12 of the norm).
+    ensure(e.contact <= 1e-6 * e.reference_norm && e.volume <= 1e-9 * e.reference_norm, || {
+        format!(
+            "estimate on the patch: contact {:e}, volume {:e}, error {:e}, norm {:e}",
+            e.contact, e.volume, e.error, e.reference_norm
+        )
     })?;
     for order in [1, 2] {
         let q = 0.3 * p;

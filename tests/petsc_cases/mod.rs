@@ -46,6 +46,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
     ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
     ("mumps_schur_complement_is_the_inverse_block", mumps_schur_complement_is_the_inverse_block),
+    ("dense_lu_solves_and_reports_zero_pivots", dense_lu_solves_and_reports_zero_pivots),
     ("dual_patch_test_all_tractions_exact", dual::dual_patch_test_all_tractions_exact),
     ("dual_contact_patch_tests_exact", dual_contact::dual_contact_patch_tests_exact),
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
@@ -691,4 +692,42 @@ fn mumps_schur_complement_is_the_inverse_block(s: &Session) -> Result<(), String
     let norm = xv.iter().map(|v| v * v).sum::<f64>().sqrt();
     let diff = xv.iter().zip(&yv).map(|(p, q)| (p - q).powi(2)).sum::<f64>().sqrt();
     ensure(diff <= 1e-10 * norm, || format!("factor solve differs from KSP by {:e}", diff / norm))
+}
+
+/// LAPACK's LU through PETSc (`petsc::dense_lu`): a nonsymmetric system solved to round-off
+/// (against nalgebra's LU and the residual), an exactly singular matrix reported as `None`, and
+/// a non-square matrix refused.
+fn dense_lu_solves_and_reports_zero_pivots(s: &Session) -> Result<(), String> {
+    use nalgebra::{DMatrix, DVector};
+    use signorini::petsc::dense_lu::DenseLu;
+    for n in [1usize, 3, 40, 300] {
+        let a = DMatrix::<f64>::from_fn(n, n, |i, j| {
+            let x = ((i * 37 + j * 11) % 23) as f64 / 23.0 - 0.5;
+            if i == j {
+                x + 4.0
+            } else {
+                x * (1.0 + (i as f64 - j as f64).abs()).recip() + 0.1 * (i as f64 - 2.0 * j as f64) / n as f64
+            }
+        });
+        let b = DVector::<f64>::from_fn(n, |i, _| (i as f64 * 0.7).sin() + 1.0);
+        let lu = DenseLu::new(s, &a).map_err(|e| e.to_string())?.ok_or("a nonsingular matrix reported singular")?;
+        let x = DVector::from_vec(lu.solve(b.as_slice()).map_err(|e| e.to_string())?);
+        let reference = a.clone().lu().solve(&b).ok_or("nalgebra: singular")?;
+        let residual = (&a * &x - &b).amax() / b.amax();
+        let difference = (&x - &reference).amax() / reference.amax();
+        if residual > 1e-13 || difference > 1e-12 {
+            return Err(format!("n = {n}: residual {residual:e}, difference from nalgebra {difference:e}"));
+        }
+    }
+    let mut singular = DMatrix::<f64>::from_fn(4, 4, |i, j| (i + 2 * j) as f64 + 1.0);
+    singular[(0, 0)] = 0.0;
+    let second = singular.row(1).clone_owned();
+    singular.set_row(3, &second);
+    if DenseLu::new(s, &singular).map_err(|e| e.to_string())?.is_some() {
+        return Err("a matrix with two equal rows was factorised".into());
+    }
+    match DenseLu::new(s, &DMatrix::<f64>::zeros(2, 3)) {
+        Err(Error::PetscUsage(_)) => Ok(()),
+        other => Err(format!("a 2 × 3 matrix gave {:?}", other.map(|o| o.is_some()))),
+    }
 }
