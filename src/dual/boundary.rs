@@ -34,7 +34,8 @@
 //! ## Elimination
 //!
 //! The constraints are processed edge by edge along the boundary loop, starting where a run of
-//! known tractions starts; each one is solved for one dof of the edge's end vertex `b` or of
+//! known tractions starts (with tractions and contact only, where a contact run starts, so that
+//! the walk closes on known tractions); each one is solved for one dof of the edge's end vertex `b` or of
 //! its midpoint (the one with the largest scaled coefficient) in terms of dofs already free,
 //! so every constrained dof becomes an affine function of the remaining (master) dofs. This
 //! is the integration of the tractions along the boundary, done by linear algebra, component
@@ -294,7 +295,15 @@ fn eliminate_with(
     // component), so that the first vertex of every run stays free.
     let fully_known =
         |e: &BoundaryEdge| e.contact.is_some() || e.components.iter().all(|c| matches!(c, TractionComponent::Known(_)));
-    let start = (0..edges.len()).find(|&i| !fully_known(&edges[(i + edges.len() - 1) % edges.len()])).unwrap_or(0);
+    let previous = |i: usize| &edges[(i + edges.len() - 1) % edges.len()];
+    // With tractions and contact only, start where a contact run starts, so that the walk closes
+    // on an edge of known tractions: closing through a contact edge would leave that edge's
+    // forces in the global equilibrium conditions alone (no dof downstream depends on them: a
+    // zero flexibility) and leaves no dofs for the local parametrisation.
+    let start = (0..edges.len())
+        .find(|&i| !fully_known(previous(i)))
+        .or_else(|| (0..edges.len()).find(|&i| edges[i].contact.is_some() && previous(i).contact.is_none()))
+        .unwrap_or(0);
     let mut load_scale = 0.0f64;
     let mut closures = Vec::new();
     for step in 0..edges.len() {
@@ -319,7 +328,7 @@ fn eliminate_with(
             if candidates.iter().any(|&d| referenced[d] || slave[d].is_some()) {
                 return Err(formulation_error(
                     format!("the contact edge {} -> {} closes the boundary walk", e.a, e.b),
-                    "the local parametrisation of the contact part does not apply here",
+                    "report this mesh: it should not happen (the walk starts where a contact run starts)",
                 ));
             }
             let map = edge_force_map(contact, tau, normal, sign, len, prev).ok_or_else(|| {

@@ -76,6 +76,19 @@ pub const CONDENSATION_OPTION: &str = "-dual_contact_condensation";
 /// The option that names the storage of `W`.
 pub const STORAGE_OPTION: &str = "-dual_contact_storage";
 
+/// The option that turns off the local parametrisation of the contact part (`false`): the Schur
+/// route then keeps the contact forces as unknowns, as when the parametrisation does not apply.
+pub const LOCAL_OPTION: &str = "-dual_contact_local";
+
+/// `-dual_contact_local true|false`, true without it.
+pub fn local_from_options(session: &Session) -> Result<bool> {
+    match session.option(LOCAL_OPTION)?.as_deref() {
+        None | Some("true") => Ok(true),
+        Some("false") => Ok(false),
+        Some(other) => Err(Error::Usage(format!("{LOCAL_OPTION} takes true or false (got \"{other}\")"))),
+    }
+}
+
 /// Power iterations of the diagonal estimate of the implicit storage.
 const POWER_ITERATIONS: usize = 20;
 

@@ -47,6 +47,13 @@
 //! Schur block and a shift of `z`), each product with `B⁻¹` or `B⁻ᵀ` one block substitution
 //! along the runs. The contact displacement (the multiplier of the forces) is recovered from
 //! the assembled matrix as `B⁻ᵀ (A x − b)_ξ`.
+//!
+//! The boundary walk starts where a contact run starts when no edge has a prescribed
+//! displacement component, so no contact edge closes it and the parametrisation applies to every
+//! scene the dual accepts (a contact part that is the whole boundary is refused). Should it still
+//! fail ([`super::DualSystem::local_fallback`] keeps why), or with `-dual_contact_local false`, the
+//! Schur route keeps the contact forces as unknowns, with their dense boundary block (slower, the
+//! same answer), and the report's contact notes say so.
 use nalgebra::{DMatrix, Matrix4};
 
 use super::boundary::{AffineDofs, EdgeForceMap};
@@ -199,6 +206,55 @@ mod tests {
         };
         let system = DualSystem::new(&mesh, &Material::new(1.3e11, 0.2, PlaneModel::Strain), &data).expect("system");
         (mesh, system)
+    }
+
+    /// A block held by the contact alone (pressures on the other three sides, no Dirichlet part)
+    /// with the contact on side `contact` ("all": the whole boundary, one group).
+    fn floating(contact: &str) -> crate::error::Result<DualSystem> {
+        let mut mesh = structured::rectangle([0.0, 0.0], [2.0, 1.0], 6, 3, Order::P1).expect("mesh");
+        if contact == "all" {
+            let bottom = mesh.require_group("bottom", 1).expect("group");
+            mesh.edge_group.fill(bottom);
+        }
+        let side = if contact == "all" { "bottom" } else { contact };
+        let group = |name: &str| mesh.require_group(name, 1).expect("group");
+        let loads: Vec<EdgeLoad> = ["bottom", "right", "top", "left"]
+            .into_iter()
+            .filter(|&s| s != side && contact != "all")
+            .map(|s| EdgeLoad { group: group(s), traction: Traction::Pressure(1e6) })
+            .collect();
+        let normal = |_: [f64; 2]| [0.0, -1.0];
+        let data = DualData {
+            body_force: BodyLoad::Constant([0.0, -7.7e4]),
+            edge_loads: &loads,
+            prescribed: &[],
+            contact: Some(ContactSide { group: group(side), normal: &normal }),
+        };
+        DualSystem::new(&mesh, &Material::new(9e10, 0.2, PlaneModel::Strain), &data)
+    }
+
+    /// Without any Dirichlet part the boundary loop starts at the lowest-numbered boundary node,
+    /// (0, 0) on the structured mesh, and the left side, walked downwards, ends there. The walk
+    /// starts where the contact run starts, wherever the loop does: the contact on the left
+    /// gets its local parametrisation like the one at the bottom (until 2026-11-26 the walk
+    /// started with the loop, the left contact closed it and fell back to the forces as unknowns,
+    /// where its last edge's forces had a zero flexibility).
+    #[test]
+    fn a_contact_run_at_the_end_of_the_loop_gets_its_local_parametrisation() {
+        for side in ["bottom", "left", "top"] {
+            let system = floating(side).expect("system");
+            assert!(system.local.is_some() && system.local_fallback.is_none(), "{side}: {:?}", system.local_fallback);
+            assert_eq!(system.local.as_ref().map(|l| l.len()), Some(4 * if side == "left" { 3 } else { 6 }));
+        }
+    }
+
+    /// A contact part that is the whole boundary is refused with its reason (the walk would close
+    /// through a contact edge whichever edge it starts at).
+    #[test]
+    fn a_contact_part_on_the_whole_boundary_is_refused() {
+        let error = floating("all").err().expect("refused");
+        let text = error.to_string();
+        assert!(text.contains("the contact part is the whole boundary") && text.contains("hint:"), "{text}");
     }
 
     fn row_lengths(indptr: &[usize]) -> Vec<usize> {

@@ -21,7 +21,7 @@ use nalgebra::{DMatrix, SMatrix};
 use super::boundary::{self, AffineDofs, BoundaryEdge, ContactEdge, DofRole, TractionComponent};
 use super::dofs::HctDofs;
 use super::local_contact::LocalContact;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::estimate::StressField;
 use crate::fem::assembly::EdgeLoad;
 use crate::fem::csr_assembly::CsrAssembler;
@@ -95,11 +95,33 @@ pub struct DualSystem {
     pub elements: Vec<HctElement>,
     pub edges: Vec<BoundaryEdge>,
     pub affine: AffineDofs,
-    /// With contact: the local parametrisation of the contact part ([`super::local_contact`]),
-    /// when the boundary walk allows it (not when a contact run closes the walk).
+    /// With contact: the local parametrisation of the contact part ([`super::local_contact`]).
     pub local: Option<LocalContact>,
+    /// With contact and no [`Self::local`]: why the local parametrisation was not used (the
+    /// routes that take it then keep the contact forces as unknowns, a dense boundary block).
+    pub local_fallback: Option<String>,
     pub material: Material,
     pub body_force: BodyLoad,
+}
+
+/// Why the local parametrisation's affine base cannot stand in for that of the contact forces
+/// as unknowns (the same free HCT dofs and the same anchor are needed for the two to share the
+/// reduced numbering): `None` when it can.
+fn base_difference(local: &AffineDofs, forces: &AffineDofs) -> Option<String> {
+    let mut differences = Vec::new();
+    if local.num_masters != forces.num_masters {
+        differences.push(format!("{} free HCT dofs against {}", local.num_masters, forces.num_masters));
+    }
+    if local.anchor != forces.anchor {
+        differences.push(format!("the affine part of φ fixed at node {} against node {}", local.anchor, forces.anchor));
+    }
+    (!differences.is_empty()).then(|| {
+        format!(
+            "dual formulation: the local parametrisation's affine base differs from that of the contact forces as \
+             unknowns ({}); report this mesh: it should not happen",
+            differences.join(", ")
+        )
+    })
 }
 
 /// The terms `(unknown, coefficient)` of a dof's expansion: one for a master, a list for a slave.
@@ -191,14 +213,28 @@ impl DualSystem {
             })?;
             edges.push(BoundaryEdge { mesh_edge: e, a, b, edge, components, contact });
         }
+        if num_contact_edges == edges.len() {
+            // The walk then closes through a contact edge: the global equilibrium conditions
+            // take that edge's forces, and no dof depends on them (a zero flexibility).
+            return Err(boundary::formulation_error(
+                "the contact part is the whole boundary: the dual needs part of the boundary with known tractions \
+                 (zero on a free side) or a Dirichlet condition"
+                    .into(),
+                "make the contact part only the side that may touch the obstacle, or use the primal formulation",
+            ));
+        }
         let affine = boundary::eliminate(mesh, &dofs, &edges)?;
-        let local = if num_contact_edges > 0 {
-            boundary::eliminate_local(mesh, &dofs, &edges)
-                .and_then(|(a, maps)| LocalContact::new(a, maps))
-                .ok()
-                .filter(|l| l.affine.num_masters == affine.num_masters && l.affine.anchor == affine.anchor)
+        let (local, local_fallback) = if num_contact_edges > 0 {
+            match boundary::eliminate_local(mesh, &dofs, &edges).and_then(|(a, maps)| LocalContact::new(a, maps)) {
+                Ok(l) => match base_difference(&l.affine, &affine) {
+                    None => (Some(l), None),
+                    Some(why) => (None, Some(why)),
+                },
+                Err(Error::Formulation { message, hint }) => (None, Some(format!("{message}; {hint}"))),
+                Err(e) => (None, Some(e.to_string())),
+            }
         } else {
-            None
+            (None, None)
         };
         Ok(DualSystem {
             dofs,
@@ -206,6 +242,7 @@ impl DualSystem {
             edges,
             affine,
             local,
+            local_fallback,
             material: *material,
             body_force: data.body_force.clone(),
         })

@@ -147,7 +147,7 @@ impl<'s> ElasticityProblem<'s> {
             .iter()
             .filter_map(|d| if let DirichletTarget::Point(p) = d.target { Some(p) } else { None })
             .collect();
-        let system = DualSystem::new(&self.mesh, &self.material, &data).map_err(|e| match e {
+        let mut system = DualSystem::new(&self.mesh, &self.material, &data).map_err(|e| match e {
             // Without its point supports the body cannot balance its loads: they carry force.
             Error::NoEquilibrium(m) if !points.is_empty() => Error::Formulation {
                 message: format!(
@@ -160,6 +160,10 @@ impl<'s> ElasticityProblem<'s> {
             },
             other => other,
         })?;
+        if system.local.is_some() && !crate::dual::condensation::local_from_options(self.session)? {
+            system.local = None;
+            system.local_fallback = Some(format!("{} false", crate::dual::condensation::LOCAL_OPTION));
+        }
         let constraints = self.scene.dual_constraints;
         // Alone, the dual solve is the run's main solve and reads the unprefixed PETSc options;
         // after a primal solve (an estimate), those are the primal's, and the dual reads its

@@ -155,6 +155,9 @@ impl ElasticityProblem<'_> {
         }
         let status = condensed.problem.status_at(&force_check, &answer.displacement_check)?;
         let mut notes = answer.solution.notes.clone();
+        if let (Condensation::Schur, Some(reason)) = (condensation, &system.local_fallback) {
+            notes.push(local_fallback_note(reason));
+        }
         notes.push(format!(
             "forces recomputed from the stress field agree to {force_mismatch:.1e}; equilibrium of the contact forces \
              {equilibrium:.1e}"
@@ -268,6 +271,16 @@ impl ElasticityProblem<'_> {
         let admissible = terms.all_nonnegative(1e-6);
         Ok(Some((terms, admissible)))
     }
+}
+
+/// The note of a Schur condensation that could not take the local parametrisation of the
+/// contact part (`reason`: [`DualSystem::local_fallback`]).
+fn local_fallback_note(reason: &str) -> String {
+    format!(
+        "local parametrisation of the contact part not used ({}): the contact forces are unknowns instead, \
+         a dense boundary block (slower assembly and factorisation); the answer is unaffected",
+        reason.strip_prefix("dual formulation: ").unwrap_or(reason)
+    )
 }
 
 /// With the implicit storage of `W` only the solvers that need products work: Uzawa (Uzawa on

@@ -49,6 +49,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dense_lu_solves_and_reports_zero_pivots", dense_lu_solves_and_reports_zero_pivots),
     ("dual_patch_test_all_tractions_exact", dual::dual_patch_test_all_tractions_exact),
     ("dual_contact_patch_tests_exact", dual_contact::dual_contact_patch_tests_exact),
+    ("dual_contact_patch_on_a_wall", dual_contact::dual_contact_patch_on_a_wall),
+    ("dual_contact_local_fallback_agrees", dual_contact::dual_contact_local_fallback_agrees),
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
     ("dual_contact_condensations_agree", dual_contact::dual_contact_condensations_agree),
