@@ -81,6 +81,12 @@ pub enum Error {
     #[error("{method}: {message}")]
     Factorization { method: &'static str, message: String },
 
+    /// Under MPI: this rank stopped because another rank failed at the same step (before a
+    /// collective operation every rank must enter; see `petsc::Comm::agree`). The failing rank
+    /// returns its own error, and the CLI prints it.
+    #[error("{during} failed on MPI rank {rank} (its error is reported by that rank); every rank stopped")]
+    OtherRank { rank: usize, during: &'static str },
+
     /// Bad command-line usage.
     #[error("{0}")]
     Usage(String),

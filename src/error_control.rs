@@ -38,9 +38,9 @@ pub fn adapt_command(session: &Session, args: RunArgs) -> Result<(), Error> {
     }
     // Checked before anything is removed or solved.
     adapt::driver::mesh_request(&scene, "adapt")?;
-    if session.rank() == 0 {
-        adapt::driver::clear_previous_adapt(&out)?;
-    }
+    // Rank 0 alone clears; agreed before the ranks go on together.
+    let cleared = if session.rank() == 0 { adapt::driver::clear_previous_adapt(&out).map(|_| ()) } else { Ok(()) };
+    session.agree(cleared, "clearing the previous adaptation")?;
     if loud {
         eprintln!(
             "signorini {} adapt — {} ({}): target {:.3} %, at most {} step(s)",

@@ -164,15 +164,25 @@ fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Re
     };
     let rank = session.rank();
     let result = job(&session, parsed);
+    // Under MPI, rank 0 says why the run failed, and so does the lowest rank whose failure was
+    // its own when rank 0's was not (rank 0 then has Error::OtherRank, naming that rank). An
+    // error every rank met alike (a scene mistake) is printed once. Every rank gets here: the
+    // steps whose failure can differ between ranks are agreed (Session::agree).
+    let own_failure = matches!(&result, Err(e) if !matches!(e, Error::OtherRank { .. }));
+    let reporter = session.world().first_failure(own_failure).ok().flatten();
     drop(session); // PetscFinalize before exit
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if rank != 0 => {
+            if reporter == Some(rank) {
+                eprintln!("error (MPI rank {rank}): {e}");
+            }
+            ExitCode::FAILURE
+        }
         Err(e) => {
-            if rank == 0 {
-                eprintln!("error: {e}");
-                if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-                    eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
-                }
+            eprintln!("error: {e}");
+            if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
             }
             ExitCode::FAILURE
         }
@@ -182,8 +192,10 @@ fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Re
 fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
     // Nothing stale after a failure: the previous results go before anything is read or solved
     // (with --out known now; else once the scene says where its results go).
+    // Rank 0 alone clears: the ranks agree on its outcome before they go on together.
     let clear = |out: &std::path::Path| -> Result<(), Error> {
-        if session.rank() == 0 && !signorini::output::clear_previous_run(out)?.is_empty() {
+        let cleared = if session.rank() == 0 { signorini::output::clear_previous_run(out) } else { Ok(Vec::new()) };
+        if !session.agree(cleared, "clearing the previous results")?.is_empty() {
             *REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()) = Some(out.to_path_buf());
         }
         Ok(())

@@ -210,6 +210,38 @@ fn mpirun_two_ranks_contact_equals_serial() {
     }
 }
 
+/// A failure on rank 0 alone stops every rank with an error, within a timeout, instead of
+/// leaving rank 1 waiting in the next collective operation: clearing the previous results
+/// fails (a directory named solution.vtu in the output directory), or writing them fails (the
+/// output directory is a file). Without the agreement both runs hang until the timeout.
+#[test]
+fn mpirun_two_ranks_failure_on_rank_0_stops_every_rank() {
+    let path = scene("examples/scenes/square_block.toml");
+    let blocked = scratch("mpi-clear-fails");
+    std::fs::create_dir_all(blocked.join("solution.vtu")).unwrap();
+    let file = scratch("mpi-write-fails").join("a-file");
+    std::fs::write(&file, "not a directory").unwrap();
+    for (out_dir, expected) in [(&blocked, "removing the previous run's file"), (&file, "creating directory")] {
+        let mut timed = Command::new("timeout");
+        let mpirun = mpirun_two();
+        timed.arg("120").arg(mpirun.get_program()).args(mpirun.get_args());
+        for (key, value) in mpirun.get_envs() {
+            if let Some(value) = value {
+                timed.env(key, value);
+            }
+        }
+        let started = std::time::Instant::now();
+        let out = timed.arg("run").arg(&path).args(["--quiet", "--out"]).arg(out_dir).output().expect("mpirun");
+        let seconds = started.elapsed().as_secs_f64();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(124), "{expected}: timed out after {seconds:.0} s (a hang)\n{stderr}");
+        assert!(!out.status.success(), "{expected}: the run succeeded");
+        // Rank 0 reports its own error once; rank 1 stopped without an error of its own.
+        assert_eq!(stderr.matches(expected).count(), 1, "{expected}:\n{stderr}");
+        assert!(!stderr.contains("MPI rank 1"), "{expected}:\n{stderr}");
+    }
+}
+
 /// A block pushed sideways against a wall body, every body held by its Dirichlet conditions:
 /// the slave face (the block's right side) runs across the ranks' node blocks, and so do the
 /// master nodes.

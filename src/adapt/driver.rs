@@ -448,11 +448,16 @@ pub fn adapt_inspecting(
 
         let start = Instant::now();
         let dir = out.join(format!("step_{k}"));
-        if session.rank() == 0 {
-            problem.write_solution_vtu(&dir.join("solution.vtu"), &[("target_size", &targets)])?;
-            output::write_json(&dir.join("report.json"), &problem.report()?)?;
+        // Rank 0 writes; its outcome is agreed before the report (collective).
+        let wrote = if session.rank() == 0 {
+            problem.write_solution_vtu(&dir.join("solution.vtu"), &[("target_size", &targets)])
         } else {
-            problem.report()?; // collective
+            Ok(())
+        };
+        session.agree(wrote, "writing an adaptation step's solution")?;
+        let step_report = problem.report()?; // collective
+        if session.rank() == 0 {
+            output::write_json(&dir.join("report.json"), &step_report)?;
         }
         seconds.output = start.elapsed().as_secs_f64();
 
@@ -490,7 +495,9 @@ pub fn adapt_inspecting(
         let mut remesh_failure = None;
         if !reached && !last && !too_many {
             let start = Instant::now();
-            match remesh(&problem.mesh, &request, &targets) {
+            // Every rank remeshes (Gmsh): agreed, so that a failure on one rank ends every
+            // rank's loop here instead of leaving the others in the next step's setup.
+            match session.agree(remesh(&problem.mesh, &request, &targets), "remeshing") {
                 Ok(mesh) => next = Some(mesh),
                 Err(e) => remesh_failure = Some(e),
             }

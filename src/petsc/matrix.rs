@@ -32,56 +32,63 @@ impl<'s> Matrix<'s> {
         block_size: usize,
         symmetric_positive_definite: bool,
     ) -> Result<Self> {
-        let nrows = indptr.len().checked_sub(1).ok_or_else(|| Error::PetscUsage("CSR indptr is empty".into()))?;
-        if indptr[0] != 0 || indptr[nrows] != indices.len() || indices.len() != values.len() {
-            return Err(Error::PetscUsage(format!(
-                "CSR arrays disagree: indptr ends at {}, {} column indices, {} values",
-                indptr[nrows],
-                indices.len(),
-                values.len()
-            )));
-        }
-        if first_row + nrows > global {
-            return Err(Error::PetscUsage(format!(
-                "rows {first_row}..{} exceed the matrix order {global}",
-                first_row + nrows
-            )));
-        }
-        if block_size == 0 || nrows % block_size != 0 || !first_row.is_multiple_of(block_size) {
-            return Err(Error::PetscUsage(format!(
-                "owned rows {first_row}..{} are not aligned on the block size {block_size}",
-                first_row + nrows
-            )));
-        }
+        // The rows are checked on each rank; the outcome is agreed before MatCreate (collective),
+        // so that a rank whose rows are wrong does not leave the others waiting in it.
+        let checked = (|| -> Result<(usize, Vec<sys::PetscInt>, Vec<sys::PetscInt>)> {
+            let nrows = indptr.len().checked_sub(1).ok_or_else(|| Error::PetscUsage("CSR indptr is empty".into()))?;
+            if indptr[0] != 0 || indptr[nrows] != indices.len() || indices.len() != values.len() {
+                return Err(Error::PetscUsage(format!(
+                    "CSR arrays disagree: indptr ends at {}, {} column indices, {} values",
+                    indptr[nrows],
+                    indices.len(),
+                    values.len()
+                )));
+            }
+            if first_row + nrows > global {
+                return Err(Error::PetscUsage(format!(
+                    "rows {first_row}..{} exceed the matrix order {global}",
+                    first_row + nrows
+                )));
+            }
+            if block_size == 0 || nrows % block_size != 0 || !first_row.is_multiple_of(block_size) {
+                return Err(Error::PetscUsage(format!(
+                    "owned rows {first_row}..{} are not aligned on the block size {block_size}",
+                    first_row + nrows
+                )));
+            }
+            let owned = first_row..first_row + nrows;
+            let mut d_nnz = Vec::with_capacity(nrows);
+            let mut o_nnz = Vec::with_capacity(nrows);
+            for r in 0..nrows {
+                let cols = &indices[indptr[r]..indptr[r + 1]];
+                if indptr[r + 1] < indptr[r] {
+                    return Err(Error::PetscUsage(format!("CSR row {} has a negative length", first_row + r)));
+                }
+                let mut d = 0;
+                for (k, &c) in cols.iter().enumerate() {
+                    if c >= global {
+                        return Err(Error::PetscUsage(format!(
+                            "row {}: column {c} out of range (order {global})",
+                            first_row + r
+                        )));
+                    }
+                    if k > 0 && cols[k - 1] >= c {
+                        return Err(Error::PetscUsage(format!(
+                            "row {}: column indices not strictly increasing",
+                            first_row + r
+                        )));
+                    }
+                    if owned.contains(&c) {
+                        d += 1;
+                    }
+                }
+                d_nnz.push(to_petsc_int(d, "row length")?);
+                o_nnz.push(to_petsc_int(cols.len() - d, "row length")?);
+            }
+            Ok((nrows, d_nnz, o_nnz))
+        })();
+        let (nrows, d_nnz, o_nnz) = comm.agree(checked, "checking a matrix's rows")?;
         let owned = first_row..first_row + nrows;
-        let mut d_nnz = Vec::with_capacity(nrows);
-        let mut o_nnz = Vec::with_capacity(nrows);
-        for r in 0..nrows {
-            let cols = &indices[indptr[r]..indptr[r + 1]];
-            if indptr[r + 1] < indptr[r] {
-                return Err(Error::PetscUsage(format!("CSR row {} has a negative length", first_row + r)));
-            }
-            let mut d = 0;
-            for (k, &c) in cols.iter().enumerate() {
-                if c >= global {
-                    return Err(Error::PetscUsage(format!(
-                        "row {}: column {c} out of range (order {global})",
-                        first_row + r
-                    )));
-                }
-                if k > 0 && cols[k - 1] >= c {
-                    return Err(Error::PetscUsage(format!(
-                        "row {}: column indices not strictly increasing",
-                        first_row + r
-                    )));
-                }
-                if owned.contains(&c) {
-                    d += 1;
-                }
-            }
-            d_nnz.push(to_petsc_int(d, "row length")?);
-            o_nnz.push(to_petsc_int(cols.len() - d, "row length")?);
-        }
         let mut raw: sys::Mat = std::ptr::null_mut();
         petsc!(MatCreate(comm.raw(), &mut raw))?;
         let m = Matrix { raw, global, range: owned.clone(), _session: PhantomData };
@@ -95,12 +102,16 @@ impl<'s> Matrix<'s> {
         petsc!(MatSetOption(m.raw, sys::MatOption::MAT_NEW_NONZERO_ALLOCATION_ERR, sys::PetscBool::PETSC_TRUE))?;
         let (mut lo, mut hi): (sys::PetscInt, sys::PetscInt) = (0, 0);
         petsc!(MatGetOwnershipRange(m.raw, &mut lo, &mut hi))?;
-        if lo as usize != owned.start || hi as usize != owned.end {
-            return Err(Error::PetscUsage(format!(
+        let layout = if lo as usize != owned.start || hi as usize != owned.end {
+            Err(Error::PetscUsage(format!(
                 "this rank passed rows {}..{} but PETSc's layout gives it {lo}..{hi}: ranks must own consecutive blocks in rank order",
                 owned.start, owned.end
-            )));
-        }
+            )))
+        } else {
+            Ok(())
+        };
+        // Agreed before the assembly (collective).
+        comm.agree(layout, "checking a matrix's row layout")?;
         let cols32: Vec<sys::PetscInt> = indices.iter().map(|&c| c as sys::PetscInt).collect();
         for r in 0..nrows {
             let row = (first_row + r) as sys::PetscInt;

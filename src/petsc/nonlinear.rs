@@ -43,10 +43,13 @@
 //! PETSc's generic code. Under MPI every callback's outcome is agreed over the ranks (one
 //! reduction per callback): a failure on one rank makes every rank's callback fail, so that
 //! SNES stops everywhere at the same point instead of leaving the other ranks waiting in its
-//! next collective operation (a failure before a collective operation inside a callback can
-//! still leave the others waiting there). The context pointer given to PETSc points to a box that lives on
-//! `solve`'s stack frame until the SNES, which holds the pointer, is destroyed (a guard
-//! destroys it before the box is dropped). A negative SNES reason becomes
+//! next collective operation ([`super::Comm::first_failure`]; the ranks that did not fail
+//! return [`Error::OtherRank`]). A system's callback that itself calls a collective operation
+//! (a reduction) must not return early before it on one rank only: the others would wait there
+//! (the full-space contact system computes its local quantities, which cannot fail, before its
+//! reductions, and fails only after them, on every rank alike). The context pointer given to
+//! PETSc points to a box that lives on `solve`'s stack frame until the SNES, which holds the
+//! pointer, is destroyed (a guard destroys it before the box is dropped). A negative SNES reason becomes
 //! [`Error::SolverDiverged`] with the method that ran and the options to try.
 use std::ffi::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -514,13 +517,9 @@ fn guarded(ctx: *mut c_void, body: impl FnOnce(&mut Context) -> Result<()>) -> s
     // Every rank returns the same verdict: a failure on one rank alone would leave the others
     // waiting in SNES's next collective operation.
     if context.ranks > 1 {
-        let failed = if code == 0 { 0.0 } else { 1.0 };
-        match context.comm.max(&[failed]) {
-            Ok(any) if any[0] > 0.0 && code == 0 => {
-                return context.keep(Error::PetscUsage(
-                    "a nonlinear-system callback failed on another MPI rank (its error is in that rank's output)"
-                        .into(),
-                ))
+        match context.comm.first_failure(code != 0) {
+            Ok(Some(rank)) if code == 0 => {
+                return context.keep(Error::OtherRank { rank, during: "a nonlinear-system callback" })
             }
             Ok(_) => {}
             Err(e) => return context.keep(e),

@@ -20,7 +20,10 @@
 //! Parallel runs (`mpirun -n N`): every rank holds the whole mesh (2D meshes are small next to
 //! their matrices) and assembles only the rows of the nodes it owns — a contiguous block of
 //! node numbers, so PETSc's row layout is our node layout. The solution is gathered on every
-//! rank for post-processing; rank 0 writes the files.
+//! rank for post-processing; rank 0 writes the files. A step that can fail on one rank alone
+//! (building the mesh, checks of the owned rows, rank 0's files) is agreed over the ranks
+//! before the next collective operation ([`Session::agree`]): every rank returns an error, the
+//! failing one its own and the others [`Error::OtherRank`], instead of waiting forever.
 use std::ops::Range;
 use std::path::Path;
 
@@ -201,14 +204,17 @@ impl<'s> ElasticityProblem<'s> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
         let mut timings = Timings::default();
+        // Every rank builds the mesh itself (Gmsh, the mesh cache, a file): agreed, so that a
+        // rank that failed alone does not leave the others waiting in the next collective.
         if scene.has_body_tables() {
             let model = progress::in_phase(&*progress, Phase::Mesh, || {
-                timings.time("mesh", || scene::BodiesModel::build(&scene))
+                timings.time("mesh", || session.agree(scene::BodiesModel::build(&scene), "building the meshes"))
             })?;
             return Self::setup_on_bodies(session, scene, model, timings, progress);
         }
-        let (mesh, file_order, mesh_cache) =
-            progress::in_phase(&*progress, Phase::Mesh, || timings.time("mesh", || build_mesh(&scene)))?;
+        let (mesh, file_order, mesh_cache) = progress::in_phase(&*progress, Phase::Mesh, || {
+            timings.time("mesh", || session.agree(build_mesh(&scene), "building the mesh"))
+        })?;
         let mut problem = Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)?;
         problem.mesh_cache = mesh_cache;
         Ok(problem)
@@ -411,11 +417,17 @@ impl<'s> ElasticityProblem<'s> {
         }
         if let Some(contact) = &mut self.contact {
             let m = &mut system.matrix;
-            contact.add_springs(self.session, m.first_row, &m.indptr, &m.indices, &mut m.values)?;
-            if contact.spec.solver == ContactSolverSpec::SnesVi {
-                let n = self.mesh.num_nodes();
-                contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)?;
-            }
+            // The springs (after their one reduction) and the rotation check this rank's rows:
+            // agreed before the matrix (collective) is built.
+            let prepared =
+                contact.add_springs(self.session, m.first_row, &m.indptr, &m.indices, &mut m.values).and_then(|()| {
+                    if contact.spec.solver != ContactSolverSpec::SnesVi {
+                        return Ok(());
+                    }
+                    let n = self.mesh.num_nodes();
+                    contact.rotate_to_frames(n, m.first_row, &m.indptr, &m.indices, &mut m.values, &mut system.rhs)
+                });
+            self.session.agree(prepared, "preparing the contact rows")?;
         }
         self.system = Some(self.to_petsc(&system)?);
         self.timings.add("assemble", start.elapsed().as_secs_f64());

@@ -1,5 +1,7 @@
 //! The result files of a run: `solution.vtu` and `report.json`, and for contact
 //! `contact.csv`, `contact.svg` and `convergence.svg` (rank 0, each atomically, all or none).
+//! Under MPI the outcome of rank 0's writing is agreed over the ranks before the report, whose
+//! making is collective: a failed write stops every rank.
 use std::path::{Path, PathBuf};
 
 use super::{contact_curve, ContactCurvePoint, ElasticityProblem, Phase, Report};
@@ -188,7 +190,10 @@ impl ElasticityProblem<'_> {
             }
             Ok(())
         };
-        if let Err(e) = files(&mut written) {
+        // Rank 0 alone writes: agreed before the report (collective), so that its failure stops
+        // every rank instead of leaving the others waiting there.
+        let wrote = files(&mut written);
+        if let Err(e) = self.session.agree(wrote, "writing the results") {
             for path in &written {
                 let _ = std::fs::remove_file(path);
             }
