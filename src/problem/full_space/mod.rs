@@ -182,10 +182,9 @@
 //! solution.
 mod layout;
 mod mixed_system;
+mod pattern;
 
 use std::ops::Range;
-
-use std::collections::HashMap;
 
 use nalgebra::{DMatrix, DVector};
 
@@ -201,9 +200,8 @@ use crate::mesh::Mesh;
 use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
 use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
 pub use layout::{dof_ranges, MixedLayout};
-use mixed_system::{
-    choose_pins, dof_rigid_row, evaluate, status_of, Floating, Law, MixedSystem, OwnedPoint, RigidCheck,
-};
+use mixed_system::{choose_pins, dof_rigid_row, evaluate, status_of, Floating, Law, MixedSystem, RigidCheck};
+use pattern::{augmentation, augmentation_range, check_contact_blocks, spring_dofs_of, Pattern, PatternInput, Pieces};
 
 /// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
 pub const OPTIONS_PREFIX: &str = "contact_";
@@ -288,179 +286,48 @@ impl ContactSetup {
         let per_point = if law.frictional() { 2 } else { 1 };
         let k = &system.matrix;
         let owned_dofs =
-            dof_ranges.get(rank).cloned().ok_or_else(|| Error::PetscUsage(format!("no dof range for rank {rank}")))?;
-        if k.first_row != owned_dofs.start || k.num_rows() != owned_dofs.len() || system.rhs.len() != owned_dofs.len() {
-            return Err(Error::PetscUsage(format!(
-                "full-space contact: the stiffness rows {}..{} differ from this rank's dofs {owned_dofs:?}",
-                k.first_row,
-                k.first_row + k.num_rows()
-            )));
-        }
+            dof_ranges.get(rank).cloned().ok_or_else(|| Error::PetscUsage(format!("no dof range for rank {rank}")));
+        let owned_dofs = session.agree(
+            owned_dofs.and_then(|owned| {
+                if k.first_row != owned.start || k.num_rows() != owned.len() || system.rhs.len() != owned.len() {
+                    return Err(Error::PetscUsage(format!(
+                        "full-space contact: the stiffness rows {}..{} differ from this rank's dofs {owned:?}",
+                        k.first_row,
+                        k.first_row + k.num_rows()
+                    )));
+                }
+                Ok(owned)
+            }),
+            "the full-space contact's rows",
+        )?;
         let layout = MixedLayout::new(dof_ranges, &b.nodes, per_point);
         let block = layout.owned(rank);
         let my_points = layout.points(rank);
         let num_u = owned_dofs.len();
-
-        // The body's centre and diameter (rigid-motion check, tangential augmentation).
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in &mesh.nodes {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-        let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-        let mut extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-        if !(extent.is_finite() && extent > 0.0) {
-            extent = 1.0;
-        }
         let coupled = b.is_coupled();
-        // Rigid motions: 3 per connected piece of the mesh with contact pairs (each body moves
-        // on its own), 3 for the whole mesh otherwise.
-        let (piece_of, pieces) =
-            if coupled { crate::mesh::pieces::node_pieces(mesh) } else { (vec![0; mesh.num_nodes()], 1) };
-        // Augmentation 2 E' w_i / L (module documentation), with two bodies those of the point's
-        // two sides in series, 2 w_i / (L_s/E'_s + L_m/E'_m): every rank knows every weight.
-        let (modulus, diameter) = piece_moduli_and_diameters(mesh, materials, &piece_of, pieces, extent);
-        let compliance = |node: usize| diameter[piece_of[node]] / modulus[piece_of[node]];
-        let rho_of: Vec<f64> = (0..m)
-            .map(|i| {
-                let other = b.coupled_to(i).first().map_or(0.0, |c| compliance(c.node));
-                AUGMENTATION * b.weight[i] / (compliance(b.nodes[i]) + other)
-            })
-            .collect();
-        let augmentation = rho_of
-            .iter()
-            .zip(&b.weight)
-            .filter(|(_, &w)| w > 0.0)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), (r, w)| (lo.min(r / w), hi.max(r / w)));
-        // The diagonal blocks of K at the owned contact nodes must be positive definite.
+        let pieces = Pieces::of(mesh, coupled);
+        let rho_of = augmentation(b, mesh, materials, &pieces);
         let rho = |i: usize| [rho_of[i]; 2];
-        // Every rank takes the same decision (the first bad node of any rank): an error
-        // returned by one rank alone would leave the others waiting in the solver's setup.
-        let mut bad_node = f64::INFINITY;
-        for i in my_points.clone() {
-            let node = b.nodes[i];
-            let kb = [
-                [k.get(2 * node, 2 * node), k.get(2 * node, 2 * node + 1)],
-                [k.get(2 * node + 1, 2 * node), k.get(2 * node + 1, 2 * node + 1)],
-            ];
-            let quad =
-                |v: [f64; 2]| v[0] * (kb[0][0] * v[0] + kb[0][1] * v[1]) + v[1] * (kb[1][0] * v[0] + kb[1][1] * v[1]);
-            // A mortar point's slave entries are zero in a prescribed component (mortar/points.rs).
-            let positive = |v: [f64; 2]| (coupled && v == [0.0, 0.0]) || quad(v) > 0.0;
-            if !(positive(b.normal[i]) && positive(b.tangent[i]) && rho(i)[0] > 0.0) {
-                bad_node = node as f64;
-                break;
-            }
-        }
-        let bad_node = comm.min(&[bad_node])?[0];
-        if bad_node.is_finite() {
-            return Err(Error::mesh(
-                format!("node {bad_node} of contact part '{}'", self.spec.part),
-                "its stiffness diagonal block is not positive definite: the node belongs to no element",
-            ));
-        }
-
-        // Each point's rows of B (every dof they touch: the point's node and, for a contact
-        // pair, the master nodes), and for each dof the points whose rows touch it (the −Bᵀ
-        // entries of the force rows).
-        let b_rows: Vec<Vec<(usize, [f64; 2])>> = (0..m).map(|i| point_row(b, i)).collect();
-        let mut touching: HashMap<usize, Vec<(usize, [f64; 2])>> = HashMap::new();
-        for (i, entries) in b_rows.iter().enumerate() {
-            for &(dof, coef) in entries {
-                touching.entry(dof).or_default().push((i, coef));
-            }
-        }
-        // Stabilisation springs (Jacobian only, while the contact leaves a rigid motion free):
-        // at the free dofs of the contact nodes, and with contact pairs at every free dof B
-        // touches (either side may be the body the contact holds).
-        let spring_set: std::collections::HashSet<usize> = self.spring_dofs.iter().copied().collect();
-        let spring_at = |dof: usize| -> bool {
-            if coupled {
-                return spring_set.contains(&dof);
-            }
-            match b.nodes.binary_search(&(dof / 2)) {
-                Ok(i) => b.prescribed[i].is_none_or(|(pc, _)| pc != dof % 2),
-                Err(_) => false,
-            }
-        };
-
-        // The pattern of the owned rows: force rows (K, −Bᵀ), then the contact rows.
-        let mut indptr = vec![0usize];
-        let mut indices: Vec<usize> = Vec::new();
-        let mut base: Vec<f64> = Vec::new();
-        let mut spring_positions = Vec::new();
-        let mut row: Vec<(usize, f64)> = Vec::new();
-        for r in 0..num_u {
-            let dof = owned_dofs.start + r;
-            let (cols, vals) = k.row(dof);
-            row.clear();
-            row.extend(cols.iter().zip(vals).map(|(&c, &v)| (layout.u(c), v)));
-            for &(i, coef) in touching.get(&dof).map_or(&[][..], |v| v.as_slice()) {
-                row.push((layout.lambda(i, 0), -coef[0]));
-                if per_point == 2 {
-                    row.push((layout.lambda(i, 1), -coef[1]));
-                }
-            }
-            row.sort_unstable_by_key(|e| e.0);
-            // No spring on a prescribed dof: its Dirichlet row stays as it is.
-            if spring_at(dof) {
-                let diagonal = layout.u(dof);
-                let at = row.iter().position(|e| e.0 == diagonal).ok_or_else(|| {
-                    Error::PetscUsage(format!("contact node {}: no diagonal stiffness entry in row {dof}", dof / 2))
-                })?;
-                spring_positions.push(indices.len() + at);
-            }
-            indices.extend(row.iter().map(|e| e.0));
-            base.extend(row.iter().map(|e| e.1));
-            indptr.push(indices.len());
-        }
-        let scaled = |p: [f64; 2]| [(p[0] - centre[0]) / extent, (p[1] - centre[1]) / extent];
-        let rigid_of = |entries: &[(usize, [f64; 2])], k: usize| -> DVector<f64> {
-            let mut r = DVector::<f64>::zeros(3 * pieces);
-            for &(dof, coef) in entries {
-                let node = dof / 2;
-                let v = coef[k] * dof_rigid_row(dof, scaled(mesh.nodes[node]));
-                for a in 0..3 {
-                    r[3 * piece_of[node] + a] += v[a];
-                }
-            }
-            r
-        };
-        let mut points = Vec::with_capacity(my_points.len());
-        for i in my_points.clone() {
-            let entries = &b_rows[i];
-            // The row's columns in the order the Jacobian fills them (the dofs of `entries`,
-            // then the multipliers), and where each sits in the stored, increasing row: under
-            // MPI a master dof of a later rank comes after this rank's multipliers.
-            let columns: Vec<usize> = entries
-                .iter()
-                .map(|&(dof, _)| layout.u(dof))
-                .chain((0..per_point).map(|c| layout.lambda(i, c)))
-                .collect();
-            let mut sorted = columns.clone();
-            sorted.sort_unstable();
-            let slots: Vec<usize> = columns.iter().map(|c| sorted.partition_point(|s| s < c)).collect();
-            let start = indices.len();
-            for _ in 0..per_point {
-                indices.extend(&sorted);
-                base.extend(std::iter::repeat_n(0.0, sorted.len()));
-                indptr.push(indices.len());
-            }
-            points.push(OwnedPoint {
-                index: i,
-                coefficients: entries.iter().map(|e| e.1).collect(),
-                positions: Vec::new(),
-                slots,
-                rigid: [rigid_of(entries, 0), rigid_of(entries, 1)],
-                gap: b.gap[i],
-                rho: rho(i),
-                lambda: layout.lambda(i, 0) - block.start,
-                row: layout.lambda(i, 0) - block.start,
-                start,
-            });
-        }
+        check_contact_blocks(comm, k, b, my_points.clone(), &rho_of, &self.spec.part)?;
+        let spring_at = spring_dofs_of(b, &self.spring_dofs);
+        let pattern = Pattern::new(
+            k,
+            b,
+            mesh,
+            &pieces,
+            PatternInput {
+                layout: &layout,
+                owned_dofs: owned_dofs.clone(),
+                per_point,
+                my_points,
+                block_start: block.start,
+                rho: &rho_of,
+                spring_at: &spring_at,
+            },
+        );
+        let Pattern { indptr, indices, base, spring_positions, mut points } =
+            session.agree(pattern, "the full-space contact's pattern")?;
+        let scaled = |p: [f64; 2]| pieces.scaled(p);
         let mut solver =
             NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
         // Where each point's displacement columns sit in the ghosted iterate.
@@ -469,12 +336,12 @@ impl ContactSetup {
                 p.slots[..p.coefficients.len()].iter().map(|&s| solver.local_columns()[p.start + s]).collect();
         }
         let rigid = self.free_motions.as_ref().map(|_| {
-            let mut gram = DMatrix::<f64>::zeros(3 * pieces, 3 * pieces);
+            let mut gram = DMatrix::<f64>::zeros(3 * pieces.count, 3 * pieces.count);
             for (dof, _) in constraints.fixed() {
                 if let Some(&p) = mesh.nodes.get(dof / 2) {
                     let r = dof_rigid_row(dof, scaled(p));
-                    let at = 3 * piece_of[dof / 2];
-                    let mut rows = DVector::<f64>::zeros(3 * pieces);
+                    let at = 3 * pieces.piece_of[dof / 2];
+                    let mut rows = DVector::<f64>::zeros(3 * pieces.count);
                     rows.rows_mut(at, 3).copy_from(&r);
                     gram += &rows * rows.transpose();
                 }
@@ -503,14 +370,14 @@ impl ContactSetup {
             (Some(check), true) => {
                 let candidates = schur_dofs(b);
                 let fixed = |dof: usize| constraints.is_fixed(dof);
-                match choose_pins(&candidates, mesh, &piece_of, &fixed, &scaled, &check.dirichlet) {
+                match choose_pins(&candidates, mesh, &pieces.piece_of, &fixed, &scaled, &check.dirichlet) {
                     Some(pins) => {
                         progress.note("contact: factorising K with springs at pinned contact dofs");
                         // The rigid motions over the dofs the rows touch (zero on prescribed ones).
-                        let motions = DMatrix::from_fn(candidates.len(), 3 * pieces, |r, c| {
+                        let motions = DMatrix::from_fn(candidates.len(), 3 * pieces.count, |r, c| {
                             let dof = candidates[r];
                             let node = dof / 2;
-                            if c / 3 != piece_of[node] || constraints.is_fixed(dof) {
+                            if c / 3 != pieces.piece_of[node] || constraints.is_fixed(dof) {
                                 return 0.0;
                             }
                             dof_rigid_row(dof, scaled(mesh.nodes[node]))[c % 3]
@@ -659,18 +526,19 @@ impl ContactSetup {
                 status_of(&law, &e)
             })
             .collect();
+        let span = augmentation_range(&rho_of, &b.weight);
         let mut notes = vec![
             run.converged_reason.clone(),
             if coupled {
                 format!(
                     "augmentation ρ_i = 2 w_i / (L_s/E'_s + L_m/E'_m) = {:.4e} to {:.4e} · w_i (the point's two bodies in \
                      series: E' plane modulus, L body diameter; w_i point weight)",
-                    augmentation.0, augmentation.1
+                    span.0, span.1
                 )
             } else {
                 format!(
                     "augmentation ρ_i = 2 E' w_i / L = {:.4e} · w_i (E' plane modulus, w_i point weight, L body diameter)",
-                    augmentation.1
+                    span.1
                 )
             },
         ];
@@ -777,58 +645,6 @@ impl ContactSetup {
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
     }
-}
-
-/// Each piece's (body's) plane modulus (the largest of its cells') and diameter (the larger
-/// side of its bounding box; `fallback` for a degenerate one).
-fn piece_moduli_and_diameters(
-    mesh: &Mesh,
-    materials: &CellMaterials,
-    piece_of: &[usize],
-    pieces: usize,
-    fallback: f64,
-) -> (Vec<f64>, Vec<f64>) {
-    let per_cell = mesh.order.nodes_per_cell();
-    let mut modulus = vec![0.0f64; pieces];
-    for c in 0..mesh.num_cells() {
-        let piece = piece_of[mesh.cells[per_cell * c]];
-        modulus[piece] = modulus[piece].max(materials.of(c).plane_modulus());
-    }
-    let mut lo = vec![[f64::INFINITY; 2]; pieces];
-    let mut hi = vec![[f64::NEG_INFINITY; 2]; pieces];
-    for (k, p) in mesh.nodes.iter().enumerate() {
-        let piece = piece_of[k];
-        for c in 0..2 {
-            lo[piece][c] = lo[piece][c].min(p[c]);
-            hi[piece][c] = hi[piece][c].max(p[c]);
-        }
-    }
-    let diameter = (0..pieces)
-        .map(|q| {
-            let d = (hi[q][0] - lo[q][0]).max(hi[q][1] - lo[q][1]);
-            if d.is_finite() && d > 0.0 {
-                d
-            } else {
-                fallback
-            }
-        })
-        .collect();
-    (modulus, diameter)
-}
-
-/// The entries of point `i`'s rows of `B`: each dof any of them touches, with its coefficients
-/// in the normal and the tangential row (duplicates summed), by increasing dof.
-fn point_row(b: &crate::contact::boundary::ContactBoundary, i: usize) -> Vec<(usize, [f64; 2])> {
-    let mut entries: Vec<(usize, [f64; 2])> = Vec::new();
-    for k in 0..2 {
-        for (dof, v) in b.b_row(2 * i + k) {
-            match entries.binary_search_by_key(&dof, |e| e.0) {
-                Ok(at) => entries[at].1[k] += v,
-                Err(at) => entries.insert(at, (dof, if k == 0 { [v, 0.0] } else { [0.0, v] })),
-            }
-        }
-    }
-    entries
 }
 
 fn stats_of(run: &NonlinearSolve, equilibrium: f64, seconds: f64) -> SolveStats {
