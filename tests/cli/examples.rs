@@ -1,0 +1,55 @@
+//! The example programs (built by `cargo test`) run with small settings.
+
+use crate::scratch;
+use std::path::PathBuf;
+use std::process::Command;
+
+/// The examples, built by `cargo test`, run with small settings.
+fn example_binary(name: &str) -> PathBuf {
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+    let path = deps.parent().unwrap().join("examples").join(name);
+    assert!(path.exists(), "example {name} not built at {}", path.display());
+    path
+}
+
+#[test]
+fn example_hertz_contact_runs_small() {
+    let plot = scratch("hertz-plot").join("hertz.svg");
+    let out = Command::new(example_binary("hertz_contact")).arg("--small").arg("--plot").arg(&plot).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    // The coarse mesh is still within a few per cent of Hertz on the peak pressure.
+    let line = stdout.lines().find(|l| l.contains("peak pressure")).unwrap();
+    let percent: f64 = line.rsplit('(').next().unwrap().trim_end_matches(" %)").trim().parse().unwrap();
+    assert!(percent.abs() < 10.0, "{stdout}");
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("Hertz") && svg.contains("P2 nodes"), "plot");
+}
+
+#[test]
+fn example_assembly_timing_runs_small() {
+    let out = Command::new(example_binary("assembly_timing")).arg("60").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn example_contact_builder_runs() {
+    let out = Command::new(example_binary("contact_builder")).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Held sideways by friction alone: the shear 2e5 × 2 is carried by the contact.
+    assert!(text.contains("contact:") && text.contains("tangential -4.0000e5"), "{text}");
+}
+
+#[test]
+fn example_two_bodies_runs() {
+    let out = Command::new(example_binary("two_bodies")).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    // The block's vertical load 5e6 N/m crosses the interface: the base receives it.
+    assert!(text.contains("body base:") && text.contains("-5.0000e6), equilibrium residual"), "{text}");
+    let residual = |line: &str| -> f64 { line.rsplit(' ').next().unwrap_or("1").parse().unwrap_or(1.0) };
+    for line in text.lines().filter(|l| l.contains("residual")) {
+        assert!(residual(line) < 1e-9, "{line}");
+    }
+}
