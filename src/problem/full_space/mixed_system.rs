@@ -263,6 +263,9 @@ pub(super) struct MixedSystem<'s, 'p> {
     pub(super) local_columns: Vec<usize>,
     /// Values of the force rows' entries (K and −Bᵀ); the contact rows' entries are 0 here.
     pub(super) base: Vec<f64>,
+    /// With an elimination iterating in `(v, λ)` (one process): `K`'s rows, from which the
+    /// force rows `K v − f` are evaluated; the pattern then holds their diagonal alone.
+    pub(super) stiffness: Option<&'p crate::fem::assembly::CsrRows>,
     pub(super) rhs: Vec<f64>,
     pub(super) fixed_row: Vec<bool>,
     pub(super) points: Vec<OwnedPoint>,
@@ -409,6 +412,12 @@ impl MixedSystem<'_, '_> {
 impl NonlinearSystem for MixedSystem<'_, '_> {
     fn residual(&mut self, x: &[f64], f: &mut [f64]) -> Result<()> {
         for (r, fr) in f.iter_mut().enumerate().take(self.num_u) {
+            if let Some(k) = self.stiffness {
+                // One process: the iterate's first entries are the dofs in their own order.
+                let (cols, vals) = k.row(self.first_dof + r);
+                *fr = cols.iter().zip(vals).map(|(&c, v)| v * x[c]).sum::<f64>() - self.rhs[r];
+                continue;
+            }
             let span = self.indptr[r]..self.indptr[r + 1];
             *fr = self.base[span.clone()]
                 .iter()
@@ -515,13 +524,21 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
         let (mut eq_num, mut eq_den, mut umax) = (0.0f64, 0.0f64, 0.0f64);
         let mut imbalance = [0.0f64; 2];
         for r in 0..self.num_u {
-            let span = self.indptr[r]..self.indptr[r + 1];
-            let terms: f64 = self.base[span.clone()]
-                .iter()
-                .zip(&self.local_columns[span])
-                .filter(|(_, &c)| self.in_force_rows(c))
-                .map(|(v, &c)| (v * x[c]).abs())
-                .sum();
+            let terms: f64 = match self.stiffness {
+                Some(k) => {
+                    let (cols, vals) = k.row(self.first_dof + r);
+                    cols.iter().zip(vals).map(|(&c, v)| (v * x[c]).abs()).sum()
+                }
+                None => {
+                    let span = self.indptr[r]..self.indptr[r + 1];
+                    self.base[span.clone()]
+                        .iter()
+                        .zip(&self.local_columns[span])
+                        .filter(|(_, &c)| self.in_force_rows(c))
+                        .map(|(v, &c)| (v * x[c]).abs())
+                        .sum()
+                }
+            };
             eq_num = eq_num.max(f[r].abs());
             eq_den = eq_den.max(terms + self.rhs[r].abs());
             umax = umax.max(x[r].abs());

@@ -141,6 +141,13 @@
 //! (every entry of the contact rows stored, zeros included) is preallocated exactly and
 //! refilled at every Newton step.
 //!
+//! When an elimination iterates in `(v, λ)` (one process), SNES never factorises that
+//! Jacobian: the eliminations solve the steps, and the force rows `K v − f` are evaluated from
+//! `K`'s own rows (`MixedSystem::stiffness`). The pattern's force rows then keep their
+//! diagonal entry alone (`pattern.rs`, `lean`), so the Jacobian, the pattern and the callbacks'
+//! copies of it cost the contact rows only: the peak memory of the 1e6-dof benchmark rows went
+//! from 2.7 GB to 1.9 GB (a linear solve of the same mesh peaks at 1.3 GB).
+//!
 //! ## Bodies held by contact (before the contact set closes)
 //!
 //! With Dirichlet conditions that leave a rigid motion free, the mixed Jacobian is nonsingular
@@ -310,31 +317,7 @@ impl ContactSetup {
         let rho = |i: usize| [rho_of[i]; 2];
         check_contact_blocks(comm, k, b, my_points.clone(), &rho_of, &self.spec.part)?;
         let spring_at = spring_dofs_of(b, &self.spring_dofs);
-        let pattern = Pattern::new(
-            k,
-            b,
-            mesh,
-            &pieces,
-            PatternInput {
-                layout: &layout,
-                owned_dofs: owned_dofs.clone(),
-                per_point,
-                my_points,
-                block_start: block.start,
-                rho: &rho_of,
-                spring_at: &spring_at,
-            },
-        );
-        let Pattern { indptr, indices, base, spring_positions, mut points } =
-            session.agree(pattern, "the full-space contact's pattern")?;
         let scaled = |p: [f64; 2]| pieces.scaled(p);
-        let mut solver =
-            NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
-        // Where each point's displacement columns sit in the ghosted iterate.
-        for p in &mut points {
-            p.positions =
-                p.slots[..p.coefficients.len()].iter().map(|&s| solver.local_columns()[p.start + s]).collect();
-        }
         let rigid = self.free_motions.as_ref().map(|_| {
             let mut gram = DMatrix::<f64>::zeros(3 * pieces.count, 3 * pieces.count);
             for (dof, _) in constraints.fixed() {
@@ -348,14 +331,56 @@ impl ContactSetup {
             }
             RigidCheck { dirichlet: gram }
         });
+        // Exact Jacobian solves by block elimination with one factor of K, when they apply
+        // (block_elimination.rs); otherwise SNES's KSP solves the mixed Jacobian. A body the
+        // Dirichlet conditions do not hold: the same with springs at a few pinned contact dofs,
+        // removed in every step (floating_elimination.rs).
+        let user_inner = session.has_option(&format!("-{OPTIONS_PREFIX}ksp_type"))?
+            || session.has_option(&format!("-{OPTIONS_PREFIX}pc_type"))?
+            || session.has_option(FULL_SPACE_LU_OPTION)?;
+        let eliminations_apply = session.size() == 1 && !user_inner && m > 0;
+        let block_elimination = eliminations_apply && self.free_motions.is_none();
+        let candidates = schur_dofs(b);
+        let pins = match (&rigid, eliminations_apply && !block_elimination) {
+            (Some(check), true) => {
+                let fixed = |dof: usize| constraints.is_fixed(dof);
+                choose_pins(&candidates, mesh, &pieces.piece_of, &fixed, &scaled, &check.dirichlet)
+            }
+            _ => None,
+        };
+        // Iterating in (v, λ), the force rows are K v − f (+ the pins' terms), evaluated from
+        // K's rows: the pattern's force rows keep their diagonal entry alone (module doc).
+        let lean = block_elimination || (pins.is_some() && retry.is_none());
+        let pattern = Pattern::new(
+            k,
+            b,
+            mesh,
+            &pieces,
+            PatternInput {
+                layout: &layout,
+                owned_dofs: owned_dofs.clone(),
+                per_point,
+                my_points,
+                block_start: block.start,
+                rho: &rho_of,
+                spring_at: &spring_at,
+                lean,
+            },
+        );
+        let Pattern { indptr, indices, base, spring_positions, mut points } =
+            session.agree(pattern, "the full-space contact's pattern")?;
+        let mut solver =
+            NonlinearSolver::new(session, comm, layout.global_size(), block.start, &indptr, &indices, OPTIONS_PREFIX)?;
+        // Where each point's displacement columns sit in the ghosted iterate.
+        for p in &mut points {
+            p.positions =
+                p.slots[..p.coefficients.len()].iter().map(|&s| solver.local_columns()[p.start + s]).collect();
+        }
         let max_diag = (0..num_u).map(|r| k.get(owned_dofs.start + r, owned_dofs.start + r).abs()).fold(0.0, f64::max);
         let force_scale = comm.max(&[max_diag])?[0].max(f64::MIN_POSITIVE);
         let tolerance = self.spec.tolerance.unwrap_or(1e-9);
         let gap_scale = b.gap.iter().fold(0.0f64, |a, g| a.max(g.abs()));
-        // Exact Jacobian solves by block elimination with one factor of K, when they apply
-        // (block_elimination.rs); otherwise SNES's KSP solves the mixed Jacobian.
-        let user_inner = solver.inner_solver_from_options()? || session.has_option(FULL_SPACE_LU_OPTION)?;
-        let elimination = if session.size() == 1 && self.free_motions.is_none() && !user_inner && m > 0 {
+        let elimination = if block_elimination {
             progress.note("contact: factorising K with the Schur complement on the contact dofs");
             let matrix =
                 Matrix::from_csr_rows(session, comm, n, k.first_row, &k.indptr, &k.indices, &k.values, 2, true)?;
@@ -363,31 +388,21 @@ impl ContactSetup {
         } else {
             None
         };
-        // A body the Dirichlet conditions do not hold: the same with springs at a few pinned
-        // contact dofs, removed in every step (floating_elimination.rs).
-        let floating_applies = elimination.is_none() && session.size() == 1 && !user_inner && m > 0;
-        let held_by_contact = match (&rigid, floating_applies) {
-            (Some(check), true) => {
-                let candidates = schur_dofs(b);
-                let fixed = |dof: usize| constraints.is_fixed(dof);
-                match choose_pins(&candidates, mesh, &pieces.piece_of, &fixed, &scaled, &check.dirichlet) {
-                    Some(pins) => {
-                        progress.note("contact: factorising K with springs at pinned contact dofs");
-                        // The rigid motions over the dofs the rows touch (zero on prescribed ones).
-                        let motions = DMatrix::from_fn(candidates.len(), 3 * pieces.count, |r, c| {
-                            let dof = candidates[r];
-                            let node = dof / 2;
-                            if c / 3 != pieces.piece_of[node] || constraints.is_fixed(dof) {
-                                return 0.0;
-                            }
-                            dof_rigid_row(dof, scaled(mesh.nodes[node]))[c % 3]
-                        });
-                        Some(FloatingElimination::new(session, k, b, per_point, &pins, motions, retry.is_none())?)
+        let held_by_contact = match pins {
+            Some(pins) => {
+                progress.note("contact: factorising K with springs at pinned contact dofs");
+                // The rigid motions over the dofs the rows touch (zero on prescribed ones).
+                let motions = DMatrix::from_fn(candidates.len(), 3 * pieces.count, |r, c| {
+                    let dof = candidates[r];
+                    let node = dof / 2;
+                    if c / 3 != pieces.piece_of[node] || constraints.is_fixed(dof) {
+                        return 0.0;
                     }
-                    None => None,
-                }
+                    dof_rigid_row(dof, scaled(mesh.nodes[node]))[c % 3]
+                });
+                Some(FloatingElimination::new(session, k, b, per_point, &pins, motions, retry.is_none())?)
             }
-            _ => None,
+            None => None,
         };
         let mut mixed = MixedSystem {
             progress,
@@ -401,6 +416,7 @@ impl ContactSetup {
             local_columns: solver.local_columns().to_vec(),
             indptr,
             base,
+            stiffness: lean.then_some(k),
             rhs: system.rhs.clone(),
             fixed_row: owned_dofs.clone().map(|d| constraints.is_fixed(d)).collect(),
             points,

@@ -187,6 +187,9 @@ pub(super) struct PatternInput<'a> {
     /// Does a stabilisation spring act at this dof (Jacobian only, while the contact leaves a
     /// rigid motion free)?
     pub spring_at: &'a dyn Fn(usize) -> bool,
+    /// The force rows are evaluated from `K`'s own rows, never assembled (an elimination
+    /// iterating in `(v, λ)` solves the steps): keep their diagonal entry alone.
+    pub lean: bool,
 }
 
 impl Pattern {
@@ -197,7 +200,7 @@ impl Pattern {
         pieces: &Pieces,
         input: PatternInput<'_>,
     ) -> Result<Self> {
-        let PatternInput { layout, owned_dofs, per_point, my_points, block_start, rho, spring_at } = input;
+        let PatternInput { layout, owned_dofs, per_point, my_points, block_start, rho, spring_at, lean } = input;
         let m = b.points();
         // Each point's rows of B (every dof they touch: the point's node and, for a contact
         // pair, the master nodes), and for each dof the points whose rows touch it (the −Bᵀ
@@ -218,6 +221,14 @@ impl Pattern {
         for dof in owned_dofs {
             let (cols, vals) = k.row(dof);
             row.clear();
+            if lean {
+                // The diagonal alone (a row with no entry may not be stored).
+                row.push((layout.u(dof), k.get(dof, dof)));
+                indices.push(row[0].0);
+                base.push(row[0].1);
+                indptr.push(indices.len());
+                continue;
+            }
             row.extend(cols.iter().zip(vals).map(|(&c, &v)| (layout.u(c), v)));
             for &(i, coef) in touching.get(&dof).map_or(&[][..], |v| v.as_slice()) {
                 row.push((layout.lambda(i, 0), -coef[0]));
