@@ -260,6 +260,17 @@ pub fn warning_lines(r: &Report) -> Vec<String> {
     out.0
 }
 
+/// The status changes per iteration, the first six and the last four when there are more than
+/// twelve (all of them are in report.json).
+fn changes_list(changes: &[usize]) -> String {
+    let join = |v: &[usize]| v.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", ");
+    if changes.len() <= 12 {
+        format!("[{}]", join(changes))
+    } else {
+        format!("[{}, … {} more …, {}]", join(&changes[..6]), changes.len() - 10, join(&changes[changes.len() - 4..]))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -281,16 +292,5 @@ mod tests {
         assert_eq!(changes_list(&[3, 1, 0]), "[3, 1, 0]");
         let long: Vec<usize> = (0..111).collect();
         assert_eq!(changes_list(&long), "[0, 1, 2, 3, 4, 5, … 101 more …, 107, 108, 109, 110]");
-    }
-}
-
-/// The status changes per iteration, the first six and the last four when there are more than
-/// twelve (all of them are in report.json).
-fn changes_list(changes: &[usize]) -> String {
-    let join = |v: &[usize]| v.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", ");
-    if changes.len() <= 12 {
-        format!("[{}]", join(changes))
-    } else {
-        format!("[{}, … {} more …, {}]", join(&changes[..6]), changes.len() - 10, join(&changes[changes.len() - 4..]))
     }
 }

@@ -611,6 +611,15 @@ pub(crate) fn to_petsc_int(value: usize, what: &str) -> Result<sys::PetscInt> {
     })
 }
 
+/// The message of a panic caught at a PETSc callback boundary (`catch_unwind`'s payload).
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -647,13 +656,4 @@ mod tests {
         assert!(!is_option_name("-5"));
         assert!(!is_option_name("cg"));
     }
-}
-
-/// The message of a panic caught at a PETSc callback boundary (`catch_unwind`'s payload).
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<String>()
-        .cloned()
-        .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
-        .unwrap_or_else(|| "unknown panic".into())
 }

@@ -210,6 +210,10 @@ pub use layout::{dof_ranges, MixedLayout};
 use mixed_system::{choose_pins, dof_rigid_row, evaluate, status_of, Floating, Law, MixedSystem, RigidCheck};
 use pattern::{augmentation, augmentation_range, check_contact_blocks, spring_dofs_of, Pattern, PatternInput, Pieces};
 
+/// A contact solve's answer: the displacement field (every rank), the checked contact
+/// outcome and what the solver did.
+type Solved = (Vec<f64>, ContactOutcome, SolveStats);
+
 /// Options prefix of the full-space SNES (`-contact_snes_monitor`, `-contact_ksp_type`, ...).
 pub const OPTIONS_PREFIX: &str = "contact_";
 /// `c` in the augmentation `ρN_i = ρT_i = c E' w_i / L` (see the module documentation).
@@ -252,7 +256,7 @@ impl ContactSetup {
         system: &LinearSystem,
         dof_ranges: &[Range<usize>],
         progress: &dyn super::Progress,
-    ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
+    ) -> Result<Solved> {
         let run = |in_v: Option<String>| {
             self.full_space_run(session, mesh, materials, constraints, system, dof_ranges, progress, in_v)
         };
@@ -282,7 +286,7 @@ impl ContactSetup {
         dof_ranges: &[Range<usize>],
         progress: &dyn super::Progress,
         retry: Option<String>,
-    ) -> Result<std::result::Result<(Vec<f64>, ContactOutcome, SolveStats), String>> {
+    ) -> Result<std::result::Result<Solved, String>> {
         let start = std::time::Instant::now();
         let comm = session.world();
         let rank = session.rank();
@@ -623,7 +627,7 @@ impl ContactSetup {
         notes: Vec<String>,
         start: std::time::Instant,
         progress: &dyn super::Progress,
-    ) -> Result<(Vec<f64>, ContactOutcome, SolveStats)> {
+    ) -> Result<Solved> {
         progress.note(&format!("contact: {failure}; falling back to the condensed semi-smooth Newton"));
         let k = &system.matrix;
         let mut values = k.values.clone();
