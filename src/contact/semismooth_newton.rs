@@ -66,7 +66,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::{
     classify, krylov, projected_relaxation, residuals, stick_reversed_slips, update_states, uzawa, CondensedProblem,
-    ContactSolver, FrictionLaw, IterationRecord, PointState, Run, SolverSettings, TangentialState,
+    ContactSolver, DenseSolver, FrictionLaw, IterationRecord, PointState, Run, SolverSettings, TangentialState,
 };
 use crate::error::Result;
 
@@ -183,6 +183,7 @@ fn newton_target(
     problem: &CondensedProblem,
     states: &[PointState],
     linear_tolerance: f64,
+    dense_solver: Option<&DenseSolver>,
 ) -> std::result::Result<Target, String> {
     let (entries, unknowns, symmetric) = layout(problem, states);
     let fixed = expand(&entries, &vec![0.0; unknowns.len()], true);
@@ -222,7 +223,9 @@ fn newton_target(
             for (p, &row) in unknowns.iter().enumerate() {
                 rhs[p] += row_target(problem, row);
             }
-            let solution = if symmetric {
+            let solution = if let Some(solver) = dense_solver {
+                (solver.0)(&matrix, &rhs)
+            } else if symmetric {
                 match nalgebra::Cholesky::new(matrix.clone()) {
                     Some(c) => Some(c.solve(&rhs)),
                     None => matrix.lu().solve(&rhs),
@@ -373,7 +376,7 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
             break;
         }
         let linear_tolerance = (0.01 * residual).clamp(1e-13, 1e-4);
-        let target = match newton_target(problem, &step_states, linear_tolerance) {
+        let target = match newton_target(problem, &step_states, linear_tolerance, settings.dense_solver.as_ref()) {
             Ok(t) => t,
             Err(reason) => {
                 if !globalize {

@@ -33,13 +33,19 @@ pub struct DenseLu<'s> {
 
 impl<'s> DenseLu<'s> {
     /// Factorise `a` (square, at least 1 × 1); `None` if a pivot is exactly zero.
-    pub fn new(session: &'s Session, a: &DMatrix<f64>) -> Result<Option<Self>> {
+    pub fn new(_session: &'s Session, a: &DMatrix<f64>) -> Result<Option<Self>> {
+        Self::factorise(a)
+    }
+
+    /// [`DenseLu::new`] for a caller that has checked that a session is alive.
+    fn factorise(a: &DMatrix<f64>) -> Result<Option<Self>> {
         let n = a.nrows();
         if n == 0 || a.ncols() != n {
             return Err(Error::PetscUsage(format!("DenseLu of a {} × {} matrix", a.nrows(), a.ncols())));
         }
         let size = sys::PetscInt::try_from(n).map_err(|_| Error::PetscUsage("DenseLu: matrix too large".into()))?;
-        let comm = session.self_comm().raw();
+        // SAFETY: valid while a session is alive (checked by the callers).
+        let comm = unsafe { sys::signorini_comm_self() };
         let mut this = DenseLu {
             factor: std::ptr::null_mut(),
             rhs: std::ptr::null_mut(),
@@ -95,6 +101,20 @@ impl<'s> DenseLu<'s> {
     }
 }
 
+/// Solve `A x = b` once (factorise, solve, free), for a caller that holds no session reference:
+/// the condensed solvers get it as their `contact::DenseSolver`, which the `contact` module
+/// calls without knowing PETSc. `None` if a pivot is exactly zero; an error unless a PETSc
+/// session is alive in this process.
+pub fn solve_once(a: &DMatrix<f64>, b: &[f64]) -> Result<Option<Vec<f64>>> {
+    if !super::session_alive() {
+        return Err(Error::PetscUsage("dense_lu::solve_once needs a live PETSc session".into()));
+    }
+    match DenseLu::factorise(a)? {
+        Some(lu) => lu.solve(b).map(Some),
+        None => Ok(None),
+    }
+}
+
 impl Drop for DenseLu<'_> {
     fn drop(&mut self) {
         // SAFETY: owned handles (or null: PETSc's destroy functions accept a null handle);
@@ -104,5 +124,17 @@ impl Drop for DenseLu<'_> {
             let _ = sys::VecDestroy(&mut self.solution);
             let _ = sys::MatDestroy(&mut self.factor);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The library's unit tests run without a PETSc session: the one-shot solve refuses.
+    #[test]
+    fn solve_once_without_a_session_is_a_usage_error() {
+        let a = DMatrix::<f64>::identity(2, 2);
+        assert!(matches!(solve_once(&a, &[1.0, 2.0]), Err(Error::PetscUsage(_))));
     }
 }

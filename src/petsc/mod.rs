@@ -49,6 +49,11 @@ static LAST_ERROR: Mutex<Option<String>> = Mutex::new(None);
 /// 0: never initialised, 1: a session is alive, 2: finalised (cannot come back: MPI is gone).
 static SESSION_STATE: AtomicU8 = AtomicU8::new(0);
 
+/// Is a session alive (PETSc initialised and not finalised)?
+fn session_alive() -> bool {
+    SESSION_STATE.load(Ordering::SeqCst) == 1
+}
+
 unsafe extern "C" fn capture_error(
     _comm: sys::MPI_Comm,
     line: c_int,

@@ -64,7 +64,10 @@ impl<'s> ElasticityProblem<'s> {
             return tao_box_qp(self.session, problem);
         }
         let solver = condensed_solver(&spec.solver).unwrap_or(ContactSolver::SemismoothNewton);
-        let mut settings = SolverSettings::default();
+        let mut settings = SolverSettings {
+            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
+            ..SolverSettings::default()
+        };
         if let Some(t) = spec.tolerance {
             settings.tolerance = t;
         }

@@ -168,3 +168,15 @@ pub(crate) fn condensed_solver(spec: &ContactSolverSpec) -> Option<ContactSolver
         ContactSolverSpec::SnesVi | ContactSolverSpec::Tao => return None,
     })
 }
+
+/// The condensed semi-smooth Newton's dense solver: LAPACK's LU through PETSc
+/// (`petsc::dense_lu`), with nalgebra's LU if PETSc fails for any other reason than a zero
+/// pivot (the step then reports a singular system only if both do).
+pub(super) fn lapack_dense_solver() -> contact::DenseSolver {
+    contact::DenseSolver(std::sync::Arc::new(|a: &DMatrix<f64>, b: &nalgebra::DVector<f64>| {
+        match crate::petsc::dense_lu::solve_once(a, b.as_slice()) {
+            Ok(x) => x.map(nalgebra::DVector::from_vec),
+            Err(_) => a.clone().lu().solve(b),
+        }
+    }))
+}

@@ -426,7 +426,10 @@ impl ContactSetup {
                 }
             }
         }
-        let mut settings = SolverSettings::default();
+        let mut settings = SolverSettings {
+            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
+            ..SolverSettings::default()
+        };
         if let Some(t) = self.spec.tolerance {
             settings.tolerance = t;
         }

@@ -113,7 +113,10 @@ impl ElasticityProblem<'_> {
             prefix,
             &mut note_columns,
         )?;
-        let mut settings = SolverSettings::default();
+        let mut settings = SolverSettings {
+            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
+            ..SolverSettings::default()
+        };
         if let Some(t) = spec.tolerance {
             settings.tolerance = t;
         }

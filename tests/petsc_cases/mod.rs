@@ -729,6 +729,15 @@ fn dense_lu_solves_and_reports_zero_pivots(s: &Session) -> Result<(), String> {
     if DenseLu::new(s, &singular).map_err(|e| e.to_string())?.is_some() {
         return Err("a matrix with two equal rows was factorised".into());
     }
+    // The one-shot solve of the condensed solvers (no session reference, a live session).
+    let a = DMatrix::<f64>::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 3.0]);
+    let x = signorini::petsc::dense_lu::solve_once(&a, &[3.0, 5.0]).map_err(|e| e.to_string())?.ok_or("singular")?;
+    if (x[0] - 0.8).abs() > 1e-15 || (x[1] - 1.4).abs() > 1e-15 {
+        return Err(format!("solve_once: {x:?} instead of [0.8, 1.4]"));
+    }
+    if signorini::petsc::dense_lu::solve_once(&singular, &[1.0; 4]).map_err(|e| e.to_string())?.is_some() {
+        return Err("solve_once factorised a singular matrix".into());
+    }
     match DenseLu::new(s, &DMatrix::<f64>::zeros(2, 3)) {
         Err(Error::PetscUsage(_)) => Ok(()),
         other => Err(format!("a 2 × 3 matrix gave {:?}", other.map(|o| o.is_some()))),
