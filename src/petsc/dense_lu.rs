@@ -76,11 +76,6 @@ impl<'s> DenseLu<'s> {
         Ok(Some(this))
     }
 
-    /// The order of the matrix.
-    pub fn size(&self) -> usize {
-        self.n
-    }
-
     /// `x = A⁻¹ b`.
     pub fn solve(&self, b: &[f64]) -> Result<Vec<f64>> {
         if b.len() != self.n {

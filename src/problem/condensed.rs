@@ -12,7 +12,7 @@
 //! ```
 use super::contact::{condensed_solver, tao_box_qp};
 use super::ElasticityProblem;
-use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver, SolverSettings};
+use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver};
 use crate::error::{Error, Result};
 use crate::fem::assembly;
 use crate::petsc::LinearSolver;
@@ -64,16 +64,7 @@ impl<'s> ElasticityProblem<'s> {
             return tao_box_qp(self.session, problem);
         }
         let solver = condensed_solver(&spec.solver).unwrap_or(ContactSolver::SemismoothNewton);
-        let mut settings = SolverSettings {
-            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
-            ..SolverSettings::default()
-        };
-        if let Some(t) = spec.tolerance {
-            settings.tolerance = t;
-        }
-        if let Some(it) = spec.max_iterations {
-            settings.max_iterations = it;
-        }
+        let settings = super::condensed_route::solver_settings(spec);
         contact::solve(problem, &solver, &settings)
     }
 }

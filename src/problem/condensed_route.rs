@@ -169,10 +169,22 @@ pub(crate) fn condensed_solver(spec: &ContactSolverSpec) -> Option<ContactSolver
     })
 }
 
+/// The condensed solvers' settings for the scene's `[contact]`: its tolerance and iteration
+/// limit where it gives them, and LAPACK's LU for the semi-smooth Newton's dense steps.
+pub(super) fn solver_settings(spec: &crate::scene::ContactSpec) -> contact::SolverSettings {
+    let defaults = contact::SolverSettings::default();
+    contact::SolverSettings {
+        tolerance: spec.tolerance.unwrap_or(defaults.tolerance),
+        max_iterations: spec.max_iterations.unwrap_or(defaults.max_iterations),
+        dense_solver: Some(lapack_dense_solver()),
+        ..defaults
+    }
+}
+
 /// The condensed semi-smooth Newton's dense solver: LAPACK's LU through PETSc
 /// (`petsc::dense_lu`), with nalgebra's LU if PETSc fails for any other reason than a zero
 /// pivot (the step then reports a singular system only if both do).
-pub(super) fn lapack_dense_solver() -> contact::DenseSolver {
+fn lapack_dense_solver() -> contact::DenseSolver {
     contact::DenseSolver(std::sync::Arc::new(|a: &DMatrix<f64>, b: &nalgebra::DVector<f64>| {
         match crate::petsc::dense_lu::solve_once(a, b.as_slice()) {
             Ok(x) => x.map(nalgebra::DVector::from_vec),

@@ -426,16 +426,7 @@ impl ContactSetup {
                 }
             }
         }
-        let mut settings = SolverSettings {
-            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
-            ..SolverSettings::default()
-        };
-        if let Some(t) = self.spec.tolerance {
-            settings.tolerance = t;
-        }
-        if let Some(it) = self.spec.max_iterations {
-            settings.max_iterations = it;
-        }
+        let mut settings = super::condensed_route::solver_settings(&self.spec);
         // Proximal iterations on the stabilisation springs (see the module doc): the springs
         // are anchored at the previous displacement, so their force vanishes at convergence.
         let f = rhs.owned_values()?;

@@ -22,7 +22,7 @@ use super::contact::{condensed_solver, tao_box_qp, ContactReport};
 use super::contact_zones::{ClosedZone, PeakPressure};
 use super::ElasticityProblem;
 use crate::contact::obstacle::Obstacle;
-use crate::contact::{FrictionLaw, PointStatus, SolverSettings};
+use crate::contact::{FrictionLaw, PointStatus};
 use crate::dual::condensation::{Condensation, Storage, STORAGE_OPTION};
 use crate::dual::contact::{condense, contact_points, DualContactPoint};
 use crate::dual::{DualData, DualSystem};
@@ -113,16 +113,7 @@ impl ElasticityProblem<'_> {
             prefix,
             &mut note_columns,
         )?;
-        let mut settings = SolverSettings {
-            dense_solver: Some(super::condensed_route::lapack_dense_solver()),
-            ..SolverSettings::default()
-        };
-        if let Some(t) = spec.tolerance {
-            settings.tolerance = t;
-        }
-        if let Some(it) = spec.max_iterations {
-            settings.max_iterations = it;
-        }
+        let settings = super::condensed_route::solver_settings(spec);
         let start = std::time::Instant::now();
         let tao = |p: &crate::contact::CondensedProblem| tao_box_qp(self.session, p);
         let answer = match condensed_solver(&spec.solver) {

@@ -204,10 +204,10 @@ impl Pattern {
         let m = b.points();
         // Each point's rows of B (every dof they touch: the point's node and, for a contact
         // pair, the master nodes), and for each dof the points whose rows touch it (the −Bᵀ
-        // entries of the force rows).
+        // entries of the force rows; none in a lean pattern).
         let b_rows: Vec<Vec<(usize, [f64; 2])>> = (0..m).map(|i| point_row(b, i)).collect();
         let mut touching: HashMap<usize, Vec<(usize, [f64; 2])>> = HashMap::new();
-        for (i, entries) in b_rows.iter().enumerate() {
+        for (i, entries) in b_rows.iter().enumerate().filter(|_| !lean) {
             for &(dof, coef) in entries {
                 touching.entry(dof).or_default().push((i, coef));
             }
@@ -222,10 +222,10 @@ impl Pattern {
             let (cols, vals) = k.row(dof);
             row.clear();
             if lean {
-                // The diagonal alone (a row with no entry may not be stored).
-                row.push((layout.u(dof), k.get(dof, dof)));
-                indices.push(row[0].0);
-                base.push(row[0].1);
+                // The diagonal alone (a row with no entry may not be stored); its value is
+                // never read (the force rows are evaluated from K, the steps eliminated).
+                indices.push(layout.u(dof));
+                base.push(0.0);
                 indptr.push(indices.len());
                 continue;
             }
