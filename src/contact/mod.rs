@@ -275,11 +275,11 @@ pub struct SolverSettings {
 /// A solver of dense square systems `A x = b` (`None`: singular), shared by the settings'
 /// copies. Equal when it is the same solver.
 #[derive(Clone)]
-pub struct DenseSolver(
-    pub  std::sync::Arc<
-        dyn Fn(&nalgebra::DMatrix<f64>, &nalgebra::DVector<f64>) -> Option<nalgebra::DVector<f64>> + Send + Sync,
-    >,
-);
+pub struct DenseSolver(pub std::sync::Arc<DenseSolve>);
+
+/// `x = A⁻¹ b`, `None` when `A` is singular.
+pub type DenseSolve =
+    dyn Fn(&nalgebra::DMatrix<f64>, &nalgebra::DVector<f64>) -> Option<nalgebra::DVector<f64>> + Send + Sync;
 
 impl std::fmt::Debug for DenseSolver {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
