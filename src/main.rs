@@ -2,14 +2,11 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-mod bench_runner;
-mod cli;
-mod error_control;
-mod summary;
-mod terminal_progress;
+mod command_line;
 
 use clap::Parser as _;
-use cli::{Bench, Cli, Command};
+use command_line::arguments::{self as cli, Bench, Cli, Command};
+use command_line::{bench_runner, error_control, summary, terminal_progress};
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
 use signorini::scene::Scene;

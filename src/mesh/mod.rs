@@ -17,6 +17,7 @@
 //! - boundary edges run with the domain on their left, so the outward normal of edge
 //!   `v0 -> v1` is `(dy, -dx) / len`;
 //! - every node is used by some triangle.
+pub mod build;
 pub mod cache;
 pub mod gmsh;
 pub mod msh;

@@ -2,8 +2,8 @@
 //! matrices (`MatLUFactor` calls `getrf`, `MatSolve` calls `getrs`, both from the BLAS/LAPACK
 //! PETSc is linked with: the OpenBLAS of `setup.sh`).
 //!
-//! The full-space Newton's eliminations (`problem/block_elimination.rs`,
-//! `problem/floating_elimination.rs`) factorise one dense system per Newton step, of the order
+//! The full-space Newton's eliminations (`contact_routes/block_elimination.rs`,
+//! `contact_routes/floating_elimination.rs`) factorise one dense system per Newton step, of the order
 //! of the number of closed and sticking contact rows: about 1 100 unknowns on the two-body
 //! benchmark at 10⁶ dofs. nalgebra's LU is unblocked (0.15 s at n = 1 100, 2.2 s at
 //! n = 2 000 on this project's machine, where it leaves the cache), against a blocked `getrf`

@@ -52,7 +52,7 @@ use crate::scene::{
     Scene, TractionSpec,
 };
 
-use super::contact::{obstacle_of, spring_dofs, ContactSetup};
+use crate::contact_routes::condensed_route::{obstacle_of, spring_dofs, ContactSetup};
 
 /// Slave points farther from the master side than this fraction of the smaller side's extent
 /// are not paired (see [`contact_of_bodies`]).
@@ -108,7 +108,7 @@ impl ContactParts {
 }
 
 /// A friction law as the reports write it.
-pub(super) fn friction_text(friction: FrictionSpec) -> String {
+pub(crate) fn friction_text(friction: FrictionSpec) -> String {
     match friction {
         FrictionSpec::None => "none".into(),
         FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),

@@ -10,9 +10,9 @@
 //!                             our answer to exactly that problem: the scene's solver on the
 //!                             condensed problem, checked by contact::solve
 //! ```
-use super::contact::{condensed_solver, tao_box_qp};
 use super::ElasticityProblem;
 use crate::contact::{self, CondensedProblem, ContactSolution, ContactSolver};
+use crate::contact_routes::condensed_route::{condensed_solver, tao_box_qp};
 use crate::error::{Error, Result};
 use crate::fem::assembly;
 use crate::petsc::LinearSolver;
@@ -64,7 +64,7 @@ impl<'s> ElasticityProblem<'s> {
             return tao_box_qp(self.session, problem);
         }
         let solver = condensed_solver(&spec.solver).unwrap_or(ContactSolver::SemismoothNewton);
-        let settings = super::condensed_route::solver_settings(spec);
+        let settings = crate::contact_routes::condensation::solver_settings(spec);
         contact::solve(problem, &solver, &settings)
     }
 }

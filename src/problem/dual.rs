@@ -50,7 +50,7 @@ pub struct DualReport {
     /// With a [contact] section: the dual contact solution and its independent check (forces
     /// at both ends of every contact edge, in the contact frames).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub contact: Option<super::contact::ContactReport>,
+    pub contact: Option<crate::report::contact::ContactReport>,
     pub notes: Vec<String>,
 }
 

@@ -18,11 +18,10 @@
 //! HCT traction), the contact displacements from the assembled sparse matrix (`(A x − b)_r`,
 //! not `W`), and the equilibrium conditions from the forces. Sign, friction cone and
 //! complementarity are then those of [`crate::contact::ContactResiduals`].
-use super::contact::{condensed_solver, tao_box_qp, ContactReport};
-use super::contact_zones::{ClosedZone, PeakPressure};
 use super::ElasticityProblem;
 use crate::contact::obstacle::Obstacle;
 use crate::contact::{FrictionLaw, PointStatus};
+use crate::contact_routes::condensed_route::{condensed_solver, tao_box_qp};
 use crate::dual::condensation::{Condensation, Storage, STORAGE_OPTION};
 use crate::dual::contact::{condense, contact_points, DualContactPoint};
 use crate::dual::{DualData, DualSystem};
@@ -30,6 +29,8 @@ use crate::error::{Error, Result};
 use crate::estimate::{ContactLawTerm, ContactSample, ContactTerms};
 use crate::fem::quadrature;
 use crate::petsc::SolveStats;
+use crate::report::contact::ContactReport;
+use crate::report::contact_zones::{ClosedZone, PeakPressure};
 use crate::scene::{ContactSolverSpec, FrictionSpec};
 
 /// The dual contact solution (forces per edge end, in the contact frames).
@@ -72,7 +73,7 @@ impl ElasticityProblem<'_> {
         }
         Ok(Some(DualContactSide {
             group: self.mesh.require_group(&spec.part, 1)?,
-            obstacle: super::contact::obstacle_of(&spec.obstacle)?,
+            obstacle: crate::contact_routes::condensed_route::obstacle_of(&spec.obstacle)?,
             extra_gap: spec.gap,
         }))
     }
@@ -113,7 +114,7 @@ impl ElasticityProblem<'_> {
             prefix,
             &mut note_columns,
         )?;
-        let settings = super::condensed_route::solver_settings(spec);
+        let settings = crate::contact_routes::condensation::solver_settings(spec);
         let start = std::time::Instant::now();
         let tao = |p: &crate::contact::CondensedProblem| tao_box_qp(self.session, p);
         let answer = match condensed_solver(&spec.solver) {
@@ -392,7 +393,7 @@ pub(super) fn dual_data_with_contact<'a>(
 
 /// Nodal contact pressure, friction traction and status (0 open, 1 stick, 2 slip) of the dual
 /// solution for `solution.vtu`: the mean of the edge ends at each node (the worst status).
-pub(super) fn nodal_contact_fields(num_nodes: usize, outcome: &DualContactOutcome) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+pub(crate) fn nodal_contact_fields(num_nodes: usize, outcome: &DualContactOutcome) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let (mut pressure, mut friction, mut status, mut count) =
         (vec![0.0; num_nodes], vec![0.0; num_nodes], vec![-1.0f64; num_nodes], vec![0usize; num_nodes]);
     for (i, p) in outcome.points.iter().enumerate() {

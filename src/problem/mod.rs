@@ -7,11 +7,11 @@
 //!                                   (kept as Rust CSR rows for the full-space contact route)
 //!                   ::solve         KSP (MUMPS Cholesky by default, any PETSc option), checked;
 //!                                   with a [contact] section: the full-space semi-smooth Newton
-//!                                   on (u, λ) through SNES by default (full_space.rs), or the
-//!                                   condensed solvers / SNESVI / TAO (contact.rs)
+//!                                   on (u, λ) through SNES by default, or the condensed
+//!                                   solvers / SNESVI / TAO ([`crate::contact_routes`])
 //!                   ::postprocess   stresses, von Mises, reactions, equilibrium residual
 //!                   ::write_output  solution.vtu + report.json, and for contact contact.csv,
-//!                                   contact.svg, convergence.svg (rank 0, atomic; output_files.rs)
+//!                                   contact.svg, convergence.svg (rank 0, atomic; [`crate::report`])
 //!                   ::condensed_contact_problem   instead of assemble/solve: the condensed
 //!                                   contact problem alone, for other solvers (condensed.rs;
 //!                                   `signorini export` writes it in the FCLIB format)
@@ -25,41 +25,29 @@
 //! before the next collective operation ([`Session::agree`]): every rank returns an error, the
 //! failing one its own and the others [`Error::OtherRank`], instead of waiting forever.
 use std::ops::Range;
-use std::path::Path;
 
-mod block_elimination;
-mod bodies;
-mod bodies_output;
-mod bodies_report;
+pub(crate) mod bodies;
 mod condensed;
-mod condensed_route;
-mod contact;
-mod contact_curve;
-mod contact_report;
-mod contact_zones;
-mod dual;
-mod dual_contact;
-mod floating_elimination;
-mod full_space;
-mod output_files;
+pub(crate) mod dual;
+pub(crate) mod dual_contact;
 mod postprocess;
 mod progress;
-mod warnings;
+pub use crate::contact_routes::condensed_route::ContactSetup;
+pub use crate::contact_routes::full_space::{dof_ranges, MixedLayout};
+pub use crate::report::bodies::{BodiesReport, BodyReport, ContactPartReport};
+pub use crate::report::contact::{ContactOutcome, ContactReport, ContactResidualsReport};
+pub use crate::report::contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
+pub use crate::report::contact_zones::{ClosedZone, PeakPressure};
+pub use crate::report::warnings::Warning;
 pub use bodies::{ContactPart, ContactParts, MasterSide};
-pub use bodies_report::{BodiesReport, BodyReport, ContactPartReport};
-pub use contact::{ContactOutcome, ContactReport, ContactResidualsReport, ContactSetup};
-pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
-pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
-pub use full_space::{dof_ranges, MixedLayout};
 pub use progress::{NoProgress, Phase, Progress};
-pub use warnings::Warning;
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
 use crate::fem::material::{CellMaterials, Material, PlaneModel};
 use crate::fem::mixed_pressure;
-use crate::mesh::cache::{CacheReport, MeshCache};
+use crate::mesh::cache::CacheReport;
 use crate::mesh::{self, Mesh, Order};
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::resources::{self, Timings};
@@ -67,7 +55,7 @@ use crate::scene::{self, ContactSolverSpec, Scene};
 
 /// Relative tolerance of the independent checks made after every solve (global equilibrium,
 /// penetration of the contact part's left-out nodes).
-const EQUILIBRIUM_CHECK: f64 = 1e-6;
+pub(crate) const EQUILIBRIUM_CHECK: f64 = 1e-6;
 
 /// Everything a run reports (serialised to `report.json`).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -144,7 +132,7 @@ pub struct ResultsReport {
 }
 
 pub struct ElasticityProblem<'s> {
-    session: &'s Session,
+    pub(crate) session: &'s Session,
     pub scene: Scene,
     pub mesh: Mesh,
     pub material: Material,
@@ -179,7 +167,7 @@ pub struct ElasticityProblem<'s> {
     /// The mesh cache's part in getting the mesh, for a Gmsh mesh of the scene.
     pub mesh_cache: Option<CacheReport>,
     /// Who is told the progress of the run ([`NoProgress`] unless set).
-    progress: Box<dyn Progress>,
+    pub(crate) progress: Box<dyn Progress>,
 }
 
 /// Post-processed fields.
@@ -318,7 +306,7 @@ impl<'s> ElasticityProblem<'s> {
         progress: Box<dyn Progress>,
     ) -> Result<Self> {
         let initial_warnings =
-            warnings::before_solving(&mesh, scene.element, material.poisson, material.plane, file_order);
+            crate::report::warnings::before_solving(&mesh, scene.element, material.poisson, material.plane, file_order);
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
         let rows = dof_ranges(mesh.num_nodes(), session.size())[session.rank()].clone();
         Ok(ElasticityProblem {
@@ -513,7 +501,7 @@ impl<'s> ElasticityProblem<'s> {
         let applied = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];
         let scale = applied[0].hypot(applied[1]).max(outcome.report.resultant[0].hypot(outcome.report.resultant[1]));
         let spring = outcome.report.stabilisation_force;
-        if spring[0].hypot(spring[1]) > contact::EQUILIBRIUM_TOLERANCE * scale {
+        if spring[0].hypot(spring[1]) > crate::contact_routes::condensed_route::EQUILIBRIUM_TOLERANCE * scale {
             let r = &outcome.report;
             return Err(Error::NoEquilibrium(format!(
                 "no static equilibrium: the loads ({:.4e}, {:.4e}) are not balanced by the contact forces ({:.4e}, {:.4e}) and the supports ({free}); the body slides or moves away (normal contact force {:.4e}, tangential {:.4e}, friction {})",
@@ -702,59 +690,9 @@ pub fn refuse_several_bodies(scene: &Scene) -> Result<()> {
 
 /// The scene's mesh: generated (structured or Gmsh) or read from a file, at the scene's order;
 /// the order of the file's triangles when it was read from one; and for a Gmsh mesh what the
-/// mesh cache did ([`MeshCache::from_env`]: on unless `SIGNORINI_NO_MESH_CACHE` is set).
+/// mesh cache did ([`crate::mesh::cache::MeshCache::from_env`]: on unless `SIGNORINI_NO_MESH_CACHE` is set).
 pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheReport>)> {
-    build_mesh_of(&scene.mesh, scene.order)
-}
-
-/// [`build_mesh`] for one mesh description at an order (a body of a scene with several
-/// bodies, before its placement).
-pub fn build_mesh_of(spec: &scene::MeshSpec, order: Order) -> Result<(Mesh, Option<Order>, Option<CacheReport>)> {
-    let (shape, cell_size, refine) = match spec {
-        scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Structured, .. } => {
-            let (nx, ny) = mesh::structured::cells_for_size(*size, *cell_size);
-            return Ok((mesh::structured::rectangle(*origin, *size, nx, ny, order)?, None, None));
-        }
-        scene::MeshSpec::File { path, .. } => return mesh_file(path, order).map(|(m, o)| (m, o, None)),
-        scene::MeshSpec::Rectangle { origin, size, cell_size, mesher: scene::Mesher::Gmsh, refine } => {
-            (mesh::gmsh::Shape::Rectangle { origin: *origin, size: *size }, *cell_size, refine)
-        }
-        scene::MeshSpec::Disc { center, radius, cell_size, refine } => {
-            (mesh::gmsh::Shape::Disc { center: *center, radius: *radius }, *cell_size, refine)
-        }
-        scene::MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
-            (mesh::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine)
-        }
-    };
-    let request = mesh::gmsh::MeshRequest {
-        shape,
-        cell_size,
-        refinement: refine.as_ref().map(|r| mesh::gmsh::Refinement {
-            point: r.point,
-            cell_size: r.cell_size,
-            radius: r.radius,
-        }),
-        order,
-    };
-    let (mesh, report) = mesh::gmsh::generate_cached(&request, MeshCache::from_env().as_ref())?;
-    Ok((mesh, None, Some(report)))
-}
-
-/// A mesh file at the scene's order, and the order of its triangles.
-fn mesh_file(path: &Path, order: Order) -> Result<(Mesh, Option<Order>)> {
-    let m = mesh::msh::read_msh(path)?;
-    let file_order = Some(m.order);
-    match (m.order, order) {
-        (Order::P1, Order::P2) => Ok((m.to_quadratic(), file_order)),
-        (Order::P2, Order::P1) => Err(Error::Mesh {
-            source_file: Some(path.to_path_buf()),
-            entity: "elements".into(),
-            message: "the file has quadratic (6-node) triangles but the scene asks for order = 1: set \
-                      [discretization] order = 2, or export a linear mesh"
-                .into(),
-        }),
-        _ => Ok((m, file_order)),
-    }
+    mesh::build::build(&scene.mesh, scene.order)
 }
 
 /// Every rank builds the mesh itself; make sure they all got the same one (Gmsh is

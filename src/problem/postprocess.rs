@@ -2,7 +2,7 @@
 //! condition (`K u − f` on its fixed dofs, less the contact share a support receives), and the
 //! independent checks of the answer that need the whole field — global equilibrium of loads,
 //! reactions and contact forces, the nodes left out of the contact points, and, with several
-//! bodies, each body and each pair (`bodies_report.rs`).
+//! bodies, each body and each pair (`report/bodies.rs`).
 use super::*;
 
 impl ElasticityProblem<'_> {
@@ -103,7 +103,8 @@ impl ElasticityProblem<'_> {
         // The peak pressure and the closed zones along the part.
         if let (Some(c), Some(outcome)) = (&self.contact, &mut self.contact_outcome) {
             let (pressure, _) = c.boundary.tractions(&outcome.force);
-            let (peak, zones) = contact_zones::zones(&self.mesh, &c.boundary, &pressure, &outcome.status);
+            let (peak, zones) =
+                crate::report::contact_zones::zones(&self.mesh, &c.boundary, &pressure, &outcome.status);
             outcome.report.peak_pressure = peak;
             outcome.report.zones = zones;
         }
@@ -132,7 +133,7 @@ impl ElasticityProblem<'_> {
         }
         let bodies_report = self.check_bodies(u, &f, &ku, &on_supports)?;
         self.bodies_report = bodies_report;
-        self.warnings.extend(warnings::after_solving(&self.mesh, u));
+        self.warnings.extend(crate::report::warnings::after_solving(&self.mesh, u));
         self.results = Some(Results {
             nodal_stress,
             sigma_zz,

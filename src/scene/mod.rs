@@ -70,6 +70,7 @@ pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
 use crate::error::{Error, Location, Result};
 use crate::fem::Element;
+pub use crate::mesh::build::{MeshSpec, Mesher, RefineSpec};
 use crate::mesh::{Mesh, Order};
 use convert::{body_data, petsc_options, BodyData, BodyTables, Scope};
 use diagnostic::{closest, Source};
@@ -173,40 +174,6 @@ impl DualConstraints {
             DualConstraints::Multipliers => "multipliers",
         }
     }
-}
-
-/// The geometry and how to mesh it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum MeshSpec {
-    /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
-    Rectangle { origin: [f64; 2], size: [f64; 2], cell_size: f64, mesher: Mesher, refine: Option<RefineSpec> },
-    /// Full disc; boundary part `circle`. Always meshed by gmsh.
-    Disc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
-    /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `flat`.
-    /// Always meshed by gmsh.
-    HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
-    /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
-    /// `geometry`: the Gmsh `.geo` script the file was meshed from (`geometry = "part.geo"`),
-    /// which `signorini adapt` remeshes with its size map.
-    File { path: PathBuf, geometry: Option<PathBuf> },
-}
-
-/// Who meshes a rectangle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mesher {
-    /// A uniform grid of right triangles (no gmsh needed).
-    Structured,
-    /// An unstructured gmsh mesh.
-    Gmsh,
-}
-
-/// Local refinement for gmsh: cells of size about `cell_size` within `radius` of `point`,
-/// growing back to the mesh's `cell_size` away from it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RefineSpec {
-    pub point: [f64; 2],
-    pub cell_size: f64,
-    pub radius: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -48,7 +48,7 @@ impl BodiesModel {
         let meshes = scene
             .bodies()
             .iter()
-            .map(|b| crate::problem::build_mesh_of(&b.mesh, b.order).map(|(mesh, _, _)| mesh))
+            .map(|b| crate::mesh::build::build(&b.mesh, b.order).map(|(mesh, _, _)| mesh))
             .collect::<Result<Vec<_>>>()?;
         Self::on_meshes(scene, meshes)
     }

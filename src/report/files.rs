@@ -4,13 +4,14 @@
 //! making is collective: a failed write stops every rank.
 use std::path::{Path, PathBuf};
 
-use super::{contact_curve, ContactCurvePoint, ElasticityProblem, Phase, Report};
+use super::contact_curve::ContactCurvePoint;
 use crate::error::Result;
 use crate::output::{self, vtu};
+use crate::problem::{ElasticityProblem, Phase, Report};
 
 /// The named arrays `(name, components, values)` of a `.vtu` file, on its points and on its
 /// cells, and whether the cell arrays cover the boundary edges too.
-pub(super) struct SolutionFields {
+pub(crate) struct SolutionFields {
     pub point: Vec<(String, usize, Vec<f64>)>,
     pub cell: Vec<(String, usize, Vec<f64>)>,
     pub with_edges: bool,
@@ -41,7 +42,7 @@ impl ElasticityProblem<'_> {
     /// contact), the dual ones (stress, von Mises, Airy function; named `dual_...` next to a
     /// primal solution) and the estimate per cell (`error`), whichever were computed, and
     /// `extra_cells`.
-    pub(super) fn solution_fields(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<SolutionFields> {
+    pub(crate) fn solution_fields(&self, path: &Path, extra_cells: &[(&str, &[f64])]) -> Result<SolutionFields> {
         let mut point: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let mut cell: Vec<(String, usize, Vec<f64>)> = Vec::new();
         let tensor = |s: &[f64; 3], zz: f64| [s[0], s[1], zz, s[2], 0.0, 0.0];
@@ -94,7 +95,8 @@ impl ElasticityProblem<'_> {
             cell.push((format!("{prefix}cell_stress"), 6, cell_stress));
             cell.push((format!("{prefix}cell_von_mises"), 1, cell_vm));
             if let Some(c) = &d.contact {
-                let (pressure, friction, status) = super::dual_contact::nodal_contact_fields(self.mesh.num_nodes(), c);
+                let (pressure, friction, status) =
+                    crate::problem::dual_contact::nodal_contact_fields(self.mesh.num_nodes(), c);
                 point.push((format!("{prefix}contact_pressure"), 1, pressure));
                 point.push((format!("{prefix}friction_traction"), 1, friction));
                 point.push((format!("{prefix}contact_status"), 1, status));
@@ -128,7 +130,7 @@ impl ElasticityProblem<'_> {
     /// [`ElasticityProblem::solve`]); `None` without contact.
     pub fn contact_curve(&self) -> Option<Vec<ContactCurvePoint>> {
         let (c, o, u) = (self.contact.as_ref()?, self.contact_outcome.as_ref()?, self.displacement.as_ref()?);
-        Some(contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
+        Some(super::contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
     }
 
     /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`.
@@ -137,7 +139,7 @@ impl ElasticityProblem<'_> {
             return Ok(());
         };
         let path = dir.join("contact.csv");
-        contact_curve::write_contact_csv(&path, &points)?;
+        super::contact_curve::write_contact_csv(&path, &points)?;
         written.push(path);
         let r = &outcome.report;
         // The picture shows the closed zones and a quarter of their span on either side (the

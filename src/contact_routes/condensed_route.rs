@@ -1,6 +1,6 @@
 //! Contact with a rigid obstacle in the primal formulation: the driver's part for the
 //! condensed solvers (`solver = "newton"`, `"relaxation"`, ...), SNESVI and TAO. The default,
-//! the full-space semi-smooth Newton (`"newton_full"`), is in `full_space.rs`; it falls back
+//! the full-space semi-smooth Newton (`"newton_full"`), is in `full_space/`; it falls back
 //! to the condensed route here.
 //!
 //! ```text
@@ -42,9 +42,9 @@ use crate::petsc::schur::SchurFactor;
 use crate::petsc::{LinearSolver, Matrix, Session, SolveStats, Vector};
 use crate::scene::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 
-pub(crate) use super::condensed_route::{condensed_solver, tao_box_qp, Factorised};
-use super::condensed_route::{flexibility_from_schur, schur_dofs};
-pub use super::contact_report::{ContactOutcome, ContactReport, ContactResidualsReport};
+pub(crate) use super::condensation::{condensed_solver, tao_box_qp, Factorised};
+use super::condensation::{flexibility_from_schur, schur_dofs};
+pub use crate::report::contact::{ContactOutcome, ContactReport};
 
 /// Total stiffness of the stabilisation springs relative to the largest diagonal entry of K
 /// (shared among the contact nodes). Small enough that the proximal iterations converge fast,
@@ -64,7 +64,7 @@ pub struct ContactSetup {
     pub spring_dofs: Vec<usize>,
     /// With several bodies: the contact parts (pairs and rigid obstacles) the points come from,
     /// each with its friction law; `None` for one body (its friction is `spec.friction`).
-    pub parts: Option<super::bodies::ContactParts>,
+    pub parts: Option<crate::problem::bodies::ContactParts>,
 }
 
 pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
@@ -134,15 +134,15 @@ impl ContactSetup {
     /// The threshold the independent check accepts an answer with: a margin of 100 over the
     /// solver's stopping tolerance `tolerance` (the check measures on its own scales), but never
     /// more than the tolerance the scene asked for.
-    pub(super) fn acceptance(&self, tolerance: f64) -> f64 {
+    pub(crate) fn acceptance(&self, tolerance: f64) -> f64 {
         (100.0 * tolerance.max(1e-10)).min(self.spec.tolerance.unwrap_or(f64::INFINITY))
     }
 
-    pub(super) fn friction_name(&self) -> String {
+    pub(crate) fn friction_name(&self) -> String {
         if let Some(parts) = &self.parts {
             return parts.friction_name();
         }
-        super::bodies::friction_text(self.spec.friction)
+        crate::problem::bodies::friction_text(self.spec.friction)
     }
 
     /// The owned load `f + S anchor`: the springs pull towards the previous iterate.
@@ -405,7 +405,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, Option<SolveStats>)> {
         let b = &self.boundary;
         let m = b.points();
@@ -426,7 +426,7 @@ impl ContactSetup {
                 }
             }
         }
-        let mut settings = super::condensed_route::solver_settings(&self.spec);
+        let mut settings = super::condensation::solver_settings(&self.spec);
         // Proximal iterations on the stabilisation springs (see the module doc): the springs
         // are anchored at the previous displacement, so their force vanishes at convergence.
         let f = rhs.owned_values()?;
@@ -511,7 +511,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         ksp: &'a mut LinearSolver<'s>,
         all_columns: bool,
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<(DMatrix<f64>, Factorised<'a, 's>, usize)> {
         let b = &self.boundary;
         let m = b.points();
@@ -584,7 +584,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<CondensedProblem<'static>> {
         if let Some(free) = &self.free_motions {
             return Err(Error::Unconstrained(format!(
@@ -615,7 +615,7 @@ impl ContactSetup {
         &self,
         problem: &CondensedProblem,
         settings: &SolverSettings,
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<contact::ContactSolution> {
         let m = problem.points();
         let solver = condensed_solver(&self.spec.solver).ok_or_else(|| {
@@ -627,7 +627,7 @@ impl ContactSetup {
         progress.note(&format!("contact: {m} points, solver {}", solver.name()));
         let solution = contact::solve(problem, &solver, settings)?;
         for (k, h) in solution.history.iter().enumerate() {
-            progress.iteration(super::Phase::Solve, k + 1, h.residual);
+            progress.iteration(crate::problem::Phase::Solve, k + 1, h.residual);
         }
         Ok(solution)
     }
@@ -681,7 +681,7 @@ impl ContactSetup {
     }
 
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn report(
+    pub(crate) fn report(
         &self,
         mesh: &Mesh,
         force: &[f64],
@@ -758,7 +758,7 @@ impl ContactSetup {
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two
 /// bodies the coupled nodes of the other side), increasing: where the stabilisation springs act.
-pub(super) fn spring_dofs(boundary: &ContactBoundary, prescribed: &dyn Fn(usize) -> [Option<f64>; 2]) -> Vec<usize> {
+pub(crate) fn spring_dofs(boundary: &ContactBoundary, prescribed: &dyn Fn(usize) -> [Option<f64>; 2]) -> Vec<usize> {
     boundary
         .support_nodes()
         .into_iter()

@@ -32,7 +32,7 @@
 //! (`D`: the displacement rows — closed normal rows, sticking tangential rows), of the size of
 //! the held body's reduced system plus the number of pins. It is nonsingular exactly when `J`
 //! is, that is when the closed and sticking rows with the Dirichlet rows block every rigid
-//! motion (`full_space.rs` checks that at every Jacobian). While they do not (the first steps of
+//! motion (`full_space/` checks that at every Jacobian). While they do not (the first steps of
 //! a body resting on the obstacle, before the contact zone has formed; a cylinder free to turn
 //! about its centre on frictionless contact), the step is regularised with springs on the
 //! *free* rigid motions only — those that neither the Dirichlet rows nor the closed and
@@ -81,7 +81,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::block_elimination::{v_plus_response, ContactRow, Reduced, StepRows};
-use super::condensed_route::{flexibility_from_schur, rows_on_schur, schur_dofs};
+use super::condensation::{flexibility_from_schur, rows_on_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::schur::SchurFactor;
@@ -119,7 +119,7 @@ impl Correction {
     }
 }
 
-pub(super) struct FloatingElimination<'s> {
+pub(crate) struct FloatingElimination<'s> {
     factor: SchurFactor<'s>,
     /// The Schur rows: every dof a row of `B` touches, increasing.
     schur: Vec<usize>,

@@ -1,6 +1,6 @@
 //! The condensed route's linear algebra and solver choice: the flexibility from a factor with
 //! the Schur complement, the factorised stiffness (MUMPS Schur factor or the configured KSP),
-//! TAO on the Tresca box QP, and the condensed solver a scene names (see `contact.rs`).
+//! TAO on the Tresca box QP, and the condensed solver a scene names (see `condensed_route.rs`).
 use nalgebra::DMatrix;
 
 use crate::contact::boundary::ContactBoundary;
@@ -15,7 +15,7 @@ use crate::scene::ContactSolverSpec;
 /// ([`schur_dofs`]: both dofs of every node of [`ContactBoundary::support_nodes`], in that
 /// order): `(K⁻¹)_ss = S⁻¹` and `W = B_s S⁻¹ B_sᵀ`, `B_s` the columns of `B` on those dofs
 /// (against a rigid obstacle, `W_ij = R_iᵀ (S⁻¹)_{ij} R_j` with `R = [n t]`).
-pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBoundary) -> Result<DMatrix<f64>> {
+pub(crate) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBoundary) -> Result<DMatrix<f64>> {
     let m = b.points();
     let dofs = schur_dofs(b);
     let k = factor.size();
@@ -50,7 +50,7 @@ pub(super) fn flexibility_from_schur(factor: &SchurFactor<'_>, b: &ContactBounda
 
 /// The rows of `B` (`2m`, each point's normal then tangential row) on the positions of
 /// `dofs` (increasing; [`schur_dofs`]): `(position, coefficient)` pairs, zeros left out.
-pub(super) fn rows_on_schur(b: &ContactBoundary, dofs: &[usize]) -> Vec<Vec<(usize, f64)>> {
+pub(crate) fn rows_on_schur(b: &ContactBoundary, dofs: &[usize]) -> Vec<Vec<(usize, f64)>> {
     (0..2 * b.points())
         .map(|j| {
             b.b_row(j)
@@ -64,7 +64,7 @@ pub(super) fn rows_on_schur(b: &ContactBoundary, dofs: &[usize]) -> Vec<Vec<(usi
 
 /// The dofs of the Schur complement of the condensed route: both dofs of every node `B`
 /// touches, increasing.
-pub(super) fn schur_dofs(b: &ContactBoundary) -> Vec<usize> {
+pub(crate) fn schur_dofs(b: &ContactBoundary) -> Vec<usize> {
     b.support_nodes().into_iter().flat_map(|k| [2 * k, 2 * k + 1]).collect()
 }
 
@@ -79,7 +79,7 @@ pub(crate) enum Factorised<'a, 's> {
 impl<'s> Factorised<'_, 's> {
     /// Solve `K x = b`; the factor's answers get the same independent residual check as the
     /// KSP's (‖b − Kx‖/‖b‖ ≤ 1e-6).
-    pub(super) fn solve(&mut self, matrix: &Matrix<'s>, b: &Vector<'s>, x: &mut Vector<'s>) -> Result<()> {
+    pub(crate) fn solve(&mut self, matrix: &Matrix<'s>, b: &Vector<'s>, x: &mut Vector<'s>) -> Result<()> {
         match self {
             Factorised::Krylov(ksp) => ksp.solve(matrix, b, x).map(|_| ()),
             Factorised::Schur(factor, _) => {
@@ -100,7 +100,7 @@ impl<'s> Factorised<'_, 's> {
     }
 
     /// What the linear solves were, for the report (the KSP records its own).
-    pub(super) fn stats(&self) -> Option<SolveStats> {
+    pub(crate) fn stats(&self) -> Option<SolveStats> {
         match self {
             Factorised::Krylov(ksp) => ksp.last_stats(),
             Factorised::Schur(_, seconds) => Some(SolveStats {
@@ -171,7 +171,7 @@ pub(crate) fn condensed_solver(spec: &ContactSolverSpec) -> Option<ContactSolver
 
 /// The condensed solvers' settings for the scene's `[contact]`: its tolerance and iteration
 /// limit where it gives them, and LAPACK's LU for the semi-smooth Newton's dense steps.
-pub(super) fn solver_settings(spec: &crate::scene::ContactSpec) -> contact::SolverSettings {
+pub(crate) fn solver_settings(spec: &crate::scene::ContactSpec) -> contact::SolverSettings {
     let defaults = contact::SolverSettings::default();
     contact::SolverSettings {
         tolerance: spec.tolerance.unwrap_or(defaults.tolerance),

@@ -33,7 +33,7 @@ pub struct ClosedZone {
 }
 
 /// The contact points in chain order with their arc length, and where each chain starts.
-pub(super) fn chains(mesh: &Mesh, b: &ContactBoundary) -> Vec<Vec<(usize, f64)>> {
+pub(crate) fn chains(mesh: &Mesh, b: &ContactBoundary) -> Vec<Vec<(usize, f64)>> {
     // Each edge's nodes in order along the edge: v0, [mid], v1.
     let mut next: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut has_previous = std::collections::HashSet::new();

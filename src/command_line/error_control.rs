@@ -7,7 +7,7 @@ use signorini::petsc::Session;
 use signorini::scene::Scene;
 use signorini::Error;
 
-use super::RunArgs;
+use crate::RunArgs;
 
 fn output_dir(args: &RunArgs, scene: &Scene) -> PathBuf {
     args.out.clone().or_else(|| scene.output_dir.clone()).unwrap_or_else(|| PathBuf::from("out"))

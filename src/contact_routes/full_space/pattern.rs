@@ -20,7 +20,7 @@ use crate::petsc::Comm;
 /// The bodies for the rigid-motion rows: the centre and size of the whole mesh (positions are
 /// scaled by them), and the piece (body) of every node — one piece with a rigid obstacle,
 /// each connected piece of the mesh with contact pairs (each body moves on its own).
-pub(super) struct Pieces {
+pub(crate) struct Pieces {
     centre: [f64; 2],
     pub extent: f64,
     pub piece_of: Vec<usize>,
@@ -68,7 +68,7 @@ impl Pieces {
 
 /// The augmentation `ρ_i` of every point: `2 E' w_i / L`, with two bodies those of the point's
 /// two sides in series, `2 w_i / (L_s/E'_s + L_m/E'_m)` (every rank knows every weight).
-pub(super) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMaterials, pieces: &Pieces) -> Vec<f64> {
+pub(crate) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMaterials, pieces: &Pieces) -> Vec<f64> {
     let (modulus, diameter) =
         piece_moduli_and_diameters(mesh, materials, &pieces.piece_of, pieces.count, pieces.extent);
     let compliance = |node: usize| diameter[pieces.piece_of[node]] / modulus[pieces.piece_of[node]];
@@ -81,7 +81,7 @@ pub(super) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMat
 }
 
 /// The smallest and the largest `ρ_i / w_i` over the points of positive weight (the notes).
-pub(super) fn augmentation_range(rho: &[f64], weight: &[f64]) -> (f64, f64) {
+pub(crate) fn augmentation_range(rho: &[f64], weight: &[f64]) -> (f64, f64) {
     rho.iter()
         .zip(weight)
         .filter(|(_, &w)| w > 0.0)
@@ -129,7 +129,7 @@ fn piece_moduli_and_diameters(
 /// points' normal and tangential directions). Every rank takes the same decision (the first
 /// bad node of any rank): an error returned by one rank alone would leave the others waiting
 /// in the solver's setup.
-pub(super) fn check_contact_blocks(
+pub(crate) fn check_contact_blocks(
     comm: Comm,
     k: &CsrRows,
     b: &ContactBoundary,
@@ -167,7 +167,7 @@ pub(super) fn check_contact_blocks(
 /// This rank's rows of the mixed system: their pattern (`indptr`, global `indices`), the
 /// constant values (`base`: `K` and `−Bᵀ`; the contact rows are refilled at every Jacobian),
 /// where the stabilisation springs go, and the owned contact points.
-pub(super) struct Pattern {
+pub(crate) struct Pattern {
     pub indptr: Vec<usize>,
     pub indices: Vec<usize>,
     pub base: Vec<f64>,
@@ -176,7 +176,7 @@ pub(super) struct Pattern {
 }
 
 /// What [`Pattern::new`] reads besides the stiffness and the contact rows.
-pub(super) struct PatternInput<'a> {
+pub(crate) struct PatternInput<'a> {
     pub layout: &'a MixedLayout,
     pub owned_dofs: Range<usize>,
     pub per_point: usize,
@@ -288,7 +288,7 @@ impl Pattern {
 
 /// The dofs where the stabilisation springs act: the free dofs of the contact nodes, and with
 /// contact pairs every free dof `B` touches (either side may be the body the contact holds).
-pub(super) fn spring_dofs_of<'a>(b: &'a ContactBoundary, spring_dofs: &[usize]) -> impl Fn(usize) -> bool + 'a {
+pub(crate) fn spring_dofs_of<'a>(b: &'a ContactBoundary, spring_dofs: &[usize]) -> impl Fn(usize) -> bool + 'a {
     let coupled = b.is_coupled();
     let spring_set: HashSet<usize> = spring_dofs.iter().copied().collect();
     move |dof: usize| -> bool {

@@ -31,8 +31,8 @@ use std::collections::HashSet;
 use crate::contact::{self, PointStatus};
 use crate::error::{Error, Result};
 
-use super::{ContactPart, ContactSetup, ElasticityProblem, MasterSide, EQUILIBRIUM_CHECK};
 use crate::contact::mortar::MortarSide;
+use crate::problem::{ContactPart, ContactSetup, ElasticityProblem, MasterSide, EQUILIBRIUM_CHECK};
 use crate::scene::BodiesModel;
 
 /// The largest pointwise penetration of a pair's nodes (relative to the displacement scale)
@@ -77,7 +77,7 @@ pub struct ContactPartReport {
     /// `|S + M| / |S|` (pairs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub action_reaction_residual: Option<f64>,
-    pub residuals: super::contact_report::ContactResidualsReport,
+    pub residuals: super::contact::ContactResidualsReport,
     /// Pairs: every node of both sides measured against the other side (module documentation).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub node_penetration: Option<NodePenetrationReport>,
@@ -102,7 +102,7 @@ impl ElasticityProblem<'_> {
     /// body is not in equilibrium.
     /// `on_supports`: the contact shares on supported dofs (`add_forces_on_supports`), which the
     /// supports receive.
-    pub(super) fn check_bodies(
+    pub(crate) fn check_bodies(
         &self,
         u: &[f64],
         f: &[f64],
@@ -218,8 +218,8 @@ fn part_reports(
     force: &[f64],
     status: &[PointStatus],
     u: &[f64],
-    whole: &super::ContactReport,
-    parts: &super::ContactParts,
+    whole: &crate::problem::ContactReport,
+    parts: &crate::problem::ContactParts,
     slave_force: &[[f64; 2]],
     master_force: &[[f64; 2]],
 ) -> Result<Vec<ContactPartReport>> {
@@ -249,7 +249,7 @@ fn part_reports(
         };
         out.push(ContactPartReport {
             name: part.name.clone(),
-            friction: super::bodies::friction_text(part.friction),
+            friction: crate::problem::bodies::friction_text(part.friction),
             points: points.len(),
             open: count(PointStatus::Open),
             stick: count(PointStatus::Stick),

@@ -4,47 +4,47 @@
 use nalgebra::{DMatrix, DVector, Dyn, Matrix3, SymmetricEigen, Vector3};
 
 use super::*;
-use crate::problem::block_elimination::{BlockElimination, ContactRow};
-use crate::problem::floating_elimination::FloatingElimination;
+use crate::contact_routes::block_elimination::{BlockElimination, ContactRow};
+use crate::contact_routes::floating_elimination::FloatingElimination;
 
 /// The Alart–Curnier quantities of one point at `(u_k, λ)`.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct PointEval {
-    pub(super) tau_n: f64,
-    pub(super) tau_t: f64,
-    pub(super) threshold: f64,
-    pub(super) c_n: f64,
-    pub(super) c_t: f64,
+pub(crate) struct PointEval {
+    pub(crate) tau_n: f64,
+    pub(crate) tau_t: f64,
+    pub(crate) threshold: f64,
+    pub(crate) c_n: f64,
+    pub(crate) c_t: f64,
 }
 
 /// The friction law as the mixed system sees it.
 #[derive(Debug, Clone)]
-pub(super) enum Law {
+pub(crate) enum Law {
     None,
     Tresca(Vec<f64>),
     Coulomb(Vec<f64>),
 }
 
 impl Law {
-    pub(super) fn of(friction: FrictionLaw) -> Self {
+    pub(crate) fn of(friction: FrictionLaw) -> Self {
         match friction {
             FrictionLaw::Tresca { threshold } if threshold.iter().any(|&s| s > 0.0) => Law::Tresca(threshold),
             FrictionLaw::Coulomb { mu } if mu.iter().any(|&v| v > 0.0) => Law::Coulomb(mu),
             _ => Law::None,
         }
     }
-    pub(super) fn frictional(&self) -> bool {
+    pub(crate) fn frictional(&self) -> bool {
         !matches!(self, Law::None)
     }
     /// Threshold of point `i` for the independent check (Coulomb: from the force itself).
-    pub(super) fn threshold(&self, i: usize, normal_force: f64) -> f64 {
+    pub(crate) fn threshold(&self, i: usize, normal_force: f64) -> f64 {
         match self {
             Law::None => 0.0,
             Law::Tresca(s) => s[i],
             Law::Coulomb(mu) => mu[i] * (-normal_force).max(0.0),
         }
     }
-    pub(super) fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             Law::None => "frictionless",
             Law::Tresca(_) => "Tresca",
@@ -55,7 +55,7 @@ impl Law {
 
 /// Evaluate point `i` (augmentation `rho`, gap `gap`) at contact displacements `(uN, uT)` and
 /// forces `(λN, λT)`.
-pub(super) fn evaluate(law: &Law, i: usize, rho: [f64; 2], gap: f64, u: [f64; 2], lambda: [f64; 2]) -> PointEval {
+pub(crate) fn evaluate(law: &Law, i: usize, rho: [f64; 2], gap: f64, u: [f64; 2], lambda: [f64; 2]) -> PointEval {
     let tau_n = lambda[0] - rho[0] * (u[0] - gap);
     let c_n = (lambda[0] - tau_n.min(0.0)) / rho[0];
     let (tau_t, threshold, c_t) = match law {
@@ -74,7 +74,7 @@ pub(super) fn evaluate(law: &Law, i: usize, rho: [f64; 2], gap: f64, u: [f64; 2]
 }
 
 /// The piece of the generalized Jacobian at a point (see the module documentation).
-pub(super) fn classify(law: &Law, e: &PointEval, bonded_start: bool) -> PointState {
+pub(crate) fn classify(law: &Law, e: &PointEval, bonded_start: bool) -> PointState {
     let contact = e.tau_n <= 0.0;
     let tangential = if !law.frictional() {
         TangentialState::Free
@@ -94,7 +94,7 @@ pub(super) fn classify(law: &Law, e: &PointEval, bonded_start: bool) -> PointSta
 
 /// The status reported for a point: open unless it carries a normal force or sits on the
 /// obstacle under compression (`τN < 0`).
-pub(super) fn status_of(law: &Law, e: &PointEval) -> PointStatus {
+pub(crate) fn status_of(law: &Law, e: &PointEval) -> PointStatus {
     if e.tau_n >= 0.0 {
         return PointStatus::Open;
     }
@@ -106,36 +106,36 @@ pub(super) fn status_of(law: &Law, e: &PointEval) -> PointStatus {
 
 /// A contact point owned by this rank, with the positions of its unknowns.
 #[derive(Debug, Clone)]
-pub(super) struct OwnedPoint {
-    pub(super) index: usize,
+pub(crate) struct OwnedPoint {
+    pub(crate) index: usize,
     /// The coefficients of the point's normal and tangential rows of `B` on each dof they
     /// touch (the point's node; with a contact pair also the master nodes), by increasing dof.
-    pub(super) coefficients: Vec<[f64; 2]>,
+    pub(crate) coefficients: Vec<[f64; 2]>,
     /// The positions of those dofs in the ghosted iterate.
-    pub(super) positions: Vec<usize>,
+    pub(crate) positions: Vec<usize>,
     /// Where each entry of a contact row sits among the row's stored entries (increasing
     /// global columns): entry `e < coefficients.len()` is the dof of `coefficients[e]`, then the
     /// multipliers λN (λT). The identity on one process; under MPI a master dof owned by a
     /// later rank is stored after this rank's multipliers.
-    pub(super) slots: Vec<usize>,
+    pub(crate) slots: Vec<usize>,
     /// The normal and the tangential row applied to the rigid motions (3 per body).
-    pub(super) rigid: [DVector<f64>; 2],
-    pub(super) gap: f64,
-    pub(super) rho: [f64; 2],
+    pub(crate) rigid: [DVector<f64>; 2],
+    pub(crate) gap: f64,
+    pub(crate) rho: [f64; 2],
     /// Position of λN (λT follows) in the ghosted iterate.
-    pub(super) lambda: usize,
+    pub(crate) lambda: usize,
     /// Position in the owned residual of the normal row (the tangential row follows).
-    pub(super) row: usize,
+    pub(crate) row: usize,
     /// Pattern position of the first entry of the normal row (each contact row has one entry
     /// per dof of `coefficients` and `per_point` multiplier entries, placed as `slots` says).
-    pub(super) start: usize,
+    pub(crate) start: usize,
 }
 
 /// Rigid motions left free by the Dirichlet conditions: the Gram matrix of their rows, on the
 /// rigid motions of every body (3 each).
 #[derive(Debug, Clone)]
-pub(super) struct RigidCheck {
-    pub(super) dirichlet: DMatrix<f64>,
+pub(crate) struct RigidCheck {
+    pub(crate) dirichlet: DMatrix<f64>,
 }
 
 fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
@@ -143,7 +143,7 @@ fn rigid_row(direction: [f64; 2], scaled: [f64; 2]) -> Vector3<f64> {
 }
 
 /// The rigid-motion row of one dof (`2·node + component`) at its node's scaled position.
-pub(super) fn dof_rigid_row(dof: usize, scaled: [f64; 2]) -> Vector3<f64> {
+pub(crate) fn dof_rigid_row(dof: usize, scaled: [f64; 2]) -> Vector3<f64> {
     rigid_row(if dof.is_multiple_of(2) { [1.0, 0.0] } else { [0.0, 1.0] }, scaled)
 }
 
@@ -154,7 +154,7 @@ pub(super) fn dof_rigid_row(dof: usize, scaled: [f64; 2]) -> Vector3<f64> {
 /// then of the node farthest from that one, then of the others by decreasing distance from the
 /// first, until that body's rigid motions are blocked. `None` if even every candidate leaves a
 /// rigid motion free.
-pub(super) fn choose_pins(
+pub(crate) fn choose_pins(
     candidates: &[usize],
     mesh: &Mesh,
     piece_of: &[usize],
@@ -214,7 +214,7 @@ pub(super) fn choose_pins(
 
 /// An orthonormal basis of the null space of a symmetric Gram matrix (eigenvalues at or below
 /// 1e-10 of the largest, as [`full_rank`]); `None` when it has full rank.
-pub(super) fn null_space(gram: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+pub(crate) fn null_space(gram: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let eigen = SymmetricEigen::<f64, Dyn>::new(gram.clone());
     let largest = eigen.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
     let free: Vec<usize> = (0..gram.nrows()).filter(|&j| !blocks(eigen.eigenvalues[j], largest)).collect();
@@ -224,7 +224,7 @@ pub(super) fn null_space(gram: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     Some(DMatrix::from_fn(gram.nrows(), free.len(), |r, c| eigen.eigenvectors[(r, free[c])]))
 }
 
-pub(super) fn full_rank(gram: &Matrix3<f64>) -> bool {
+pub(crate) fn full_rank(gram: &Matrix3<f64>) -> bool {
     full_rank_of(SymmetricEigen::new(*gram).eigenvalues.as_slice().to_vec())
 }
 
@@ -240,77 +240,77 @@ fn blocks(l: f64, largest: f64) -> bool {
 
 /// What the failure of a body that nothing holds looks like.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Floating {
-    pub(super) closed: usize,
-    pub(super) imbalance: [f64; 2],
+pub(crate) struct Floating {
+    pub(crate) closed: usize,
+    pub(crate) imbalance: [f64; 2],
 }
 
 /// The mixed system of this rank, for the SNES wrapper.
-pub(super) struct MixedSystem<'s, 'p> {
-    pub(super) comm: Comm,
+pub(crate) struct MixedSystem<'s, 'p> {
+    pub(crate) comm: Comm,
     /// Told each Newton step and its residual.
-    pub(super) progress: &'p dyn crate::problem::Progress,
+    pub(crate) progress: &'p dyn crate::problem::Progress,
     /// Exact Jacobian solves by block elimination with one factor of K, when they apply.
-    pub(super) elimination: Option<BlockElimination<'s>>,
+    pub(crate) elimination: Option<BlockElimination<'s>>,
     /// The same for a body its Dirichlet conditions do not hold (iterating in `(u, λ)`).
-    pub(super) held_by_contact: Option<FloatingElimination<'s>>,
-    pub(super) law: Law,
-    pub(super) per_point: usize,
+    pub(crate) held_by_contact: Option<FloatingElimination<'s>>,
+    pub(crate) law: Law,
+    pub(crate) per_point: usize,
     /// Owned displacement rows (they come first in the owned block) and their first dof.
-    pub(super) num_u: usize,
-    pub(super) first_dof: usize,
-    pub(super) indptr: Vec<usize>,
-    pub(super) local_columns: Vec<usize>,
+    pub(crate) num_u: usize,
+    pub(crate) first_dof: usize,
+    pub(crate) indptr: Vec<usize>,
+    pub(crate) local_columns: Vec<usize>,
     /// Values of the force rows' entries (K and −Bᵀ); the contact rows' entries are 0 here.
-    pub(super) base: Vec<f64>,
+    pub(crate) base: Vec<f64>,
     /// With an elimination iterating in `(v, λ)` (one process): `K`'s rows, from which the
     /// force rows `K v − f` are evaluated; the pattern then holds their diagonal alone.
-    pub(super) stiffness: Option<&'p crate::fem::assembly::CsrRows>,
-    pub(super) rhs: Vec<f64>,
-    pub(super) fixed_row: Vec<bool>,
-    pub(super) points: Vec<OwnedPoint>,
+    pub(crate) stiffness: Option<&'p crate::fem::assembly::CsrRows>,
+    pub(crate) rhs: Vec<f64>,
+    pub(crate) fixed_row: Vec<bool>,
+    pub(crate) points: Vec<OwnedPoint>,
     /// Spring stiffness and the pattern positions of the contact nodes' diagonal entries.
-    pub(super) spring: Option<(f64, Vec<usize>)>,
-    pub(super) rigid: Option<RigidCheck>,
-    pub(super) gap_scale: f64,
-    pub(super) tight: f64,
-    pub(super) tolerance: f64,
+    pub(crate) spring: Option<(f64, Vec<usize>)>,
+    pub(crate) rigid: Option<RigidCheck>,
+    pub(crate) gap_scale: f64,
+    pub(crate) tight: f64,
+    pub(crate) tolerance: f64,
     // ---- iteration state
-    pub(super) step_states: Option<Vec<PointState>>,
-    pub(super) previous: Option<Vec<PointState>>,
+    pub(crate) step_states: Option<Vec<PointState>>,
+    pub(crate) previous: Option<Vec<PointState>>,
     /// Status sets met since the last cycle, with the merit then.
-    pub(super) seen: Vec<(Vec<PointState>, f64)>,
-    pub(super) history: Vec<IterationRecord>,
-    pub(super) notes: Vec<String>,
-    pub(super) cycles: usize,
-    pub(super) step_cap: f64,
-    pub(super) last_step_scale: f64,
-    pub(super) regularized: bool,
-    pub(super) regularized_steps: usize,
-    pub(super) floating_steps: usize,
-    pub(super) previous_equilibrium: f64,
-    pub(super) floating: Option<Floating>,
-    pub(super) equilibrium: f64,
-    pub(super) contact_residual: f64,
+    pub(crate) seen: Vec<(Vec<PointState>, f64)>,
+    pub(crate) history: Vec<IterationRecord>,
+    pub(crate) notes: Vec<String>,
+    pub(crate) cycles: usize,
+    pub(crate) step_cap: f64,
+    pub(crate) last_step_scale: f64,
+    pub(crate) regularized: bool,
+    pub(crate) regularized_steps: usize,
+    pub(crate) floating_steps: usize,
+    pub(crate) previous_equilibrium: f64,
+    pub(crate) floating: Option<Floating>,
+    pub(crate) equilibrium: f64,
+    pub(crate) contact_residual: f64,
     /// The force rows' scale `max_r (Σ_c |K_rc x_c| + |f_r|)` at the current iterate.
-    pub(super) force_terms: f64,
+    pub(crate) force_terms: f64,
     /// Scale of the force rows in the merit (the largest diagonal entry of K).
-    pub(super) force_scale: f64,
+    pub(crate) force_scale: f64,
     /// `½ ‖F_u / k_ref‖²` and the whole merit at the current iterate.
-    pub(super) force_merit: f64,
-    pub(super) merit: f64,
-    pub(super) monotone: bool,
-    pub(super) line_search_failed: bool,
-    pub(super) shortened_steps: usize,
-    pub(super) best_merit: f64,
-    pub(super) best_at: usize,
+    pub(crate) force_merit: f64,
+    pub(crate) merit: f64,
+    pub(crate) monotone: bool,
+    pub(crate) line_search_failed: bool,
+    pub(crate) shortened_steps: usize,
+    pub(crate) best_merit: f64,
+    pub(crate) best_at: usize,
 }
 
 impl MixedSystem<'_, '_> {
     /// The contact displacements `B u` of the owned points in their frames: read from `u` in
     /// the unknowns `(u, λ)`, or `B v + W λ` in the eliminations' `(v, λ)`
     /// (`block_elimination.rs`, `floating_elimination.rs`). Linear in `x`.
-    pub(super) fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
+    pub(crate) fn contact_displacements(&self, x: &[f64]) -> Vec<[f64; 2]> {
         let frame = |p: &OwnedPoint| {
             let mut bu = [0.0; 2];
             for (&at, c) in p.positions.iter().zip(&p.coefficients) {
@@ -340,7 +340,7 @@ impl MixedSystem<'_, '_> {
     }
 
     /// The multipliers of the owned points in `W`'s numbering (`2i`: normal, `2i + 1`: tangential).
-    pub(super) fn multipliers(&self, x: &[f64]) -> Vec<f64> {
+    pub(crate) fn multipliers(&self, x: &[f64]) -> Vec<f64> {
         let mut lambda = vec![0.0; 2 * self.points.len()];
         for p in &self.points {
             lambda[2 * p.index] = x[p.lambda];
@@ -352,30 +352,30 @@ impl MixedSystem<'_, '_> {
     }
 
     /// Evaluate the points at `x`.
-    pub(super) fn evaluations(&self, x: &[f64]) -> Vec<PointEval> {
+    pub(crate) fn evaluations(&self, x: &[f64]) -> Vec<PointEval> {
         self.contact_displacements(x).into_iter().zip(&self.points).map(|(u, p)| self.eval_at(p, u, x)).collect()
     }
 
     /// Evaluate a point from its contact displacements (frame) and its multipliers in `x`.
-    pub(super) fn eval_at(&self, p: &OwnedPoint, u: [f64; 2], x: &[f64]) -> PointEval {
+    pub(crate) fn eval_at(&self, p: &OwnedPoint, u: [f64; 2], x: &[f64]) -> PointEval {
         let lambda = [x[p.lambda], if self.per_point == 2 { x[p.lambda + 1] } else { 0.0 }];
         evaluate(&self.law, p.index, p.rho, p.gap, u, lambda)
     }
 
     /// Do the unknowns read `(v, λ)` (an elimination's change of unknowns) rather than `(u, λ)`?
-    pub(super) fn in_v(&self) -> bool {
+    pub(crate) fn in_v(&self) -> bool {
         self.elimination.is_some() || self.held_by_contact.as_ref().is_some_and(|f| f.in_v)
     }
 
     /// Is `c` a displacement column of the force rows' stiffness part? In `(v, λ)` the force
     /// rows are `K v − f` (and the floating elimination's pinned terms): their `−Bᵀ` entries
     /// drop out.
-    pub(super) fn in_force_rows(&self, c: usize) -> bool {
+    pub(crate) fn in_force_rows(&self, c: usize) -> bool {
         !self.in_v() || c < self.num_u
     }
 
     /// The merit `Θ = ½ (‖C‖² + ‖F_u / k_ref‖²)` at `x − t d` (every rank; see `step_length`).
-    pub(super) fn merit_at(&self, x: &[f64], d: &[f64], t: f64) -> Result<f64> {
+    pub(crate) fn merit_at(&self, x: &[f64], d: &[f64], t: f64) -> Result<f64> {
         let trial: Vec<f64> = x.iter().zip(d).map(|(a, b)| a - t * b).collect();
         let mut sum = 0.0;
         for e in self.evaluations(&trial) {
@@ -385,14 +385,14 @@ impl MixedSystem<'_, '_> {
         Ok(0.5 * contact + (1.0 - t) * (1.0 - t) * self.force_merit)
     }
 
-    pub(super) fn states(&self, x: &[f64]) -> Vec<PointState> {
+    pub(crate) fn states(&self, x: &[f64]) -> Vec<PointState> {
         self.evaluations(x).iter().map(|e| classify(&self.law, e, self.rigid.is_some())).collect()
     }
 
     /// The rigid motions the Dirichlet rows and the closed/sticking rows of `states` leave
     /// free: an orthonormal basis (columns over the rigid-motion coordinates, 3 per body) of
     /// the null space of their Gram matrix; `None` when they block every rigid motion.
-    pub(super) fn free_motions(&self, states: &[PointState]) -> Result<Option<DMatrix<f64>>> {
+    pub(crate) fn free_motions(&self, states: &[PointState]) -> Result<Option<DMatrix<f64>>> {
         let Some(rigid) = &self.rigid else { return Ok(None) };
         let size = rigid.dirichlet.nrows();
         let mut gram = DMatrix::<f64>::zeros(size, size);

@@ -2,7 +2,7 @@
 //! factorisation of the stiffness for the whole Newton iteration and no solve with it in the
 //! steps after the first.
 //!
-//! The Jacobian of the full-space semi-smooth Newton (`full_space.rs`) in the unknowns `(u, λ)` is
+//! The Jacobian of the full-space semi-smooth Newton (`full_space/`) in the unknowns `(u, λ)` is
 //!
 //! ```text
 //!   J = [ K     −Bᵀ ]      K: the constrained stiffness (constant)
@@ -29,13 +29,13 @@
 //! later step costs one small dense system and no solve with the factor, and `u` is recovered
 //! once at the end ([`BlockElimination::displacement`], one solve). `K` is factorised once
 //! (MUMPS Cholesky) with its Schur complement `S` on the contact dofs, which gives
-//! `W = R S⁻¹ Rᵀ` ([`flexibility_from_schur`](super::contact::flexibility_from_schur)). The
+//! `W = R S⁻¹ Rᵀ` ([`flexibility_from_schur`](super::condensed_route::flexibility_from_schur)). The
 //! residual and the convergence test stay those of the full-space equations, and the answer is
 //! checked afterwards in `(u, λ)` like every other solver's.
 //!
 //! ## The small system
 //!
-//! Per point the rows are of three kinds (`full_space.rs`, "Generalized Jacobian"), with
+//! Per point the rows are of three kinds (`full_space/`, "Generalized Jacobian"), with
 //! `B du = B dv + W dλ` the change of the contact displacements:
 //!
 //! ```text
@@ -56,7 +56,7 @@
 //! system). `-contact_full_space_lu` turns it off (MUMPS LU of the mixed Jacobian in `(u, λ)`).
 use nalgebra::{DMatrix, DVector};
 
-use super::condensed_route::{flexibility_from_schur, schur_dofs};
+use super::condensation::{flexibility_from_schur, schur_dofs};
 use crate::contact::boundary::ContactBoundary;
 use crate::error::{Error, Result};
 use crate::petsc::dense_lu::DenseLu;
@@ -65,7 +65,7 @@ use crate::petsc::{Matrix, Session, Vector};
 
 /// How a contact row enters the Newton step (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum ContactRow {
+pub(crate) enum ContactRow {
     Displacement,
     Force { rho: f64 },
     CoulombSlip { a: f64, b: f64, c: f64 },
@@ -74,7 +74,7 @@ pub(super) enum ContactRow {
 /// The contact points' nodes and frames, and the current Newton step's contact rows with the
 /// unknowns they leave: the part of the small system that both eliminations (this one and
 /// `floating_elimination.rs`) share.
-pub(super) struct StepRows {
+pub(crate) struct StepRows {
     nodes: Vec<usize>,
     /// The contact points with their rows of `B` (`gather`: `B y`, `scatter_add`: `Bᵀ λ`).
     boundary: ContactBoundary,
@@ -177,7 +177,7 @@ impl StepRows {
     }
 }
 
-pub(super) struct BlockElimination<'s> {
+pub(crate) struct BlockElimination<'s> {
     factor: SchurFactor<'s>,
     /// `W` in the points' frames, `2m × 2m` (frictionless: only the normal rows are used).
     w: DMatrix<f64>,
@@ -191,7 +191,7 @@ pub(super) struct BlockElimination<'s> {
 }
 
 /// The factorised small system of a Newton step (LAPACK's LU, `petsc/dense_lu.rs`).
-pub(super) enum Reduced<'s> {
+pub(crate) enum Reduced<'s> {
     /// No unknowns left (every row a force row).
     Empty,
     /// An exactly zero pivot.
@@ -314,7 +314,7 @@ impl<'s> BlockElimination<'s> {
 }
 
 /// `v + F⁻¹ load` with the factor `F` (one solve; `rhs`, `solution`: its work vectors).
-pub(super) fn v_plus_response<'s>(
+pub(crate) fn v_plus_response<'s>(
     factor: &SchurFactor<'s>,
     rhs: &mut Vector<'s>,
     solution: &mut Vector<'s>,

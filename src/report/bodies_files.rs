@@ -14,15 +14,15 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::output_files::SolutionFields;
-use super::ElasticityProblem;
+use super::files::SolutionFields;
 use crate::contact::boundary::edge_weights;
 use crate::error::Result;
 use crate::output::write_atomically;
+use crate::problem::ElasticityProblem;
 
 impl ElasticityProblem<'_> {
     /// Fill the master nodes' entries of the nodal contact fields (module documentation).
-    pub(super) fn add_master_contact_fields(&self, pressure: &mut [f64], friction: &mut [f64], status: &mut [f64]) {
+    pub(crate) fn add_master_contact_fields(&self, pressure: &mut [f64], friction: &mut [f64], status: &mut [f64]) {
         let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) else {
             return;
         };
@@ -82,7 +82,7 @@ impl ElasticityProblem<'_> {
 
     /// `<body>.vtu` for every body and `solution.pvd` (module documentation), with `fields`
     /// (those of `solution.vtu`) restricted to each body. Nothing for a single body.
-    pub(super) fn write_body_files(
+    pub(crate) fn write_body_files(
         &self,
         dir: &Path,
         fields: &SolutionFields,

@@ -196,8 +196,8 @@ use std::ops::Range;
 use nalgebra::{DMatrix, DVector};
 
 use super::block_elimination::BlockElimination;
-use super::condensed_route::schur_dofs;
-use super::contact::{ContactOutcome, ContactSetup};
+use super::condensation::schur_dofs;
+use super::condensed_route::{ContactOutcome, ContactSetup};
 use super::floating_elimination::FloatingElimination;
 use crate::contact::{self, ContactSolution, FrictionLaw, IterationRecord, PointState, PointStatus, TangentialState};
 use crate::error::{Error, Result};
@@ -255,7 +255,7 @@ impl ContactSetup {
         constraints: &Constraints,
         system: &LinearSystem,
         dof_ranges: &[Range<usize>],
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<Solved> {
         let run = |in_v: Option<String>| {
             self.full_space_run(session, mesh, materials, constraints, system, dof_ranges, progress, in_v)
@@ -284,7 +284,7 @@ impl ContactSetup {
         constraints: &Constraints,
         system: &LinearSystem,
         dof_ranges: &[Range<usize>],
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
         retry: Option<String>,
     ) -> Result<std::result::Result<Solved, String>> {
         let start = std::time::Instant::now();
@@ -626,7 +626,7 @@ impl ContactSetup {
         failure: String,
         notes: Vec<String>,
         start: std::time::Instant,
-        progress: &dyn super::Progress,
+        progress: &dyn crate::problem::Progress,
     ) -> Result<Solved> {
         progress.note(&format!("contact: {failure}; falling back to the condensed semi-smooth Newton"));
         let k = &system.matrix;

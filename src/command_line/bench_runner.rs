@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use signorini::bench::{self, BenchRecord, FailedCase};
 use signorini::Error;
 
-use crate::terminal_progress::{self, Spinner};
+use super::terminal_progress::{self, Spinner};
 use crate::RunArgs;
 
 /// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row; else the reason.
