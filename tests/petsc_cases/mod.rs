@@ -24,10 +24,12 @@ mod ict;
 mod locking;
 mod mpi_callbacks;
 mod progress;
+mod runner;
 
 type Case = fn(&Session) -> Result<(), String>;
 
 pub const TESTS: &[(&str, Case)] = &[
+    ("runner_parses_libtest_options", runner::runner_parses_libtest_options),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
