@@ -80,7 +80,14 @@ fn unwritable_output_leaves_nothing_half_written() {
     let blocker = dir.join("file");
     std::fs::write(&blocker, "not a directory").unwrap();
     let msg = run_err(bin().args(["run", "--quiet", "--out"]).arg(blocker.join("out")), 1);
-    assert!(msg.contains("cannot write output") || msg.contains("failed"), "{msg}");
+    // The typed error names the path it could not write and why.
+    let target = blocker.join("out");
+    assert!(
+        msg.contains("cannot write output")
+            && msg.contains(&target.display().to_string())
+            && msg.contains("nothing was written"),
+        "{msg}"
+    );
     let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(names.len(), 1, "stray files: {names:?}");
 }
