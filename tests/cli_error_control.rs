@@ -1,5 +1,8 @@
 //! `signorini adapt`, `signorini study` and `run --estimate` end to end (each test spawns the
 //! program): exit codes, terminal lines, the files written, and one test per usage mistake.
+#[path = "common/edit.rs"]
+mod edit;
+use edit::Edit;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -297,7 +300,7 @@ fn adapt_failure_after_the_first_step_keeps_the_steps_done() {
         .unwrap();
     assert!(status.success());
     // The remeshing script lacks "top", which the scene loads.
-    std::fs::write(dir.join("remesh.geo"), geo.replace("Physical Curve(\"top\") = {3};\n", "")).unwrap();
+    std::fs::write(dir.join("remesh.geo"), geo.edit("Physical Curve(\"top\") = {3};\n", "")).unwrap();
     std::fs::write(
         dir.join("file.toml"),
         "[mesh]\nshape = \"file\"\nfile = \"square.msh\"\ngeometry = \"remesh.geo\"\n\n[material]\nyoung = 1e9\n\

@@ -1,6 +1,8 @@
 //! Elements and formulations: the P2–P0 element, the dual (HCT) formulation and its
 //! saddle-point route, and the error estimate.
 
+use crate::edit::Edit;
+
 use crate::{bin, mpirun_two, python, relative_difference, report, run_err, run_ok, scene, scratch};
 
 #[test]
@@ -13,9 +15,9 @@ fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
     let dir = scratch("p2p0");
     let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
         .unwrap()
-        .replace("order = 1", "order = 2\nelement = \"p2p0\"")
-        .replace("poisson = 0.2", &format!("poisson = {nu}"))
-        .replace("pressure = 2.5e5", &format!("pressure = {side:e}"));
+        .edit("order = 1", "order = 2\nelement = \"p2p0\"")
+        .edit("poisson = 0.2", &format!("poisson = {nu}"))
+        .edit("pressure = 2.5e5", &format!("pressure = {side:e}"));
     let path = dir.join("patch.toml");
     std::fs::write(&path, text).unwrap();
     let serial = dir.join("serial");

@@ -2,6 +2,8 @@
 //! with meshio, contact.csv and the pictures, the terminal summary, progress, warnings, and the
 //! Gmsh mesh cache.
 
+use crate::edit::Edit;
+
 use crate::{bin, block, python, report, run_err, run_ok, scene, scratch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -90,7 +92,7 @@ fn solution_vtu_reads_back_in_meshio_with_exact_patch_values() {
         let dir = scratch(&format!("meshio-p{order}"));
         let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
             .unwrap()
-            .replace("order = 1", &format!("order = {order}"));
+            .edit("order = 1", &format!("order = {order}"));
         let path = dir.join("patch.toml");
         std::fs::write(&path, text).unwrap();
         run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&dir));

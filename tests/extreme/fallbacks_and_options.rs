@@ -2,6 +2,8 @@
 //! fallback is checked against the normal route: the same displacement field (meshio) and the
 //! same open/stick/slip counts as the default run of the same scene.
 
+use crate::edit::Edit;
+
 use crate::{answer, assert_same_answer, counts, error, SQUARE_BLOCK};
 use serde_json::Value;
 use std::path::PathBuf;
@@ -64,7 +66,7 @@ fn backtracking_line_search_falls_back_to_the_same_answer() {
 fn advice_after_an_iteration_limit_works() {
     // Both the full-space Newton and its condensed fallback stop at 2 steps; the error's advice
     // (more steps) must produce the answer on the same scene, on the full-space route itself.
-    let scene = SQUARE_BLOCK.replace("solver = \"newton_full\"", "solver = \"newton_full\"\nmax_iterations = 2");
+    let scene = SQUARE_BLOCK.edit("solver = \"newton_full\"", "solver = \"newton_full\"\nmax_iterations = 2");
     assert_ne!(scene, SQUARE_BLOCK, "the square block's solver line changed: the edit missed");
     let msg = error("advice", &scene, &[], &["did not converge", "-contact_snes_max_it"]);
     assert!(!msg.contains("linesearch_type bt"), "{msg}");

@@ -1,5 +1,7 @@
 //! Initial gaps and overlaps, tilted and nearly tangent obstacles, a polyline corner.
 
+use crate::edit::Edit;
+
 use crate::{answer, assert_uniform_pressure, contact_points, Block};
 
 // ---------------------------------------------------------------- gaps and obstacle geometry
@@ -141,7 +143,7 @@ fn polyline_corner_under_the_body() {
     // A shallow valley whose corner lies under the middle of the block (0.5 mm below its
     // bottom corners' level at x = 0 and 2): the block sinks onto the two slopes.
     let line = b.toml();
-    let scene = line.replace(
+    let scene = line.edit(
         "obstacle = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]",
         "obstacle = \"polyline\"\npoints = [[-1.0, 0.0], [1.0, -1e-3], [3.0, 0.0]]",
     );

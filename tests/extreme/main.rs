@@ -9,6 +9,8 @@
 //! typed error whose message says what is wrong.
 //!
 //! Every case spawns the program (one PETSc session per process).
+#[path = "../common/edit.rs"]
+mod edit;
 
 mod constrained_nodes;
 mod contact_zones;

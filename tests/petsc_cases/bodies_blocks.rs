@@ -1,6 +1,8 @@
 //! Several bodies in contact (issue 13): the contact patch test on non-matching irregular
 //! meshes, the square block on a very stiff elastic foundation against the rigid obstacle, a
 //! stack of three blocks, and the errors of scenes with several bodies.
+
+use super::edit::Edit;
 use std::path::Path;
 
 use signorini::petsc::Session;
@@ -374,7 +376,7 @@ pub fn bodies_errors_name_what_is_wrong(s: &Session) -> Result<(), String> {
     let path = manifest("bodies_errors.toml");
     let path: &Path = &path;
     // A Tresca pair and a Coulomb pair: one friction law per run, at the Tresca pair.
-    let text = stack_text().replace(
+    let text = stack_text().edit(
         "slave = \"top.bottom\"\nmaster = \"middle.top\"\n",
         "slave = \"top.bottom\"\nmaster = \"middle.top\"\nfriction = \"tresca\"\nthreshold = 1e5\n",
     );
