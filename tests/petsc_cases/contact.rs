@@ -66,12 +66,14 @@ fn patch(s: &Session, order: u32, solver: &str) -> Result<(), String> {
         .enumerate()
         .map(|(i, x)| u[2 * i].abs().max((u[2 * i + 1] - k * x[1]).abs()))
         .fold(0.0, f64::max);
-    ensure(err <= 1e-11 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
+    // Exact to round-off (the docs' claim): measured at most 1.4e-13 of the slope in the
+    // displacements and 7.7e-13 of p in the pressures (P2, condensed Newton).
+    ensure(err <= 1e-12 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
     let c = p.contact.as_ref().unwrap();
     let o = p.contact_outcome.as_ref().unwrap();
     let (pressure, friction) = c.boundary.tractions(&o.force);
     for (i, (pi, ti)) in pressure.iter().zip(&friction).enumerate() {
-        ensure((pi - pr).abs() <= 1e-8 * pr && ti.abs() <= 1e-8 * pr, || {
+        ensure((pi - pr).abs() <= 1e-12 * pr && ti.abs() <= 1e-12 * pr, || {
             format!("P{order} {solver}: point {i}: pressure {pi}, friction {ti} (exact {pr}, 0)")
         })?;
     }
@@ -164,10 +166,11 @@ fn stick_patch(s: &Session, solver: &str) -> Result<(), String> {
             .enumerate()
             .map(|(i, x)| (u[2 * i] - kx * x[1]).abs().max((u[2 * i + 1] - k * x[1]).abs()))
             .fold(0.0, f64::max);
-        ensure(err <= 1e-10 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
+        // Exact to round-off (the docs' claim): measured at most 3e-13 of the slope.
+        ensure(err <= 1e-12 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
         let o = pr.contact_outcome.as_ref().unwrap();
         ensure(o.report.stick == o.report.points, || format!("P{order}: not all stick: {:?}", o.report))?;
-        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-8 * q, || {
+        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-12 * q, || {
             format!("friction resultant {:?}", o.report.resultant)
         })?;
     }
