@@ -585,6 +585,44 @@ fn bodies_builder_gives_the_scene_a_file_gives() {
         .pair("top.bottom", "bottom.top", FrictionSpec::Coulomb { mu: 0.3 })
         .build()
         .unwrap();
+    // The same scene written as a file: the same scene (compared through its complete TOML
+    // serialisation, which both parse back to).
+    let file = parse(
+        r#"title = "two blocks in Rust"
+
+[[body]]
+name = "top"
+mesh = { shape = "rectangle", origin = [0.0, 1.0], size = [1.0, 0.5], cell_size = 0.25 }
+material = { young = 1e9, poisson = 0.3 }
+
+[[body.traction]]
+part = "top"
+pressure = 1e6
+
+[[body.dirichlet]]
+point = [0.0, 1.5]
+ux = 0.0
+
+[[body]]
+name = "bottom"
+mesh = { shape = "rectangle", origin = [-0.5, 0.0], size = [2.0, 1.0], cell_size = 0.3 }
+material = { young = 2e9, poisson = 0.25 }
+
+[[body.dirichlet]]
+part = "bottom"
+ux = 0.0
+uy = 0.0
+
+[[contact_pair]]
+slave = "top.bottom"
+master = "bottom.top"
+friction = "coulomb"
+mu = 0.3
+"#,
+    )
+    .unwrap();
+    assert_eq!(scene.to_toml(), file.to_toml());
+    assert_eq!(parse(&scene.to_toml()).unwrap().to_toml(), file.to_toml());
     assert_eq!(scene.bodies.len(), 2);
     assert_eq!(scene.bodies[1].name, "bottom");
     assert_eq!(scene.bodies[1].material.young, 2e9);
