@@ -108,8 +108,7 @@ mod tests {
         // 1e-2 × the diagonal 2.236): 0.015 rad turns too much but moves little (|u| = 0.0168 <
         // 0.0224), 0.03 rad both (|u| = 0.0335).
         let turn = |theta: f64| -> Vec<&str> {
-            let u: Vec<f64> =
-                mesh.nodes.iter().flat_map(|p| [-theta * (p[1] - 0.5), theta * (p[0] - 1.0)]).collect();
+            let u: Vec<f64> = mesh.nodes.iter().flat_map(|p| [-theta * (p[1] - 0.5), theta * (p[0] - 1.0)]).collect();
             after_solving(&mesh, &u).iter().map(|w| w.kind).collect()
         };
         assert_eq!(turn(0.015), ["large_rotation"]);
