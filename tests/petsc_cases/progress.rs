@@ -52,7 +52,7 @@ pub fn progress_events_in_order(s: &Session) -> Result<(), String> {
     }
     // Every phase does work: its time is positive.
     let seconds = recorder.1.lock().unwrap().clone();
-    if seconds.len() != 5 || seconds.iter().any(|(_, t)| !(*t > 0.0)) {
+    if seconds.len() != 5 || !seconds.iter().all(|(_, t)| *t > 0.0) {
         return Err(format!("phase times {seconds:?}"));
     }
     // The Newton steps come between the start and the end of the solve, numbered from 1, one
