@@ -1,6 +1,9 @@
 //! `signorini export`: the condensed contact problem in the FCLIB format, read back by Python
 //! h5py (the independent reader, installed by ./setup.sh) by FCLIB's names and types alone,
 //! and the scenes it refuses.
+#[path = "common/edit.rs"]
+mod edit;
+use edit::Edit;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -21,10 +24,10 @@ fn scratch(name: &str) -> PathBuf {
 /// `[contact]` lines `replace`d, written into `dir`.
 fn small_block(dir: &Path, replace: &[(&str, &str)]) -> PathBuf {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/square_block.toml");
-    let mut text = std::fs::read_to_string(path).unwrap().replace("cell_size = 1.25e-3", "cell_size = 5e-3");
+    let mut text = std::fs::read_to_string(path).unwrap().edit("cell_size = 1.25e-3", "cell_size = 5e-3");
     for (from, to) in replace {
         assert!(text.contains(from), "{from}");
-        text = text.replace(from, to);
+        text = text.edit(from, to);
     }
     let scene = dir.join("block.toml");
     std::fs::write(&scene, text).unwrap();

@@ -340,8 +340,8 @@ fn lame_cylinder_near_incompressible_p2p0_converges_where_p2_locks() {
     }
     assert!(mixed[2] < 1e-3, "P2-P0 stress error too large:\n{report}");
     for k in 0..sizes.len() {
-        // Uniform in ν: no locking.
-        assert!(mixed[k] < 1.1 * mixed_moderate[k], "P2-P0 error grows with nu:\n{report}");
+        // Uniform in ν: no locking; the docs' claim, the same error as at ν = 0.3 within 5 %.
+        assert!((mixed[k] / mixed_moderate[k] - 1.0).abs() < 0.05, "P2-P0 error depends on nu:\n{report}");
         // The displacement-only P2 element locks: 100 times worse on the same mesh (and worse
         // than itself at ν = 0.3 by the same factor).
         assert!(p2[k] > 100.0 * mixed[k], "P2 is not clearly worse than P2-P0:\n{report}");
@@ -430,7 +430,8 @@ fn manufactured_varying_pressure_near_incompressible_p2p0_converges_where_p2_loc
         assert!(*r > 0.9, "P2-P0 stress error does not converge at first order:\n{report}");
     }
     for k in 0..sizes.len() {
-        assert!(mixed[k] < 1.1 * mixed_moderate[k], "P2-P0 error grows with nu:\n{report}");
+        // The docs' claim: the same error as at ν = 0.3 within 5 %.
+        assert!((mixed[k] / mixed_moderate[k] - 1.0).abs() < 0.05, "P2-P0 error depends on nu:\n{report}");
         assert!(p2[k] > 5.0 * p2_moderate[k], "P2 does not lock at nu = 0.4999:\n{report}");
     }
     for k in 0..2 {

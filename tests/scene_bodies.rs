@@ -1,6 +1,9 @@
 //! Scenes with several bodies: `[[body]]` and `[[contact_pair]]` parse to what they say, every
 //! mistake is an `Error::Scene` at the right line, and the bodies' model (placed meshes, their
 //! union, the overlap check) is right. Single-body scenes are tested in tests/scene.rs.
+#[path = "common/edit.rs"]
+mod edit;
+use edit::Edit;
 use signorini::error::{Error, Location};
 use signorini::mesh::Order;
 use signorini::scene::{
@@ -393,7 +396,7 @@ fn the_union_of_two_blocks_keeps_each_body_apart() {
 fn a_placed_body_is_rotated_then_translated() {
     // The bottom block turned a quarter turn about (0, 0) then moved: [-1, 0] x [0, 2] -> [1, 2] x [-1, 1].
     let text = two_with("name = \"bottom\"", "name = \"bottom\"\nrotate = 90.0\ntranslate = [2.0, -1.0]");
-    let text = text.replace("origin = [0.0, 1.0]", "origin = [1.0, 1.0]");
+    let text = text.edit("origin = [0.0, 1.0]", "origin = [1.0, 1.0]");
     let model = BodiesModel::build(&parse(&text).unwrap()).unwrap();
     let m = &model.body_meshes[1];
     let (lo, hi) = m.nodes.iter().fold(([f64::MAX; 2], [f64::MIN; 2]), |(lo, hi), p| {
@@ -430,8 +433,8 @@ fn unknown_parts_are_found_once_the_meshes_exist() {
     assert!(message.starts_with("the mesh has no node at point [0.1, 1]"), "{message}");
     // [1, 2] x [0, 0.5] moved to [0, 1] x [1, 1.5]: its corner (0, 1) is a node once placed.
     let text = two_with("part = \"left\"\nux", "point = [0.0, 1.0]\nux")
-        .replace("origin = [0.0, 1.0]", "origin = [1.0, 0.0]")
-        .replace("name = \"top\"", "name = \"top\"\ntranslate = [-1.0, 1.0]");
+        .edit("origin = [0.0, 1.0]", "origin = [1.0, 0.0]")
+        .edit("name = \"top\"", "name = \"top\"\ntranslate = [-1.0, 1.0]");
     BodiesModel::build(&parse(&text).unwrap()).unwrap();
 }
 
@@ -444,9 +447,9 @@ fn overlapping_blocks_are_refused_unless_the_overlap_is_stated() {
     assert!(message.starts_with("bodies `top` and `bottom` overlap: the node of "), "{message}");
     assert!(message.contains("is 1.000e-1 inside"), "{message}");
     assert!(hint.contains("max_initial_overlap"), "{hint}");
-    let stated = text.replace("mu = 0.3", "mu = 0.3\nmax_initial_overlap = 0.1");
+    let stated = text.edit("mu = 0.3", "mu = 0.3\nmax_initial_overlap = 0.1");
     BodiesModel::build(&parse(&stated).unwrap()).unwrap();
-    let too_small = text.replace("mu = 0.3", "mu = 0.3\nmax_initial_overlap = 0.05");
+    let too_small = text.edit("mu = 0.3", "mu = 0.3\nmax_initial_overlap = 0.05");
     let (_, message, _) = scene_error(BodiesModel::build(&parse(&too_small).unwrap()));
     assert!(message.contains("more than the accepted initial overlap of this [[contact_pair]], 5.000e-2"), "{message}");
     // Bodies joined by no pair get the default tolerance, located at the later body.
@@ -582,6 +585,44 @@ fn bodies_builder_gives_the_scene_a_file_gives() {
         .pair("top.bottom", "bottom.top", FrictionSpec::Coulomb { mu: 0.3 })
         .build()
         .unwrap();
+    // The same scene written as a file: the same scene (compared through its complete TOML
+    // serialisation, which both parse back to).
+    let file = parse(
+        r#"title = "two blocks in Rust"
+
+[[body]]
+name = "top"
+mesh = { shape = "rectangle", origin = [0.0, 1.0], size = [1.0, 0.5], cell_size = 0.25 }
+material = { young = 1e9, poisson = 0.3 }
+
+[[body.traction]]
+part = "top"
+pressure = 1e6
+
+[[body.dirichlet]]
+point = [0.0, 1.5]
+ux = 0.0
+
+[[body]]
+name = "bottom"
+mesh = { shape = "rectangle", origin = [-0.5, 0.0], size = [2.0, 1.0], cell_size = 0.3 }
+material = { young = 2e9, poisson = 0.25 }
+
+[[body.dirichlet]]
+part = "bottom"
+ux = 0.0
+uy = 0.0
+
+[[contact_pair]]
+slave = "top.bottom"
+master = "bottom.top"
+friction = "coulomb"
+mu = 0.3
+"#,
+    )
+    .unwrap();
+    assert_eq!(scene.to_toml(), file.to_toml());
+    assert_eq!(parse(&scene.to_toml()).unwrap().to_toml(), file.to_toml());
     assert_eq!(scene.bodies.len(), 2);
     assert_eq!(scene.bodies[1].name, "bottom");
     assert_eq!(scene.bodies[1].material.young, 2e9);

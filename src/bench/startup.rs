@@ -225,6 +225,16 @@ mod tests {
         let table = startup_table(&b);
         assert!(table.contains("| first run | 85834 | miss | 1.000 | 8.000 | 0.1250 |"), "{table}");
         assert!(!table.contains("second run"), "{table}");
-        assert!(children_cpu_seconds() >= 0.0);
+    }
+
+    /// The children's CPU time is read (not the 0 of an unreadable /proc/self/stat): a child
+    /// that computes for about 0.2 s of CPU adds at least one clock tick.
+    #[test]
+    fn children_cpu_time_counts_a_waited_for_child() {
+        let before = children_cpu_seconds();
+        let busy = "i=0; while [ $i -lt 200000 ]; do i=$((i+1)); done";
+        assert!(Command::new("sh").args(["-c", busy]).status().unwrap().success());
+        let after = children_cpu_seconds();
+        assert!(after > before && after - before >= 0.01, "children's CPU {before} s then {after} s");
     }
 }

@@ -444,9 +444,11 @@ pub(crate) fn run(problem: &CondensedProblem, settings: &SolverSettings, initial
             best_at = iteration;
         }
     }
-    // Fallback from the current iterate.
+    // Fallback from the current iterate, or from zero when it is not finite, or when its
+    // displacement is not (a finite force whose W r overflows: the fallback would fail on it
+    // too).
     let mut start = r.clone();
-    if start.iter().any(|v| !v.is_finite()) {
+    if !residual.is_finite() || start.iter().any(|v| !v.is_finite()) {
         start = vec![0.0; r.len()];
     }
     problem.project_admissible(&mut start);

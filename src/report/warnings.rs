@@ -104,10 +104,16 @@ mod tests {
         let far: Vec<f64> = mesh.nodes.iter().flat_map(|_| [0.1, 0.0]).collect();
         let w = after_solving(&mesh, &far);
         assert_eq!(w.iter().map(|w| w.kind).collect::<Vec<_>>(), ["large_displacement"]);
-        // A rigid rotation of 0.02 rad about the centre: both warnings (|u| ≈ 0.02 × 1.1).
-        let turned: Vec<f64> = mesh.nodes.iter().flat_map(|p| [-0.02 * (p[1] - 0.5), 0.02 * (p[0] - 1.0)]).collect();
-        let kinds: Vec<_> = after_solving(&mesh, &turned).iter().map(|w| w.kind).collect();
-        assert!(kinds.contains(&"large_rotation"), "{kinds:?}");
+        // Rigid rotations about the centre (largest |u| = θ × 1.118 at the corners, against
+        // 1e-2 × the diagonal 2.236): 0.015 rad turns too much but moves little (|u| = 0.0168 <
+        // 0.0224), 0.03 rad both (|u| = 0.0335).
+        let turn = |theta: f64| -> Vec<&str> {
+            let u: Vec<f64> = mesh.nodes.iter().flat_map(|p| [-theta * (p[1] - 0.5), theta * (p[0] - 1.0)]).collect();
+            after_solving(&mesh, &u).iter().map(|w| w.kind).collect()
+        };
+        assert_eq!(turn(0.015), ["large_rotation"]);
+        assert_eq!(turn(0.03), ["large_displacement", "large_rotation"]);
+        assert!(turn(0.005).is_empty());
         assert!(before_solving(&mesh, Element::Lagrange, 0.3, PlaneModel::Strain, None).is_empty());
         let w = before_solving(&mesh, Element::Lagrange, 0.4999, PlaneModel::Strain, None);
         assert_eq!(w[0].kind, "locking");

@@ -28,8 +28,35 @@ fn example_hertz_contact_runs_small() {
 
 #[test]
 fn example_assembly_timing_runs_small() {
-    let out = Command::new(example_binary("assembly_timing")).arg("60").output().unwrap();
+    let m = 60_usize;
+    let out = Command::new(example_binary("assembly_timing")).arg(m.to_string()).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    // The m × m node grid, two triangles per square.
+    let size = format!("{} nodes, {} triangles, {} dofs", m * m, 2 * (m - 1) * (m - 1), 2 * m * m);
+    assert!(text.lines().next() == Some(size.as_str()), "expected {size:?}:\n{text}");
+    // Each phase prints its wall and CPU times and the matrix size; both assemblies build the
+    // same matrix, and the two row blocks together hold exactly its entries.
+    let nnz = |line: &str| -> Vec<usize> {
+        let tail = line.rsplit("nnz = ").next().unwrap();
+        tail.split(" + ").map(|n| n.trim().parse().unwrap()).collect()
+    };
+    let lines: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    for (line, start) in lines.iter().zip([
+        "assemble (no loads): wall ",
+        "assemble (body force + pressure): wall ",
+        "two row blocks: wall ",
+    ]) {
+        assert!(line.starts_with(start) && line.contains(" s, cpu ") && line.contains("nnz = "), "{line}");
+    }
+    let (whole, with_loads, blocks) = (nnz(lines[0]), nnz(lines[1]), nnz(lines[2]));
+    assert_eq!(whole, with_loads, "{text}");
+    assert_eq!(blocks.len(), 2, "{text}");
+    assert_eq!(blocks[0] + blocks[1], whole[0], "the row blocks hold the whole matrix: {text}");
+    // At most 2 × 2 entries per pair of nodes sharing an edge (both ways) and per node.
+    let edges = 2 * m * (m - 1) + (m - 1) * (m - 1);
+    assert!(whole[0] <= 4 * (m * m + 2 * edges) && whole[0] > 4 * m * m, "{text}");
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! Elements and formulations: the P2–P0 element, the dual (HCT) formulation and its
 //! saddle-point route, and the error estimate.
 
+use crate::edit::Edit;
+
 use crate::{bin, mpirun_two, python, relative_difference, report, run_err, run_ok, scene, scratch};
 
 #[test]
@@ -13,9 +15,9 @@ fn p2p0_element_reported_exact_on_the_patch_and_equal_under_mpi() {
     let dir = scratch("p2p0");
     let text = std::fs::read_to_string(scene("examples/scenes/patch_test.toml"))
         .unwrap()
-        .replace("order = 1", "order = 2\nelement = \"p2p0\"")
-        .replace("poisson = 0.2", &format!("poisson = {nu}"))
-        .replace("pressure = 2.5e5", &format!("pressure = {side:e}"));
+        .edit("order = 1", "order = 2\nelement = \"p2p0\"")
+        .edit("poisson = 0.2", &format!("poisson = {nu}"))
+        .edit("pressure = 2.5e5", &format!("pressure = {side:e}"));
     let path = dir.join("patch.toml");
     std::fs::write(&path, text).unwrap();
     let serial = dir.join("serial");
@@ -139,7 +141,16 @@ fn estimate_reports_the_error_per_cell_and_in_total() {
     let (error, relative) = (e["error"].as_f64().unwrap(), e["relative_percent"].as_f64().unwrap());
     assert!(error > 0.0 && relative > 1.0 && relative < 50.0, "{e}");
     assert_eq!(e["kind"], "guaranteed_bound");
-    assert!(e["estimate_seconds"].as_f64().unwrap() >= 0.0);
+    // The dual solve and the estimate do work: their times are positive, the ones of the
+    // run's timings, and the run's phases add up to its total.
+    for (key, phase) in [("primal_seconds", "solve"), ("dual_seconds", "dual"), ("estimate_seconds", "estimate")] {
+        let seconds = e[key].as_f64().unwrap();
+        assert!(seconds > 0.0 && seconds == r["timings"][phase].as_f64().unwrap(), "{key}: {e} vs {}", r["timings"]);
+    }
+    let timings = r["timings"].as_object().unwrap();
+    let sum: f64 = timings.iter().filter(|(k, _)| *k != "total").map(|(_, v)| v.as_f64().unwrap()).sum();
+    let total = timings["total"].as_f64().unwrap();
+    assert!((sum - total).abs() <= 1e-9 * total, "phases add up to {sum}, total {total}");
     // The cell data `error` squares up to the total.
     let out = python(&format!(
         "m = meshio.read(r'{}')\ne = np.concatenate([np.asarray(c, dtype=float) for c in m.cell_data['error']])\nprint(np.sqrt((e ** 2).sum()))",
@@ -160,8 +171,23 @@ fn dual_solves_contact_scenes_and_refuses_point_supports_that_carry_force() {
     // note, the contact is solved and reported under `contact`.
     let dir = scratch("dual-contact");
     run_ok(bin().args(["run", "--quiet", "--formulation", "dual", "--out"]).arg(&dir));
-    let report = std::fs::read_to_string(dir.join("report.json")).unwrap();
-    assert!(report.contains("\"formulation\": \"dual\"") && report.contains("\"peak_pressure\""), "{report}");
+    let r = report(&dir);
+    assert_eq!(r["formulation"], "dual");
+    let notes = r["dual"]["notes"].to_string();
+    assert!(notes.contains("point support at (0.04, 0) dropped"), "{notes}");
+    // The stress field is statically admissible (the dual's own check, to round-off) ...
+    for key in ["interior_equilibrium", "stress_jump"] {
+        assert!(r["dual"]["check"][key].as_f64().unwrap() < 1e-10, "{key}: {}", r["dual"]["check"]);
+    }
+    // (measured 2.4e-10 on the square block: the traction residual on 64 loaded edges)
+    assert!(r["dual"]["check"]["traction_residual"].as_f64().unwrap() < 1e-9, "{}", r["dual"]["check"]);
+    // ... and the contact carries the whole vertical load, 5e7 Pa on the 0.04 m top (the
+    // dropped corner support carries nothing in the dual).
+    let c = &r["contact"];
+    let n = c["normal_resultant"].as_f64().unwrap();
+    assert!((n + 5e7 * 0.04).abs() <= 1e-9 * 5e7 * 0.04, "normal resultant {n} vs the top load 2e6");
+    assert!(c["peak_pressure"]["pressure"].as_f64().unwrap() > 0.0, "{c}");
+    assert!(c["stick"].as_u64().unwrap() > 0 && c["slip"].as_u64().unwrap() > 0, "{c}");
     // A point support that carries a force: the estimate refuses to compare different problems.
     let dir = scratch("point-force");
     let path = dir.join("s.toml");

@@ -1,6 +1,8 @@
 //! The `signorini` program end to end: each test spawns it (one PETSc session per process),
 //! then checks exit codes, messages and the files it wrote — `solution.vtu` read back with
 //! Python meshio, the independent reader (installed by ./setup.sh).
+#[path = "../common/edit.rs"]
+mod edit;
 
 mod bench;
 mod errors;

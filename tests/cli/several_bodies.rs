@@ -1,6 +1,8 @@
 //! Scenes with several bodies: `run` solves them and reports every body, the contact solver
 //! option reaches every pair, the commands that cannot solve them refuse.
 
+use crate::edit::Edit;
+
 use crate::{bin, report, run_err, run_ok, scene, scratch};
 
 #[test]
@@ -35,7 +37,7 @@ fn several_bodies_run_and_other_commands_refuse() {
     let dir = scratch("bodies-overlap");
     let text = std::fs::read_to_string(scene("examples/scenes/block_on_block.toml"))
         .unwrap()
-        .replace("origin = [0.0, 0.0]", "origin = [0.0, -0.005]");
+        .edit("origin = [0.0, 0.0]", "origin = [0.0, -0.005]");
     let path = dir.join("overlap.toml");
     std::fs::write(&path, &text).unwrap();
     let stderr = run_err(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(dir.join("out")), 1);

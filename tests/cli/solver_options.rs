@@ -87,7 +87,8 @@ fn unused_petsc_option_is_reported_as_a_warning() {
 fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
     let msg = run_err(bin().arg("run").arg(block()).args(["--quiet", "-mat_mumps_icntl_23", "1"]), 1);
     assert!(msg.contains("out of memory") && msg.contains("INFOG(1)") && msg.contains("-pc_type hypre"), "{msg}");
-    // The advice: an iterative solver instead of the factorisation.
+    // The advice: an iterative solver instead of the factorisation; it is the one used, and it
+    // gives the factorisation's answer.
     let dir = scratch("oom-advice");
     run_ok(
         bin()
@@ -96,6 +97,13 @@ fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
             .args(["--quiet", "-mat_mumps_icntl_23", "1", "-ksp_type", "cg", "-pc_type", "hypre", "--out"])
             .arg(&dir),
     );
+    let r = report(&dir);
+    assert_eq!(r["solver"]["ksp_type"], "cg", "{}", r["solver"]);
+    assert_eq!(r["solver"]["pc_type"], "hypre", "{}", r["solver"]);
+    let reference = scratch("oom-advice-ref");
+    run_ok(bin().arg("run").arg(block()).args(["--quiet", "--out"]).arg(&reference));
+    let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
+    assert!(d < 1e-6, "CG + hypre differs from MUMPS by {d:e}");
 }
 
 #[test]

@@ -6,6 +6,7 @@
 //! banded Cholesky factorization.
 
 mod failures;
+mod fallbacks;
 mod layer_agreement;
 mod newton;
 mod operator;

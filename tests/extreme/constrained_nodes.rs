@@ -1,6 +1,18 @@
 //! Symmetry planes and pins on contact nodes, and contact on the whole boundary.
 
-use crate::{answer, patch, Block};
+use crate::{answer, contact_points, patch, Block};
+use std::path::Path;
+
+/// The node at (x, y) is a contact node and closed (status ≥ 1 in solution.vtu), not dropped
+/// from the contact set by its Dirichlet condition (status −1, absent from `contact_points`).
+fn assert_closed_contact_node(name: &str, dir: &Path, x: f64, y: f64) {
+    let points = contact_points(dir);
+    let node = points.iter().find(|p| (p[0] - x).abs() < 1e-12 && (p[1] - y).abs() < 1e-12);
+    match node {
+        Some(p) => assert!(p[3] >= 1.0, "{name}: the contact node ({x}, {y}) is open: {p:?}"),
+        None => panic!("{name}: ({x}, {y}) is not a contact node: {points:?}"),
+    }
+}
 
 // ---------------------------------------------------------------- constrained contact nodes
 
@@ -10,7 +22,8 @@ fn symmetry_plane_through_a_contact_node() {
     // the lateral pressure: the same exact solution (ux = 0 everywhere), and the corner node
     // (0, 0) has ux prescribed and must stay a contact node.
     let b = Block { left: false, extra: "[[dirichlet]]\npart = \"left\"\nux = 0.0\n".into(), ..Default::default() };
-    patch("symmetry_plane", &b, &[]);
+    let dir = patch("symmetry_plane", &b, &[]);
+    assert_closed_contact_node("symmetry_plane", &dir, 0.0, 0.0);
 }
 
 #[test]
@@ -22,14 +35,16 @@ fn symmetry_plane_through_a_contact_node_p2_friction() {
         contact: "friction = \"coulomb\"\nmu = 0.3".into(),
         ..Default::default()
     };
-    patch("symmetry_plane_p2", &b, &[]);
+    let dir = patch("symmetry_plane_p2", &b, &[]);
+    assert_closed_contact_node("symmetry_plane_p2", &dir, 0.0, 0.0);
 }
 
 #[test]
 fn pin_at_a_contact_node() {
     // ux = 0 at the contact node (0, 0) instead of the top-left corner.
     let b = Block { extra: "[[dirichlet]]\npoint = [0.0, 0.0]\nux = 0.0\n".into(), ..Default::default() };
-    patch("pin_contact_node", &b, &[]);
+    let dir = patch("pin_contact_node", &b, &[]);
+    assert_closed_contact_node("pin_contact_node", &dir, 0.0, 0.0);
 }
 
 #[test]

@@ -1,5 +1,7 @@
 //! Contact zones and the peak pressure: two zones under a dip, the Hertz width along the arc.
 
+use crate::edit::Edit;
+
 use crate::{answer, Block};
 use std::path::Path;
 
@@ -7,7 +9,7 @@ use std::path::Path;
 fn contact_closed_in_two_places_gives_two_zones_and_the_peak() {
     // The block on a plane with a 2 cm deep dip under its middle: it touches on both sides.
     let b = Block { contact: "friction = \"none\"".into(), mesher: "structured", cell: 0.1, ..Default::default() };
-    let scene = b.toml().replace(
+    let scene = b.toml().edit(
         "obstacle = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]",
         "obstacle = \"polyline\"\npoints = [[-1.0, 0.0], [0.75, 0.0], [0.85, -0.02], [1.15, -0.02], [1.25, 0.0], [3.0, 0.0]]",
     );

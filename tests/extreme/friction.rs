@@ -1,6 +1,6 @@
 //! Friction from 0 to 100, Tresca thresholds from tiny to huge, bodies held by friction alone.
 
-use crate::{answer, assert_uniform_pressure, error, square_block};
+use crate::{answer, assert_same_answer, assert_uniform_pressure, counts, error, square_block};
 
 // ---------------------------------------------------------------- friction extremes
 
@@ -13,7 +13,18 @@ fn square_block_mu_zero() {
 
 #[test]
 fn square_block_mu_0_1() {
-    answer("sb_mu01", &square_block("friction = \"coulomb\"\nmu = 0.1"), &[]);
+    // μ = 0.1 cannot hold the lateral push where the block touches: every closed point slips,
+    // so the tangential resultant is exactly μ times the normal one, against the motion (+x),
+    // and the condensed Newton gives the same answer as the full-space one.
+    let scene = square_block("friction = \"coulomb\"\nmu = 0.1");
+    let (dir, r) = answer("sb_mu01", &scene, &[]);
+    let [open, stick, slip] = counts(&r);
+    assert!(stick == 0 && slip > 0 && open + slip == r["contact"]["points"].as_u64().unwrap(), "{}", r["contact"]);
+    let (n, t) =
+        (r["contact"]["normal_resultant"].as_f64().unwrap(), r["contact"]["tangential_resultant"].as_f64().unwrap());
+    assert!(t < 0.0 && (t.abs() - 0.1 * n.abs()).abs() <= 1e-12 * n.abs(), "tangential {t} vs μ N = {}", 0.1 * n.abs());
+    let (newton_dir, newton) = answer("sb_mu01_newton", &scene, &["--contact-solver", "newton"]);
+    assert_same_answer("sb_mu01", (&dir, &r), (&newton_dir, &newton), 1e-8);
 }
 
 #[test]

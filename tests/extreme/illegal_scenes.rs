@@ -1,5 +1,7 @@
 //! Illegal scenes give typed errors whose messages say what is wrong.
 
+use crate::edit::Edit;
+
 use crate::{answer, error, scratch, square_block, Block, SQUARE_BLOCK};
 use std::process::Command;
 
@@ -36,8 +38,7 @@ friction = "none"
 fn body_on_the_wrong_side_of_a_line() {
     let b = Block::default();
     // The obstacle is the half-plane y >= -0.5 (normal pointing down): the body is inside it.
-    let scene =
-        b.toml().replace("point = [0.0, 0.0]\nnormal = [0.0, 1.0]", "point = [0.0, -0.5]\nnormal = [0.0, -1.0]");
+    let scene = b.toml().edit("point = [0.0, 0.0]\nnormal = [0.0, 1.0]", "point = [0.0, -0.5]\nnormal = [0.0, -1.0]");
     error("wrong_side", &scene, &[], &["node", "inside the obstacle", "bottom"]);
 }
 
@@ -46,8 +47,8 @@ fn sliding_square_block_without_friction_support() {
     // The square block without friction and without its supports: the left pressure pushes it
     // along the plane and nothing holds it sideways.
     let scene = square_block("friction = \"none\"")
-        .replace("[[dirichlet]]\npart = \"right\"\nux = 0.0\n", "")
-        .replace("[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n", "");
+        .edit("[[dirichlet]]\npart = \"right\"\nux = 0.0\n", "")
+        .edit("[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n", "");
     error("sliding", &scene, &[], &["slide"]);
 }
 

@@ -9,6 +9,8 @@
 //! typed error whose message says what is wrong.
 //!
 //! Every case spawns the program (one PETSc session per process).
+#[path = "../common/edit.rs"]
+mod edit;
 
 mod constrained_nodes;
 mod contact_zones;
@@ -53,25 +55,80 @@ fn run(name: &str, scene: &str, args: &[&str]) -> (PathBuf, Result<Value, (Optio
 }
 
 /// The answer of a scene that must solve, after the program's own check and ours: the contact
-/// residuals it reports are small, and the global equilibrium holds.
+/// residuals it reports are small, and the global equilibrium holds. The report sections the
+/// scene must produce are required, not looked for: `results` for a primal scene, `dual.check`
+/// for a dual one, `contact` when the scene has a `[contact]` table; a report without one of
+/// them fails here instead of skipping its checks. Each caller adds its own independent check
+/// (exact field, resultant, or comparison with another route).
 fn answer(name: &str, scene: &str, args: &[&str]) -> (PathBuf, Value) {
     let (dir, result) = run(name, scene, args);
     let report = match result {
         Ok(r) => r,
         Err((code, stderr)) => panic!("{name}: expected an answer, got exit {code:?}:\n{stderr}"),
     };
-    if report.get("results").is_some() {
-        let eq = report["results"]["equilibrium_residual"].as_f64().unwrap();
+    let section = |key: &str| -> &Value {
+        report.get(key).unwrap_or_else(|| panic!("{name}: report.json has no `{key}` section: {report}"))
+    };
+    if scene.contains("formulation = \"dual\"") {
+        for key in ["traction_residual", "interior_equilibrium", "stress_jump"] {
+            let v = section("dual")["check"][key].as_f64().unwrap_or_else(|| panic!("{name}: no dual.check.{key}"));
+            assert!(v < 1e-9, "{name}: dual check {key} = {v}");
+        }
+    } else {
+        let eq = section("results")["equilibrium_residual"].as_f64().expect("results.equilibrium_residual");
         assert!(eq < 1e-7, "{name}: equilibrium residual {eq}");
     }
-    if let Some(c) = report.get("contact") {
-        let r = &c["residuals"];
+    if scene.contains("[contact]") {
+        let r = &section("contact")["residuals"];
         for key in ["max_penetration", "max_wrong_sign_pressure", "max_cone_violation", "normal_complementarity"] {
-            let v = r[key].as_f64().unwrap();
+            let v = r[key].as_f64().unwrap_or_else(|| panic!("{name}: no contact.residuals.{key}"));
             assert!(v <= 1e-6, "{name}: contact residual {key} = {v}");
         }
     }
     (dir, report)
+}
+
+/// (open, stick, slip) point counts of a report's contact section.
+fn counts(r: &Value) -> [u64; 3] {
+    ["open", "stick", "slip"].map(|k| r["contact"][k].as_u64().unwrap_or_else(|| panic!("contact.{k}: {r}")))
+}
+
+/// ‖u_a − u_b‖ / ‖u_a‖ over the nodes, both displacement fields read from solution.vtu by meshio.
+fn displacement_difference(a: &Path, b: &Path) -> f64 {
+    let script = format!(
+        "import meshio, numpy as np\na = meshio.read(r'{}').point_data['displacement']\nb = meshio.read(r'{}').point_data['displacement']\nprint(repr(float(np.linalg.norm(a - b) / np.linalg.norm(a))))",
+        a.join("solution.vtu").display(),
+        b.join("solution.vtu").display()
+    );
+    let out = Command::new("python3").arg("-c").arg(&script).output().expect("python3 with meshio (./setup.sh)");
+    assert!(out.status.success(), "meshio: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).trim().parse().unwrap()
+}
+
+/// The same answer as a reference run: displacement fields within `tol` (relative) and the
+/// same open/stick/slip counts.
+fn assert_same_answer(name: &str, (dir, r): (&Path, &Value), (ref_dir, reference): (&Path, &Value), tol: f64) {
+    let d = displacement_difference(ref_dir, dir);
+    assert!(d <= tol, "{name}: displacement differs from the reference run by {d:e} (relative)");
+    assert_eq!(counts(r), counts(reference), "{name}: open/stick/slip counts differ from the reference run");
+}
+
+/// Every point of the contact part in solution.vtu (read by meshio): (x, y, pressure, status),
+/// status 0 open, 1 stick, 2 slip (points off the contact part, status −1, are left out).
+fn contact_points(dir: &Path) -> Vec<[f64; 4]> {
+    let script = format!(
+        "import meshio, numpy as np\nm = meshio.read(r'{}')\np = m.point_data['contact_pressure']\ns = m.point_data['contact_status']\nfor k in np.nonzero(s >= 0)[0]: print(repr(float(m.points[k, 0])), repr(float(m.points[k, 1])), repr(float(p[k])), repr(float(s[k])))",
+        dir.join("solution.vtu").display()
+    );
+    let out = Command::new("python3").arg("-c").arg(&script).output().expect("python3 with meshio (./setup.sh)");
+    assert!(out.status.success(), "meshio: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+            [v[0], v[1], v[2], v[3]]
+        })
+        .collect()
 }
 
 /// A scene that must fail with exit 1 and a message containing every one of `words`
@@ -225,13 +282,13 @@ normal = [0.0, 1.0]
 
 /// The patch test must be exact: uniform pressure p on every closed point, the normal resultant
 /// −p w, and the exact top displacement.
-fn patch(name: &str, b: &Block, args: &[&str]) {
-    patch_to(name, b, args, 1e-8);
+fn patch(name: &str, b: &Block, args: &[&str]) -> PathBuf {
+    patch_to(name, b, args, 1e-8)
 }
 
 /// The patch test to a relative tolerance `tol` on the pressures (iterative contact solvers
 /// stop at their own tolerance).
-fn patch_to(name: &str, b: &Block, args: &[&str], tol: f64) {
+fn patch_to(name: &str, b: &Block, args: &[&str], tol: f64) -> PathBuf {
     let (dir, r) = answer(name, &b.toml(), args);
     assert_uniform_pressure(name, &dir, b.p, tol);
     let n = r["contact"]["normal_resultant"].as_f64().unwrap();
@@ -239,6 +296,7 @@ fn patch_to(name: &str, b: &Block, args: &[&str], tol: f64) {
     let umax = r["results"]["max_displacement"].as_f64().unwrap();
     let exact = b.top_displacement();
     assert!((umax - exact).abs() <= tol.max(1e-7) * exact, "{name}: max |u| {umax} vs exact {exact}");
+    dir
 }
 
 const SQUARE_BLOCK: &str = include_str!("../../examples/scenes/square_block.toml");

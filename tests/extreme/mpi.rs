@@ -1,6 +1,6 @@
 //! Two MPI ranks give the serial answer; acceptance never exceeds the tolerance asked for.
 
-use crate::{answer, assert_uniform_pressure, scratch, Block, SQUARE_BLOCK};
+use crate::{answer, assert_same_answer, assert_uniform_pressure, scratch, Block, SQUARE_BLOCK};
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
@@ -107,8 +107,11 @@ fn acceptance_never_exceeds_the_tolerance_asked_for() {
 
 #[test]
 fn mpi_fallback_after_snes_iteration_limit() {
-    let (_, r) = mpi_answer("mpi_fallback", SQUARE_BLOCK, &["-contact_snes_max_it", "1"]);
+    let (dir, r) = mpi_answer("mpi_fallback", SQUARE_BLOCK, &["-contact_snes_max_it", "1"]);
     let notes = r["contact"]["notes"].to_string().to_lowercase();
     assert!(notes.contains("fell back") && notes.contains("diverged_max_it"), "{notes}");
     assert!(r["contact"]["solver"].as_str().unwrap().contains("fallback"));
+    // The fallback's answer on two ranks is the serial default run's.
+    let (serial_dir, serial) = answer("mpi_fallback_serial", SQUARE_BLOCK, &[]);
+    assert_same_answer("mpi_fallback", (&dir, &r), (&serial_dir, &serial), 1e-8);
 }

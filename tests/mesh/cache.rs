@@ -114,8 +114,11 @@ fn an_unwritable_cache_still_meshes_and_says_so() {
     let file = scratch.path("not-a-directory");
     std::fs::write(&file, b"x").unwrap();
     let cache = MeshCache::at(&file);
-    let (mesh, report) = generate_cached(&half_disc_request(0.05, Order::P1), Some(&cache)).unwrap();
-    assert!(mesh.num_cells() > 0);
+    let request = half_disc_request(0.05, Order::P1);
+    let (mesh, report) = generate_cached(&request, Some(&cache)).unwrap();
     assert_eq!(report.status, CacheStatus::Miss);
     assert!(report.problem.is_some_and(|p| p.contains("not stored")));
+    // The fallback's mesh is the uncached one, nodes, cells and parts to the bit.
+    assert!(mesh.num_cells() > 0);
+    assert_identical(&generate(&request).unwrap(), &mesh);
 }

@@ -1,5 +1,7 @@
 //! Tests of the mesh module: structured rectangles, P1 -> P2, validation, MSH 4.1 input and
 //! Gmsh-generated meshes (the `gmsh` binary must be installed).
+#[path = "../common/edit.rs"]
+mod edit;
 
 mod cache;
 mod gmsh;

@@ -1,5 +1,7 @@
 //! MSH 4.1 files written inline: what is read, and every error at its place.
 
+use crate::edit::Edit;
+
 use crate::{assert_counter_clockwise, close, inline_path, mesh_error_text, read_inline, total_area, Scratch};
 use signorini::mesh::msh::read_msh;
 use signorini::mesh::{Order, NO_GROUP};
@@ -287,7 +289,7 @@ fn msh_error_not_an_msh_file() {
     let (e, text) = mesh_error_text(read_inline("notmsh", "hello\n"));
     assert!(matches!(e, Error::MeshFile { line: Some(1), .. }));
     assert!(text.contains("$MeshFormat"), "{text}");
-    let bad_names = MshText::square().text().replace("2 6 \"domain\"", "2 six \"domain\"");
+    let bad_names = MshText::square().text().edit("2 6 \"domain\"", "2 six \"domain\"");
     let (e, text) = mesh_error_text(read_inline("badnames", &bad_names));
     assert!(matches!(e, Error::MeshFile { line: Some(7), .. }), "{e:?}");
     assert!(text.contains("PhysicalNames"), "{text}");

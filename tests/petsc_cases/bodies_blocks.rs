@@ -1,6 +1,8 @@
 //! Several bodies in contact (issue 13): the contact patch test on non-matching irregular
 //! meshes, the square block on a very stiff elastic foundation against the rigid obstacle, a
 //! stack of three blocks, and the errors of scenes with several bodies.
+
+use super::edit::Edit;
 use std::path::Path;
 
 use signorini::petsc::Session;
@@ -156,6 +158,10 @@ fn patch_nonmatching(s: &Session, order: u32) -> Result<(), String> {
         format!("P{order}: pointwise penetration {np:?}")
     })?;
     ensure(o.report.solver.starts_with("full-space"), || format!("P{order}: solved by {}", o.report.solver))?;
+    // The docs' claim: the full-space route solves the non-matching patch in 1 Newton step.
+    ensure(o.report.iterations == 1, || {
+        format!("P{order}: {} full-space Newton steps, 1 expected", o.report.iterations)
+    })?;
     ensure(o.report.open == 0, || format!("P{order}: {} open points", o.report.open))?;
     ensure(perr <= 1e-12 && terr == 0.0, || {
         format!("P{order}: contact pressure off by {perr:e} of the applied {pr:e} (friction {terr:e})")
@@ -260,8 +266,19 @@ mu = 1.0
         o_t.slip
     );
     ensure(count == 33, || format!("{count} bottom nodes"))?;
-    ensure(diff <= 0.01 * size, || format!("tangential displacement differs by {:.3e} of {size:e}", diff / size))?;
-    ensure(rdiff <= 0.01, || format!("contact resultant {rt:?} against the rigid {rr:?}: {rdiff:.3e}"))?;
+    // The target is 1 %; the docs claim 4.0e-5 and 5.0e-5 (measured 4.02e-5 and 4.99e-5),
+    // asserted to 1e-4, and the same stick/slip counts as on the rigid obstacle.
+    ensure(diff <= 1e-4 * size, || format!("tangential displacement differs by {:.3e} of {size:e}", diff / size))?;
+    ensure(rdiff <= 1e-4, || format!("contact resultant {rt:?} against the rigid {rr:?}: {rdiff:.3e}"))?;
+    // (The open counts differ by the fixed corner (0.04, 0): left out of the rigid obstacle's
+    // contact set, an open slave point of the pair; measured 3 and 4.)
+    ensure((o_r.stick, o_r.slip) == (o_t.stick, o_t.slip) && o_t.open == o_r.open + 1, || {
+        format!(
+            "open/stick/slip: rigid {:?}, two bodies {:?}",
+            (o_r.open, o_r.stick, o_r.slip),
+            (o_t.open, o_t.stick, o_t.slip)
+        )
+    })?;
     ensure(eq.iter().all(|&e| e <= 1e-9) && ar <= 1e-12, || format!("equilibrium {eq:?}, action-reaction {ar:e}"))
 }
 
@@ -374,7 +391,7 @@ pub fn bodies_errors_name_what_is_wrong(s: &Session) -> Result<(), String> {
     let path = manifest("bodies_errors.toml");
     let path: &Path = &path;
     // A Tresca pair and a Coulomb pair: one friction law per run, at the Tresca pair.
-    let text = stack_text().replace(
+    let text = stack_text().edit(
         "slave = \"top.bottom\"\nmaster = \"middle.top\"\n",
         "slave = \"top.bottom\"\nmaster = \"middle.top\"\nfriction = \"tresca\"\nthreshold = 1e5\n",
     );

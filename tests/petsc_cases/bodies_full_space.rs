@@ -40,7 +40,7 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 
 /// Full space (the default) against condensed on one scene: the route taken (with the inner
 /// solver `inner`), its Newton steps (at most `max_steps`), and the displacements and contact
-/// forces within `1e-8` relative. Returns the full-space problem.
+/// forces within `tol` relative. Returns the full-space problem.
 fn agree<'s>(
     s: &'s Session,
     name: &str,
@@ -48,6 +48,7 @@ fn agree<'s>(
     path: &std::path::Path,
     max_steps: usize,
     inner: &str,
+    tol: f64,
 ) -> Result<ElasticityProblem<'s>, String> {
     let full = solve(s, text, path, false).map_err(|e| format!("{name}, full space: {e}"))?;
     let condensed = solve(s, text, path, true).map_err(|e| format!("{name}, condensed: {e}"))?;
@@ -67,7 +68,7 @@ fn agree<'s>(
     ensure(fo.report.iterations <= max_steps, || {
         format!("{name}: {} full-space Newton steps (at most {max_steps} expected)", fo.report.iterations)
     })?;
-    ensure(du <= 1e-8 && df <= 1e-8, || format!("{name}: routes differ: displacement {du:e}, forces {df:e}"))?;
+    ensure(du <= tol && df <= tol, || format!("{name}: routes differ: displacement {du:e}, forces {df:e}"))?;
     Ok(full)
 }
 
@@ -77,7 +78,9 @@ fn agree<'s>(
 pub fn bodies_full_space_patch_test(s: &Session) -> Result<(), String> {
     for order in [1, 2] {
         let path = manifest("two_body_patch.toml");
-        let p = agree(s, &format!("patch P{order}"), &patch_text(order), &path, 10, PINNED)?;
+        // The docs: 1 Newton step; the condensed route's proximal steps leave 4e-12 (measured
+        // 2.8e-12 in the displacements, 1.4e-12 in the forces).
+        let p = agree(s, &format!("patch P{order}"), &patch_text(order), &path, 1, PINNED, 1e-11)?;
         let c = p.contact.as_ref().unwrap();
         let o = p.contact_outcome.as_ref().unwrap();
         let (pressure, _) = c.boundary.tractions(&o.force);
@@ -95,7 +98,8 @@ pub fn bodies_full_space_patch_test(s: &Session) -> Result<(), String> {
 /// mixed Jacobian (`-contact_full_space_lu`) to round-off.
 pub fn bodies_full_space_block_on_block(s: &Session) -> Result<(), String> {
     let (text, path) = example("block_on_block.toml");
-    let pinned = agree(s, "block on block (Coulomb)", &text, &path, 10, PINNED)?;
+    // The docs: 6 Newton steps (measured: 6 with the pins, 6 with the LU).
+    let pinned = agree(s, "block on block (Coulomb)", &text, &path, 6, PINNED, 1e-11)?;
     s.set_option("-contact_full_space_lu", None).map_err(|e| e.to_string())?;
     let lu = solve(s, &text, &path, false);
     s.clear_option("-contact_full_space_lu").map_err(|e| e.to_string())?;
@@ -111,7 +115,12 @@ pub fn bodies_full_space_block_on_block(s: &Session) -> Result<(), String> {
     ensure(!lo.report.solver.contains(PINNED) && lo.report.solver.starts_with("full-space"), || {
         format!("with -contact_full_space_lu: solved by {}", lo.report.solver)
     })?;
-    ensure(du <= 1e-10 && df <= 1e-10, || {
+    ensure(po.report.iterations == 6 && lo.report.iterations == 6, || {
+        format!("{} (pins) and {} (LU) Newton steps, 6 expected", po.report.iterations, lo.report.iterations)
+    })?;
+    // Round-off: the docs said 8e-14; measured 2.3e-14 in the displacements, 1.6e-13 in the
+    // forces (relative to the largest).
+    ensure(du <= 1e-12 && df <= 1e-12, || {
         format!("pinned elimination and LU differ: displacement {du:e}, forces {df:e}")
     })
 }
@@ -139,10 +148,12 @@ pub fn bodies_full_space_block_elimination(s: &Session) -> Result<(), String> {
         format!("{} + {}", stats.ksp_type, stats.pc_type),
         co.report.iterations
     );
-    ensure(fo.report.solver.starts_with("full-space") && fo.report.iterations <= 10, || {
-        format!("solved by {} in {} steps", fo.report.solver, fo.report.iterations)
+    // The docs said 8 steps and 5e-14 in the forces; measured 7 steps, forces 2.9e-14 and
+    // displacements 9e-16 (relative to the largest).
+    ensure(fo.report.solver.starts_with("full-space") && fo.report.iterations == 7, || {
+        format!("solved by {} in {} steps (7 measured)", fo.report.solver, fo.report.iterations)
     })?;
     let inner = format!("{} + {}", stats.ksp_type, stats.pc_type);
     ensure(inner.contains("block elimination"), || format!("inner solver {inner}"))?;
-    ensure(du <= 1e-8 && df <= 1e-8, || format!("routes differ: displacement {du:e}, forces {df:e}"))
+    ensure(du <= 1e-13 && df <= 1e-13, || format!("routes differ: displacement {du:e}, forces {df:e}"))
 }

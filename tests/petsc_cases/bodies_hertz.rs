@@ -5,6 +5,8 @@
 //! All cases use `examples/scenes/two_cylinders.toml` (two half discs of radius 0.1 m, P2,
 //! refined near the initial contact point) with text edits. Reference: K. L. Johnson, Contact
 //! Mechanics, Cambridge 1985, §4.2 (Hertz, two cylinders), §7.1 (Cattaneo–Mindlin).
+
+use super::edit::Edit;
 use std::f64::consts::PI;
 
 use signorini::contact::PointStatus;
@@ -37,7 +39,7 @@ fn hertz_exact(load: f64, estar: f64) -> (f64, f64) {
 /// body's material `(young, poisson)`, the pressure on the upper flat side; frictionless.
 fn hertz_scene(fine: &str, upper: (f64, f64), lower: (f64, f64), pressure: f64) -> (String, std::path::PathBuf) {
     let (text, path) = example("two_cylinders.toml");
-    let text = text.replace("cell_size = 2.5e-4", &format!("cell_size = {fine}"));
+    let text = text.edit("cell_size = 2.5e-4", &format!("cell_size = {fine}"));
     let materials = format!("young = {:e}\npoisson = {}\nplane = \"strain\"\n\n[[body.traction]]", upper.0, upper.1);
     let text = text.replacen("young = 210e9\npoisson = 0.3\nplane = \"strain\"\n\n[[body.traction]]", &materials, 1);
     let text = text.replacen(
@@ -194,7 +196,7 @@ pub fn hertz_two_cylinders_steel_on_aluminium(s: &Session) -> Result<(), String>
 /// Coulomb friction `mu`, cells of `fine` near the contact.
 fn cattaneo_scene(fine: &str, ux: f64, uy: f64, mu: f64) -> (String, std::path::PathBuf) {
     let (text, path) = example("two_cylinders.toml");
-    let text = text.replace("cell_size = 2.5e-4", &format!("cell_size = {fine}"));
+    let text = text.edit("cell_size = 2.5e-4", &format!("cell_size = {fine}"));
     let loads = "[[body.traction]]\npart = \"flat\"\npressure = 2.25e8        # resultant P = 2.25e8 * 0.2 = \
                  4.5e7 N/m downwards\n\n[[body.dirichlet]]\npoint = [0.0, 0.1]       # the middle of the flat \
                  side\nux = 0.0\n";

@@ -1,5 +1,7 @@
 //! Contact validation cases (the source talk's reference cases): patch tests exact to round-off, Hertz, the square
 //! block of Raous–Chabrand–Lebon, solver agreement, Newton iteration counts, robustness.
+
+use super::edit::Edit;
 use std::path::Path;
 
 use signorini::petsc::Session;
@@ -64,12 +66,14 @@ fn patch(s: &Session, order: u32, solver: &str) -> Result<(), String> {
         .enumerate()
         .map(|(i, x)| u[2 * i].abs().max((u[2 * i + 1] - k * x[1]).abs()))
         .fold(0.0, f64::max);
-    ensure(err <= 1e-11 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
+    // Exact to round-off (the docs' claim): measured at most 1.4e-13 of the slope in the
+    // displacements and 7.7e-13 of p in the pressures (P2, condensed Newton).
+    ensure(err <= 1e-12 * scale, || format!("P{order} {solver}: displacement error {err:e} (slope {scale:e})"))?;
     let c = p.contact.as_ref().unwrap();
     let o = p.contact_outcome.as_ref().unwrap();
     let (pressure, friction) = c.boundary.tractions(&o.force);
     for (i, (pi, ti)) in pressure.iter().zip(&friction).enumerate() {
-        ensure((pi - pr).abs() <= 1e-8 * pr && ti.abs() <= 1e-8 * pr, || {
+        ensure((pi - pr).abs() <= 1e-12 * pr && ti.abs() <= 1e-12 * pr, || {
             format!("P{order} {solver}: point {i}: pressure {pi}, friction {ti} (exact {pr}, 0)")
         })?;
     }
@@ -162,10 +166,11 @@ fn stick_patch(s: &Session, solver: &str) -> Result<(), String> {
             .enumerate()
             .map(|(i, x)| (u[2 * i] - kx * x[1]).abs().max((u[2 * i + 1] - k * x[1]).abs()))
             .fold(0.0, f64::max);
-        ensure(err <= 1e-10 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
+        // Exact to round-off (the docs' claim): measured at most 3e-13 of the slope.
+        ensure(err <= 1e-12 * k.abs(), || format!("P{order}: displacement error {err:e}"))?;
         let o = pr.contact_outcome.as_ref().unwrap();
         ensure(o.report.stick == o.report.points, || format!("P{order}: not all stick: {:?}", o.report))?;
-        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-8 * q, || {
+        ensure((o.report.resultant[0] + q * 2.0).abs() < 1e-12 * q, || {
             format!("friction resultant {:?}", o.report.resultant)
         })?;
     }
@@ -282,7 +287,10 @@ fn hertz(s: &Session, solver: &str) -> Result<(), String> {
     ensure(ea < 0.01 && ep < 0.01, || {
         format!("Hertz: half-width and peak errors {errors:?} (a = {a_exact:e}, p0 = {p0_exact:e})")
     })?;
-    ensure(errors[0].1.max(errors[0].2) > ea.max(ep), || format!("no convergence under refinement: {errors:?}"))
+    // Converging under refinement: the larger of the two errors falls at every level.
+    ensure(errors.windows(2).all(|w| w[1].1.max(w[1].2) < w[0].1.max(w[0].2)), || {
+        format!("no convergence under refinement: {errors:?}")
+    })
 }
 
 /// The Hertz half cylinder pinned at its lowest point (ux = 0 on a node of the contact part,
@@ -290,7 +298,7 @@ fn hertz(s: &Session, solver: &str) -> Result<(), String> {
 /// pressure matches Hertz as the unpinned one does (it was 35 % high when that node was dropped).
 pub fn hertz_pinned_at_a_contact_node(s: &Session) -> Result<(), String> {
     let (text, path) = example("hertz.toml");
-    let text = text.replace("point = [0.0, 0.1]       # the middle of the flat side", "point = [0.0, 0.0]");
+    let text = text.edit("point = [0.0, 0.1]       # the middle of the flat side", "point = [0.0, 0.0]");
     if !text.contains("point = [0.0, 0.0]\nux = 0.0") {
         return Err("test bug: hertz.toml's point condition was not moved".into());
     }
@@ -380,7 +388,11 @@ pub fn contact_solvers_agree(s: &Session) -> Result<(), String> {
     Ok(())
 }
 
-pub fn newton_iterations_mesh_independent(s: &Session) -> Result<(), String> {
+/// The condensed semi-smooth Newton on the square block from 4 to 64 cells per side: its step
+/// count is NOT mesh-independent (measured 2, 2, 4, 7, 9; the full-space Newton's are 3, 3, 4,
+/// 4, 5, see below), but it grows slowly: by at most 3 per halving of the cells, never falls,
+/// and stays within 10 at 64 cells per side.
+pub fn condensed_newton_iterations_under_refinement(s: &Session) -> Result<(), String> {
     let (text, path) = example("square_block.toml");
     let text = set_line(&text, "solver", "solver = \"newton\"");
     let mut its = Vec::new();
@@ -389,7 +401,10 @@ pub fn newton_iterations_mesh_independent(s: &Session) -> Result<(), String> {
         let p = solve_text(s, &t, &path).map_err(|e| format!("{cell}: {e}"))?;
         its.push(p.contact_outcome.as_ref().unwrap().report.iterations);
     }
-    ensure(its.iter().all(|&n| (1..=12).contains(&n)), || format!("Newton iterations from coarse to fine: {its:?}"))
+    ensure(
+        its.iter().all(|&n| (1..=10).contains(&n)) && its.windows(2).all(|w| w[0] <= w[1] && w[1] <= w[0] + 3),
+        || format!("condensed Newton iterations from coarse to fine: {its:?} (measured 2, 2, 4, 7, 9)"),
+    )
 }
 
 /// The full-space Newton on the square block from 4 to 64 cells per side: the same narrow
@@ -441,8 +456,8 @@ pub fn full_space_block_elimination_matches_lu(s: &Session) -> Result<(), String
         let text = set_line(&text, "cell_size", "cell_size = 2.5e-3");
         let text = match friction {
             "coulomb" => text,
-            "tresca" => set_line(&text, "mu", "threshold = 2e7").replace("\"coulomb\"", "\"tresca\""),
-            _ => set_line(&text, "mu", "").replace("\"coulomb\"", "\"none\""),
+            "tresca" => set_line(&text, "mu", "threshold = 2e7").edit("\"coulomb\"", "\"tresca\""),
+            _ => set_line(&text, "mu", "").edit("\"coulomb\"", "\"none\""),
         };
         let mut runs = Vec::new();
         for lu in [false, true] {
@@ -476,12 +491,13 @@ pub fn friction_coefficient_sweep_0_to_10(s: &Session) -> Result<(), String> {
         let (text, path) = example("square_block.toml");
         let text = set_line(&text, "cell_size", "cell_size = 5e-3");
         let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
-        let mut stick = Vec::new();
+        let (mut stick, mut slip) = (Vec::new(), Vec::new());
         for mu in [0.0, 0.05, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0] {
             let t = set_line(&text, "mu", &format!("mu = {mu}"));
             let p = solve_text(s, &t, &path).map_err(|e| format!("{solver}, mu = {mu}: {e}"))?;
             let o = p.contact_outcome.as_ref().unwrap();
             stick.push(o.report.stick);
+            slip.push(o.report.slip);
             if mu == 0.0 {
                 ensure(o.force.iter().skip(1).step_by(2).all(|&t| t == 0.0), || {
                     format!("{solver}: mu = 0 produced friction forces")
@@ -491,8 +507,9 @@ pub fn friction_coefficient_sweep_0_to_10(s: &Session) -> Result<(), String> {
                 format!("mu = {mu}: the full-space Newton fell back: {:?}", o.report.notes)
             })?;
         }
-        ensure(stick.windows(2).all(|w| w[0] <= w[1]), || {
-            format!("{solver}: stick counts not monotone in mu: {stick:?}")
+        // Stick counts grow with μ, from none at μ = 0 to every closed point at μ = 10.
+        ensure(stick.windows(2).all(|w| w[0] <= w[1]) && stick[0] == 0 && stick[7] > stick[1] && slip[7] == 0, || {
+            format!("{solver}: stick counts {stick:?}, slip counts {slip:?} for mu = 0, 0.05, ..., 10")
         })?;
     }
     Ok(())
@@ -533,7 +550,33 @@ pub fn full_space_failure_falls_back_and_says_so(s: &Session) -> Result<(), Stri
         ),
         Err(e) => Err(format!("wrong error: {e}")),
         Ok(p) => Err(format!("3 Newton steps were enough? {:?}", p.contact_outcome.map(|o| o.report))),
-    }
+    }?;
+    // A full-space run stopped after one step, the condensed Newton then converging: the
+    // fallback's answer is the full-space one (displacements and forces to 1e-8, the same
+    // stick/slip counts), and its note says what happened.
+    let (text, path) = example("square_block.toml");
+    let normal = solve_text(s, &text, &path).map_err(|e| format!("default: {e}"))?;
+    s.set_option("-contact_snes_max_it", Some("1")).map_err(|e| e.to_string())?;
+    let forced = solve_text(s, &text, &path);
+    s.clear_option("-contact_snes_max_it").map_err(|e| e.to_string())?;
+    let forced = forced.map_err(|e| format!("forced fallback: {e}"))?;
+    let (a, b) = (normal.contact_outcome.as_ref().unwrap(), forced.contact_outcome.as_ref().unwrap());
+    ensure(a.report.solver.starts_with("full-space") && !a.report.solver.contains("fallback"), || {
+        a.report.solver.clone()
+    })?;
+    ensure(b.report.solver.contains("fallback") && b.report.notes.iter().any(|n| n.contains("fell back")), || {
+        format!("{}: {:?}", b.report.solver, b.report.notes)
+    })?;
+    let du = relative_difference(normal.displacement.as_ref().unwrap(), forced.displacement.as_ref().unwrap());
+    let df = relative_difference(&a.force, &b.force);
+    ensure(du < 1e-8 && df < 1e-8, || format!("fallback differs: displacements {du:e}, forces {df:e}"))?;
+    ensure((a.report.open, a.report.stick, a.report.slip) == (b.report.open, b.report.stick, b.report.slip), || {
+        format!(
+            "counts {:?} vs {:?}",
+            (a.report.open, a.report.stick, a.report.slip),
+            (b.report.open, b.report.stick, b.report.slip)
+        )
+    })
 }
 
 /// The default condensation on one process, W from one MUMPS factorisation with the Schur
@@ -551,7 +594,7 @@ pub fn condensation_by_schur_complement_agrees(s: &Session) -> Result<(), String
         let text = if text.lines().any(|l| l.trim_start().starts_with("solver")) {
             set_line(&text, "solver", "solver = \"newton\"")
         } else {
-            text.replace("[contact]\n", "[contact]\nsolver = \"newton\"\n")
+            text.edit("[contact]\n", "[contact]\nsolver = \"newton\"\n")
         };
         s.set_option("-contact_condense_schur", Some("false")).unwrap();
         let columns = solve_text(s, &text, &path);
@@ -574,12 +617,12 @@ pub fn condensation_by_schur_complement_agrees(s: &Session) -> Result<(), String
 /// on one process), gives the answer of the MUMPS LU of the whole mixed Jacobian.
 pub fn held_by_contact_elimination_matches_lu(s: &Session) -> Result<(), String> {
     let (hertz, path) = example("hertz.toml");
-    let hertz = hertz.replace("cell_size = 2.5e-4, radius = 0.015", "cell_size = 1e-3, radius = 0.015");
+    let hertz = hertz.edit("cell_size = 2.5e-4, radius = 0.015", "cell_size = 1e-3, radius = 0.015");
     let hertz = set_line(&hertz, "cell_size", "cell_size = 0.02");
     let sheared = hertz
-        .replace("pressure = 2.25e8", "traction = [1.0e7, -2.25e8]")
-        .replace("[[dirichlet]]\npoint = [0.0, 0.1]       # the middle of the flat side\nux = 0.0\n", "")
-        .replace("friction = \"none\"", "friction = \"coulomb\"\nmu = 0.3");
+        .edit("pressure = 2.25e8", "traction = [1.0e7, -2.25e8]")
+        .edit("[[dirichlet]]\npoint = [0.0, 0.1]       # the middle of the flat side\nux = 0.0\n", "")
+        .edit("friction = \"none\"", "friction = \"coulomb\"\nmu = 0.3");
     ensure(!sheared.contains("[[dirichlet]]") && sheared.contains("mu = 0.3"), || {
         "the sheared scene was not built".into()
     })?;

@@ -111,7 +111,8 @@ pub fn dual_stick_patch_and_roller_support_exact(session: &Session) -> Result<()
         contact: None,
     };
     // With a support the field comes out of a genuine minimisation: the linear solve's
-    // round-off shows (measured 7e-11).
+    // round-off shows (measured 2.3e-10 on 2026-11-26; the docs' "1e-11 with a roller" does
+    // not hold here, only the check values do).
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, |_| [-lateral2, -p2, 0.0])?;
     if err > 1e-9 || check.worst() > 1e-11 {
         return Err(format!("roller: stress error {err:e}, check {check:?}"));
@@ -165,6 +166,7 @@ pub fn dual_cubic_airy_and_body_force_exact(session: &Session) -> Result<(), Str
         prescribed: &prescribed,
         contact: None,
     };
+    // Measured 6.7e-11 (2026-11-26): above the docs' 1e-11, as for the roller above.
     let (err, check) = solve_and_compare(session, &mesh, &material, &data, exact)?;
     if err > 1e-9 || check.worst() > 1e-11 {
         return Err(format!("weight on a roller: stress error {err:e}, check {check:?}"));

@@ -4,15 +4,14 @@
 use signorini::Error;
 
 use super::contact::{example, set_line};
-use super::dual_contact::solve_dual;
+use super::dual_contact::{solve_dual, without_corner_point};
 use super::ensure;
 
 /// The square block without its corner point (held vertically by the obstacle only), coarse
 /// (8 edges along the contact side), with `friction` (a `[contact]` line pair) and `solver`.
 fn block(friction: &str, solver: &str) -> (String, std::path::PathBuf) {
     let (text, path) = example("square_block.toml");
-    let text =
-        text.replace("[[dirichlet]]\npoint = [0.04, 0.0]      # the lower-right corner\nux = 0.0\nuy = 0.0\n", "");
+    let text = without_corner_point(&text);
     let text = set_line(&text, "cell_size", "cell_size = 5e-3");
     let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
     let text = match friction {

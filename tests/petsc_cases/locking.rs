@@ -1,5 +1,7 @@
 //! Near incompressibility (ν = 0.4999): frictionless Hertz with the locking-free P2–P0 element
 //! against the displacement-only P2 element, which locks.
+
+use super::edit::Edit;
 use signorini::petsc::Session;
 
 use super::contact::{example, set_line, solve_text};
@@ -79,7 +81,7 @@ pub fn contact_patch_near_incompressible_p2p0_exact(s: &Session) -> Result<(), S
         let (text, path) = example("contact_patch.toml");
         let text = set_line(&text, "order", "order = 2\nelement = \"p2p0\"");
         let text = set_line(&text, "poisson", &format!("poisson = {nu}"));
-        let text = text.replace("pressure = 2.5e5", &format!("pressure = {side:e}"));
+        let text = text.edit("pressure = 2.5e5", &format!("pressure = {side:e}"));
         let text = set_line(&text, "solver", &format!("solver = \"{solver}\""));
         let p = solve_text(s, &text, &path).map_err(|e| format!("{solver}: {e}"))?;
         let k = -(1.0 + nu) * (1.0 - 2.0 * nu) * pr / (e * (1.0 - nu));

@@ -1,4 +1,7 @@
 //! The cases of the PETSc suite (see tests/petsc_suite.rs). Each takes the one session.
+#[path = "../common/edit.rs"]
+mod edit;
+use edit::Edit;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -24,10 +27,12 @@ mod ict;
 mod locking;
 mod mpi_callbacks;
 mod progress;
+mod runner;
 
 type Case = fn(&Session) -> Result<(), String>;
 
 pub const TESTS: &[(&str, Case)] = &[
+    ("runner_parses_libtest_options", runner::runner_parses_libtest_options),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
@@ -75,7 +80,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("hertz_cylinder", contact::hertz_cylinder),
     ("square_block_raous", contact::square_block_raous),
     ("contact_solvers_agree", contact::contact_solvers_agree),
-    ("newton_iterations_mesh_independent", contact::newton_iterations_mesh_independent),
+    ("condensed_newton_iterations_under_refinement", contact::condensed_newton_iterations_under_refinement),
     ("friction_coefficient_sweep_0_to_10", contact::friction_coefficient_sweep_0_to_10),
     ("full_space_patch_frictionless_exact", contact::full_space_patch_frictionless_exact),
     ("full_space_stick_patch_exact_held_by_friction", contact::full_space_stick_patch_exact_held_by_friction),
@@ -295,7 +300,7 @@ fn residual_check_rejects_preonly_icc(s: &Session) -> Result<(), String> {
 fn patch_test(s: &Session, order: u32) -> Result<(), String> {
     let path = manifest("examples/scenes/patch_test.toml");
     let text = std::fs::read_to_string(&path).map_err(|e| e.to_string())?;
-    let text = text.replace("order = 1", &format!("order = {order}"));
+    let text = text.edit("order = 1", &format!("order = {order}"));
     let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
     let (e, nu) = (scene.material.young, scene.material.poisson);
     let p = match scene.tractions.iter().find(|t| t.part == "top").map(|t| &t.load) {

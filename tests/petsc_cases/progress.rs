@@ -14,14 +14,14 @@ enum Event {
 }
 
 #[derive(Clone, Default)]
-struct Recorder(Arc<Mutex<Vec<Event>>>);
+struct Recorder(Arc<Mutex<Vec<Event>>>, Arc<Mutex<Vec<(Phase, f64)>>>);
 
 impl Progress for Recorder {
     fn phase_started(&self, phase: Phase) {
         self.0.lock().unwrap().push(Event::Started(phase));
     }
     fn phase_finished(&self, phase: Phase, seconds: f64) {
-        assert!(seconds >= 0.0);
+        self.1.lock().unwrap().push((phase, seconds));
         self.0.lock().unwrap().push(Event::Finished(phase));
     }
     fn iteration(&self, phase: Phase, step: usize, residual: f64) {
@@ -50,6 +50,11 @@ pub fn progress_events_in_order(s: &Session) -> Result<(), String> {
     if phases != expected {
         return Err(format!("phases {phases:?}, expected {expected:?}"));
     }
+    // Every phase does work: its time is positive.
+    let seconds = recorder.1.lock().unwrap().clone();
+    if seconds.len() != 5 || !seconds.iter().all(|(_, t)| *t > 0.0) {
+        return Err(format!("phase times {seconds:?}"));
+    }
     // The Newton steps come between the start and the end of the solve, numbered from 1, one
     // per iteration of the report, with its residual history.
     let steps: Vec<(usize, usize, f64)> = events
@@ -71,9 +76,20 @@ pub fn progress_events_in_order(s: &Session) -> Result<(), String> {
             return Err(format!("iteration event {n}: at {k}, step {step}, residual {r}: {events:?}"));
         }
     }
-    // Without an observer nothing changes: the default is the no-op one.
+    // Without an observer nothing changes: the default is the no-op one, and the answer is the
+    // observed run's, bit for bit, after the same Newton steps.
     let mut q = ElasticityProblem::setup_system(s, Scene::default_scene()).map_err(|e| e.to_string())?;
     q.assemble().map_err(|e| e.to_string())?;
     q.solve().map_err(|e| e.to_string())?;
+    let unobserved = &q.contact_outcome.as_ref().ok_or("no contact outcome without an observer")?.report;
+    if q.displacement != p.displacement || p.displacement.is_none() {
+        return Err("the displacement differs without an observer".into());
+    }
+    if unobserved.iterations != report.iterations || unobserved.residual_history != report.residual_history {
+        return Err(format!(
+            "without an observer: {} steps {:?}, with: {} steps {:?}",
+            unobserved.iterations, unobserved.residual_history, report.iterations, report.residual_history
+        ));
+    }
     Ok(())
 }

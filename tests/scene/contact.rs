@@ -1,5 +1,7 @@
 //! The `[contact]` table: obstacles, friction laws, solvers and the checks on each key.
 
+use crate::edit::Edit;
+
 use crate::{line_contact, line_of, parse, scene_error, two_triangles, with_contact, BASE};
 use signorini::error::Error;
 use signorini::scene::{ContactSolverSpec, FrictionSpec, ObstacleSpec};
@@ -62,7 +64,7 @@ fn contact_with_every_option() {
 
 #[test]
 fn contact_normal_is_normalised() {
-    let text = line_contact("").replace("normal = [0.0, 1.0]", "normal = [3, -4]");
+    let text = line_contact("").edit("normal = [0.0, 1.0]", "normal = [3, -4]");
     let c = parse(&text).unwrap().contact.unwrap();
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.6, -0.8] });
 }
@@ -77,12 +79,12 @@ fn contact_polyline_parses() {
 
 #[test]
 fn contact_unknown_obstacle_kind() {
-    let text = line_contact("").replace("obstacle = \"line\"", "obstacle = \"plane\"");
+    let text = line_contact("").edit("obstacle = \"line\"", "obstacle = \"plane\"");
     let e = scene_error(&text);
     assert_eq!((e.line, e.column), (line_of(&text, "obstacle"), "obstacle = ".len() + 1));
     assert!(e.message.contains("obstacle") && e.message.contains("\"plane\""), "{}", e.message);
     assert!(e.hint.contains("\"line\", \"circle\", \"polyline\""), "{}", e.hint);
-    let e = scene_error(&line_contact("").replace("obstacle = \"line\"", "obstacle = \"circel\""));
+    let e = scene_error(&line_contact("").edit("obstacle = \"line\"", "obstacle = \"circel\""));
     assert!(e.hint.contains("did you mean \"circle\"?"), "{}", e.hint);
 }
 
@@ -103,7 +105,7 @@ fn contact_obstacle_key_that_does_not_apply() {
 
 #[test]
 fn contact_missing_keys_point_at_the_table() {
-    let text = line_contact("").replace("part = \"bottom\"\n", "");
+    let text = line_contact("").edit("part = \"bottom\"\n", "");
     let e = scene_error(&text);
     assert_eq!((e.line, e.column), (line_of(&text, "[contact]"), 1));
     assert!(e.message.contains("[contact]") && e.message.contains("`part`"), "{}", e.message);
@@ -115,7 +117,7 @@ fn contact_missing_keys_point_at_the_table() {
     assert!(e.message.contains("`obstacle`"), "{}", e.message);
     assert!(e.hint.contains("obstacle = \"line\""), "{}", e.hint);
 
-    let text = line_contact("").replace("normal = [0.0, 1.0]\n", "");
+    let text = line_contact("").edit("normal = [0.0, 1.0]\n", "");
     let e = scene_error(&text);
     assert_eq!(e.line, line_of(&text, "[contact]"));
     assert!(e.message.contains("`normal`") && e.message.contains("obstacle = \"line\""), "{}", e.message);
@@ -132,7 +134,7 @@ fn contact_missing_keys_point_at_the_table() {
 #[test]
 fn contact_zero_normal() {
     for bad in ["[0.0, 0.0]", "[0, 0]", "[-0.0, 0.0]"] {
-        let text = line_contact("").replace("normal = [0.0, 1.0]", &format!("normal = {bad}"));
+        let text = line_contact("").edit("normal = [0.0, 1.0]", &format!("normal = {bad}"));
         let e = scene_error(&text);
         assert_eq!((e.line, e.column), (line_of(&text, "normal"), "normal = ".len() + 1), "{bad}");
         assert!(
@@ -415,7 +417,7 @@ fn contact_gap_must_be_a_number() {
 #[test]
 fn contact_part_must_not_be_clamped() {
     // BASE clamps "left" (ux and uy)
-    let text = line_contact("").replace("part = \"bottom\"\nobstacle", "part = \"left\"\nobstacle");
+    let text = line_contact("").edit("part = \"bottom\"\nobstacle", "part = \"left\"\nobstacle");
     let e = scene_error(&text);
     let contact_line = text.lines().collect::<Vec<_>>().iter().rposition(|l| *l == "part = \"left\"").unwrap() + 1;
     assert_eq!((e.line, e.column), (contact_line, "part = ".len() + 1));
@@ -442,7 +444,7 @@ fn contact_part_must_not_be_clamped() {
 
 #[test]
 fn check_against_mesh_checks_the_contact_part() {
-    let text = line_contact("").replace("part = \"bottom\"", "part = \"botom\"");
+    let text = line_contact("").edit("part = \"bottom\"", "part = \"botom\"");
     let scene = parse(&text).unwrap();
     match scene.check_against_mesh(&two_triangles()) {
         Err(Error::Scene { location, message, hint }) => {
@@ -452,7 +454,7 @@ fn check_against_mesh_checks_the_contact_part() {
         }
         other => panic!("{other:?}"),
     }
-    let text = line_contact("").replace("part = \"bottom\"", "part = \"domain\"");
+    let text = line_contact("").edit("part = \"bottom\"", "part = \"domain\"");
     let e = parse(&text).unwrap().check_against_mesh(&two_triangles()).unwrap_err();
     let Error::Scene { location, message, .. } = e else { panic!("{e:?}") };
     assert_eq!(location.line, line_of(&text, "domain"));

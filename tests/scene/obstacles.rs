@@ -1,5 +1,7 @@
 //! Obstacle geometry: projections onto lines, circles and polylines as the driver builds them.
 
+use crate::edit::Edit;
+
 use crate::{line_contact, parse};
 use signorini::scene::ObstacleSpec;
 
@@ -139,7 +141,7 @@ fn polyline_signed_distance_matches_brute_force() {
 
 #[test]
 fn contact_tiny_normal_is_still_a_direction() {
-    let text = line_contact("").replace("normal = [0.0, 1.0]", "normal = [0.0, 1e-320]");
+    let text = line_contact("").edit("normal = [0.0, 1.0]", "normal = [0.0, 1e-320]");
     let c = parse(&text).unwrap().contact.unwrap();
     assert_eq!(c.obstacle, ObstacleSpec::Line { point: [0.0, 0.0], normal: [0.0, 1.0] });
 }

@@ -1,5 +1,7 @@
 //! TOML-level mistakes, unknown and missing keys: each an `Error::Scene` at the right line.
 
+use crate::edit::Edit;
+
 use crate::{base_with, line_of, scene_error, BASE};
 
 // ---- TOML-level mistakes ---------------------------------------------------------------------
@@ -48,13 +50,13 @@ fn unknown_key_lists_the_allowed_keys() {
 
 #[test]
 fn unknown_top_level_table() {
-    let text = BASE.replace("[material]", "[materials]");
+    let text = BASE.edit("[material]", "[materials]");
     let e = scene_error(&text);
     assert_eq!((e.line, e.column), (line_of(&text, "[materials]"), 2));
     assert!(e.message.contains("`materials`") && e.message.contains("top level"), "{}", e.message);
     assert!(e.hint.contains("did you mean `material`?"), "{}", e.hint);
 
-    let text = BASE.replace("[material]", "[contacts]\n[material]");
+    let text = BASE.edit("[material]", "[contacts]\n[material]");
     let e = scene_error(&text);
     assert!(e.message.contains("`contacts`") && e.message.contains("top level"), "{}", e.message);
     assert!(e.hint.contains("did you mean `contact`?"), "{}", e.hint);

@@ -1,5 +1,7 @@
 //! Values out of range, names from a fixed set, keys that do not apply, boundary conditions, [solver] and [output].
 
+use crate::edit::Edit;
+
 use crate::{base_with, line_of, parse, part, scene_error, BASE};
 use signorini::mesh::Order;
 use signorini::scene::{DirichletSpec, Load, MeshSpec, Mesher, PlaneSpec, RefineSpec};
@@ -164,7 +166,7 @@ fn refine_needs_gmsh() {
     // with gmsh both forms are accepted
     let with_gmsh = base_with("cell_size = 0.1", &format!("cell_size = 0.1\nmesher = \"gmsh\"\n{refine}"));
     let s = parse(&with_gmsh).unwrap();
-    let sub = parse(&text.replace("mesher = \"structured\"", "mesher = \"gmsh\"")).unwrap();
+    let sub = parse(&text.edit("mesher = \"structured\"", "mesher = \"gmsh\"")).unwrap();
     assert_eq!(s.mesh, sub.mesh);
     let MeshSpec::Rectangle { refine: Some(r), mesher: Mesher::Gmsh, .. } = s.mesh else { panic!("{:?}", s.mesh) };
     assert_eq!(r, RefineSpec { point: [0.0, 0.0], cell_size: 0.01, radius: 0.1 });
