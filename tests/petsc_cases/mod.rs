@@ -112,6 +112,10 @@ pub const TESTS: &[(&str, Case)] = &[
     ("hertz_two_cylinders_steel_on_aluminium", bodies_hertz::hertz_two_cylinders_steel_on_aluminium),
     ("cattaneo_mindlin_two_cylinders", bodies_hertz::cattaneo_mindlin_two_cylinders),
     (
+        "cattaneo_mindlin_two_cylinders_near_incompressible",
+        bodies_hertz::cattaneo_mindlin_two_cylinders_near_incompressible,
+    ),
+    (
         "two_bodies_report_equilibrium_and_action_reaction",
         bodies_hertz::two_bodies_report_equilibrium_and_action_reaction,
     ),
