@@ -47,7 +47,8 @@
 //! triangle, one chord per bucket); a point finds its triangle in its bucket, a chord of `A`
 //! meets the chords of `B` in the buckets its box covers, and a distance to `B`'s boundary
 //! searches rings of buckets around the point until they are farther than the nearest chord
-//! found. Two meshes of 10⁵ boundary edges are checked in well under a second.
+//! found. Two meshes of 40 004 boundary edges and 80 000 triangles each, touching along a side
+//! of 20 000 edges, are checked both ways in 0.28 s (release build).
 use super::{Mesh, PhysicalGroup};
 use crate::error::{Error, Result};
 use std::ops::Range;
