@@ -487,6 +487,44 @@ fn overlapping_discs_are_found_and_touching_ones_pass() {
     assert!(model.mesh.group_index("right.circle", 1).is_some());
 }
 
+/// Two bars of width 0.1 crossing like a plus sign, 2 cells along each (cells of 1.1 x 0.1):
+/// no node of one is inside the other, only their sides cross. `up_origin_y` moves the
+/// vertical bar (−1: centred on the horizontal one; 0.05: standing on it, a T).
+fn plus_sign(order: u8, up_origin_y: f64) -> String {
+    format!(
+        "[[body]]\nname = \"across\"\nmesh = {{ shape = \"rectangle\", origin = [-1.0, -0.05], size = [2.2, 0.1], cell_size = 1.1 }}\n\
+         discretization = {{ order = {order} }}\nmaterial = {{ young = 1e9, poisson = 0.3 }}\n\
+         [[body.dirichlet]]\npart = \"left\"\nux = 0.0\nuy = 0.0\n\
+         [[body]]\nname = \"up\"\nmesh = {{ shape = \"rectangle\", origin = [-0.05, {up_origin_y}], size = [0.1, 2.2], cell_size = 1.1 }}\n\
+         discretization = {{ order = {order} }}\nmaterial = {{ young = 1e9, poisson = 0.3 }}\n\
+         [[body.dirichlet]]\npart = \"top\"\nux = 0.0\nuy = 0.0\n"
+    )
+}
+
+#[test]
+fn bars_crossing_like_a_plus_sign_are_refused_and_a_t_passes() {
+    for order in [1, 2] {
+        let text = plus_sign(order, -1.0);
+        let s = parse(&text).unwrap();
+        // No node of either bar is inside the other: the meshes of the bars apart (`up` 6
+        // higher), each node against the other bar's rectangle where the scene puts it.
+        let apart = BodiesModel::build(&parse(&plus_sign(order, 5.0)).unwrap()).unwrap();
+        let in_box =
+            |p: [f64; 2], lo: [f64; 2], hi: [f64; 2]| p[0] > lo[0] && p[0] < hi[0] && p[1] > lo[1] && p[1] < hi[1];
+        assert!(apart.body_meshes[0].nodes.iter().all(|&p| !in_box(p, [-0.05, -1.0], [0.05, 1.2])));
+        assert!(apart.body_meshes[1].nodes.iter().all(|&p| !in_box([p[0], p[1] - 6.0], [-1.0, -0.05], [1.2, 0.05])));
+        let (line, message, hint) = scene_error(BodiesModel::build(&s));
+        assert_eq!(line, line_of(&text, "name = \"up\""), "P{order}");
+        assert!(message.starts_with("bodies `across` and `up` overlap: their boundaries cross at ["), "{message}");
+        // The deepest point of a side inside the other bar: its middle, 0.05 from the other's sides.
+        assert!(message.contains("is 5.000e-2 inside"), "{message}");
+        assert!(message.contains("more than the default accepted overlap"), "{message}");
+        assert!(hint.contains("max_initial_overlap"), "{hint}");
+        // Standing on it (a T): touching along the top side, accepted.
+        BodiesModel::build(&parse(&plus_sign(order, 0.05)).unwrap()).unwrap();
+    }
+}
+
 #[test]
 fn the_example_scenes_make_non_overlapping_unions() {
     let s = Scene::from_file(&examples().join("block_on_block.toml")).unwrap();

@@ -53,6 +53,7 @@ use crate::scene::{
 };
 
 use crate::contact_routes::condensed_route::{obstacle_of, spring_dofs, ContactSetup};
+use crate::report::warnings::Warning;
 
 /// Slave points farther from the master side than this fraction of the smaller side's extent
 /// are not paired (see [`contact_of_bodies`]).
@@ -127,6 +128,8 @@ pub(super) struct BodiesSetup {
     pub constraints: Constraints,
     pub contact: Option<ContactSetup>,
     pub model: BodiesModel,
+    /// Warnings known at set-up: contact pairs out of the pairing range.
+    pub warnings: Vec<Warning>,
 }
 
 /// The material a scene's (or a body's) `[material]` table describes.
@@ -161,14 +164,23 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
         }
     }
     let free_motions = free_motions_of_bodies(&model, &constraints);
-    let contact = contact_of_bodies(&model, &constraints, free_motions.clone(), scene.contact_solver)?;
-    check_every_body_is_held(&model, &constraints, contact.as_ref())?;
+    let mut warnings = Vec::new();
+    let contact = contact_of_bodies(&model, &constraints, free_motions.clone(), scene.contact_solver, &mut warnings)?;
+    // A body held by nothing because its pair is out of range: the warning says why.
+    let out_of_range = |e: Error| match e {
+        Error::Unconstrained(message) if !warnings.is_empty() => Error::Unconstrained(format!(
+            "{message}; {}",
+            warnings.iter().map(|w| w.message.as_str()).collect::<Vec<_>>().join("; ")
+        )),
+        other => other,
+    };
+    check_every_body_is_held(&model, &constraints, contact.as_ref()).map_err(out_of_range)?;
     if contact.is_none() {
         if let Some(free) = free_motions {
-            return Err(Error::Unconstrained(free));
+            return Err(out_of_range(Error::Unconstrained(free)));
         }
     }
-    Ok(BodiesSetup { scene: flat, mesh, material: materials[0], cell_materials, constraints, contact, model })
+    Ok(BodiesSetup { scene: flat, mesh, material: materials[0], cell_materials, constraints, contact, model, warnings })
 }
 
 /// The union-mesh nodes of every body's Dirichlet conditions, in the order of the flattened
@@ -264,6 +276,7 @@ fn contact_of_bodies(
     constraints: &Constraints,
     free_motions: Option<String>,
     run_solver: Option<ContactSolverSpec>,
+    warnings: &mut Vec<Warning>,
 ) -> Result<Option<ContactSetup>> {
     let mesh = &model.mesh;
     let prescribed = |node: usize| [constraints.value(2 * node), constraints.value(2 * node + 1)];
@@ -288,6 +301,30 @@ fn contact_of_bodies(
         let options = MortarOptions { uncovered: UncoveredNodes::LeaveOut, max_distance: PAIRING_DISTANCE * extent };
         let coupling = MortarCoupling::new(&slave, &master, &options).map_err(|e| in_pair(e, pair))?;
         if coupling.points() == 0 {
+            // Facing, but farther apart than the pairing distance: no contact point, no force
+            // (small sliding: they are taken as never touching), and a warning; the pointwise
+            // check after the solve still measures the two sides (bodies_report.rs).
+            let anywhere = MortarOptions { max_distance: f64::INFINITY, ..options };
+            if let Some(nearest) = MortarCoupling::new(&slave, &master, &anywhere)
+                .ok()
+                .and_then(|c| c.gap.iter().copied().reduce(f64::min))
+            {
+                warnings.push(Warning {
+                    kind: "contact_pair_out_of_range",
+                    message: format!(
+                        "contact pair `{}` / `{}` ({}:{}): the two parts face each other {nearest:.3e} apart at \
+                         the nearest, farther than the pairing distance {:.3e} (a tenth of the smaller part's \
+                         extent): it has no contact point and carries no force in this run (the pairing is made \
+                         once, on the initial geometry); place the bodies closer if they are to touch",
+                        pair.slave,
+                        pair.master,
+                        pair.at.file.display(),
+                        pair.at.line,
+                        options.max_distance
+                    ),
+                });
+                continue;
+            }
             return Err(Error::Scene {
                 location: pair.at.clone(),
                 message: format!(
@@ -387,7 +424,7 @@ fn contact_of_bodies(
 }
 
 /// The diagonal of the bounding box of a boundary part's nodes.
-fn side_extent(mesh: &Mesh, group: usize) -> f64 {
+pub(crate) fn side_extent(mesh: &Mesh, group: usize) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for e in mesh.edges_in_group(group) {
         for &k in mesh.edge(e) {

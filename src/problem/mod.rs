@@ -280,7 +280,7 @@ impl<'s> ElasticityProblem<'s> {
         let setup = bodies::setup_bodies(scene, model)?;
         let mesh = consistent_across_ranks(session, setup.mesh)?;
         timings.add("setup", start.elapsed().as_secs_f64());
-        Self::from_parts(
+        let mut problem = Self::from_parts(
             session,
             setup.scene,
             mesh,
@@ -290,7 +290,9 @@ impl<'s> ElasticityProblem<'s> {
             None,
             timings,
             progress,
-        )
+        )?;
+        problem.warnings.extend(setup.warnings);
+        Ok(problem)
     }
 
     #[allow(clippy::too_many_arguments)]

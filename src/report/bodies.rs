@@ -31,7 +31,7 @@ use std::collections::HashSet;
 use crate::contact::{self, PointStatus};
 use crate::error::{Error, Result};
 
-use crate::contact::mortar::MortarSide;
+use crate::contact::mortar::{MortarSide, NodePenetration};
 use crate::problem::{ContactPart, ContactSetup, ElasticityProblem, MasterSide, EQUILIBRIUM_CHECK};
 use crate::scene::BodiesModel;
 
@@ -207,8 +207,72 @@ impl ElasticityProblem<'_> {
                 &master_force,
             )?;
         }
+        contacts.extend(out_of_range_pairs(model, parts, u, contacts.first().map(|c| c.residuals.displacement_scale))?);
         Ok(Some(BodiesReport { bodies, contacts }))
     }
+}
+
+/// The reports of the contact pairs that have no contact point (their parts face each other
+/// farther apart than the pairing distance: `bodies.rs`): no force, and the pointwise check of
+/// every node of both sides, which catches displacements that closed the distance anyway.
+/// `displacement_scale`: the other parts' (the contact residuals'), else max |u|.
+fn out_of_range_pairs(
+    model: &BodiesModel,
+    parts: Option<&crate::problem::ContactParts>,
+    u: &[f64],
+    displacement_scale: Option<f64>,
+) -> Result<Vec<ContactPartReport>> {
+    let mut out = Vec::new();
+    let scale = displacement_scale.unwrap_or_else(|| u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max));
+    for pair in &model.contact_pairs {
+        let name = format!("{} / {}", pair.slave, pair.master);
+        if parts.is_some_and(|p| p.parts.iter().any(|q| q.name == name)) {
+            continue;
+        }
+        let (Some(slave_group), Some(master_group)) = (model.part_group(&pair.slave), model.part_group(&pair.master))
+        else {
+            continue;
+        };
+        let body = |name: &str| model.bodies.iter().position(|b| b.name == name).unwrap_or(0);
+        let extent = crate::problem::bodies::side_extent(&model.mesh, slave_group)
+            .min(crate::problem::bodies::side_extent(&model.mesh, master_group));
+        let master = MasterSide {
+            body: body(&pair.master.body),
+            group: master_group,
+            pairing_distance: crate::problem::bodies::PAIRING_DISTANCE * extent,
+        };
+        let part = ContactPart {
+            name,
+            slave_body: body(&pair.slave.body),
+            slave_group,
+            master: Some(master),
+            friction: pair.friction,
+            at: pair.at.clone(),
+        };
+        let node_penetration = node_penetration(model, &HashSet::new(), &part, master, u, scale)?;
+        out.push(ContactPartReport {
+            name: part.name,
+            friction: crate::problem::bodies::friction_text(part.friction),
+            points: 0,
+            open: 0,
+            stick: 0,
+            slip: 0,
+            slave_resultant: [0.0; 2],
+            master_resultant: Some([0.0; 2]),
+            action_reaction_residual: Some(0.0),
+            residuals: super::contact::ContactResidualsReport {
+                max_penetration: 0.0,
+                max_wrong_sign_pressure: 0.0,
+                max_cone_violation: 0.0,
+                normal_complementarity: 0.0,
+                tangential_complementarity: 0.0,
+                force_scale: 0.0,
+                displacement_scale: scale,
+            },
+            node_penetration: Some(node_penetration),
+        });
+    }
+    Ok(out)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -321,14 +385,7 @@ fn node_penetration(
         } else if !w.facing.iter().any(|&k| is_point(k)) {
             format!("it is a master node facing slave nodes that are not contact points: {unpaired}")
         } else {
-            format!(
-                "it is a master node pushing into the slave side between two slave nodes, where the weak constraint \
-                 does not reach: either the slave side is coarser than the master side there (make it at least as \
-                 fine, or swap the sides), or the node moved {:.3e} towards a side {:.3e} away, beyond the small \
-                 sliding the linearised pairing assumes (reduce the load)",
-                w.initial_gap - w.gap,
-                w.initial_gap
-            )
+            master_node_cause(&slave, &master_side, node, &w, &is_point, &part.name)
         };
         return Err(Error::SolverDiverged {
             solver: "the independent check of the answer".into(),
@@ -343,4 +400,76 @@ fn node_penetration(
         });
     }
     Ok(report)
+}
+
+/// Why a master node facing the contact points of a pair goes into the slave side between two
+/// slave nodes, where the weak constraint does not test it; `w` its measurement.
+///
+/// - The master side ends there, inside the slave side (one master edge at the node, or one of
+///   the two slave nodes around it is not a contact point): the slave side reaches beyond the
+///   master's end, its last contact point faces the master only on part of its support, the
+///   next slave node not at all, and nothing holds the master's end corner between them.
+///   Measured on a block whose bottom is the master side, on a foundation twice as fine
+///   (the slave side, reaching beyond the block): 1.3e-2 to 7.2e-2 of the displacement scale
+///   as the corner moves from 0.2 to 0.9 of a slave edge past the last contact point, falling
+///   only as h^0.6 under refinement; the block as the slave side passes (2e-5 to 6e-5).
+/// - Else the slave chords around the node are longer than the master's: the slave side is
+///   coarser there (the weak constraint is tested on the slave's functions).
+/// - Else the slave side is as fine: the node moved far towards the other side (beyond small
+///   sliding) or the deformed slave side bends sharply there.
+fn master_node_cause(
+    slave: &MortarSide,
+    master: &MortarSide,
+    node: usize,
+    w: &NodePenetration,
+    is_point: &dyn Fn(usize) -> bool,
+    pair: &str,
+) -> String {
+    let vertex_of = |e: &Vec<usize>| e[0] == node || e[1] == node;
+    let master_edges = master.edges().iter().filter(|e| vertex_of(e)).count();
+    let is_mid_node = master.edges().iter().any(|e| e.len() == 3 && e[2] == node);
+    let ends_here = (master_edges == 1 && !is_mid_node) || !w.facing.iter().all(|&k| is_point(k));
+    let (slave_name, master_name) = pair.split_once(" / ").unwrap_or((pair, ""));
+    if ends_here {
+        return format!(
+            "it is a master node at the end of the master side `{master_name}`, which ends inside the slave side \
+             `{slave_name}`: the slave nodes beyond it face no master edge and are not contact points, the last \
+             contact point faces the master side on part of its support only, and the weak constraint does not \
+             hold the master's end between them (a finer slave side does not help). Make the slave side the part \
+             that lies within the other one (swap `slave` and `master` in the [[contact_pair]]), or trim the slave \
+             part to the stretch the master part faces"
+        );
+    }
+    let length = |side: &MortarSide, a: usize, b: usize| match (side.position(a), side.position(b)) {
+        (Some(x), Some(y)) => (x[0] - y[0]).hypot(x[1] - y[1]),
+        _ => 0.0,
+    };
+    let slave_chord = length(slave, w.facing[0], w.facing[1]);
+    let master_chords: Vec<f64> = master
+        .edges()
+        .iter()
+        .flat_map(|e| {
+            let path: Vec<usize> = if e.len() == 3 { vec![e[0], e[2], e[1]] } else { e.clone() };
+            path.windows(2).filter(|c| c.contains(&node)).map(|c| length(master, c[0], c[1])).collect::<Vec<_>>()
+        })
+        .collect();
+    let master_chord = master_chords.iter().sum::<f64>() / master_chords.len().max(1) as f64;
+    if slave_chord > 1.01 * master_chord {
+        format!(
+            "it is a master node pushing into the slave side between two slave nodes {slave_chord:.3e} apart, where \
+             the master nodes are {master_chord:.3e} apart: the slave side is coarser than the master side there, \
+             and the weak constraint is tested on the slave side's functions; make the slave side at least as fine \
+             as the master side, or swap `slave` and `master`"
+        )
+    } else {
+        format!(
+            "it is a master node pushing into the slave side between two slave nodes {slave_chord:.3e} apart (the \
+             master nodes are {master_chord:.3e} apart: the slave side is as fine), where the weak constraint does \
+             not test it pointwise: the node moved {:.3e} towards a side {:.3e} away, beyond the small sliding the \
+             linearised pairing assumes (reduce the load), or the deformed slave side bends sharply there (refine \
+             both sides near it)",
+            w.initial_gap - w.gap,
+            w.initial_gap
+        )
+    }
 }

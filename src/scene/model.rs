@@ -4,9 +4,10 @@
 //!
 //! # Initial overlap
 //!
-//! Two bodies overlap by `d` when a node of one lies inside the other at distance `d` from its
-//! boundary ([`crate::mesh::union::deepest_overlap`], both ways). Every pair of bodies is
-//! checked, with the tolerance
+//! Two bodies overlap by `d` when a point of the boundary of one (a node, or a piece of a
+//! boundary edge between two crossings of the boundaries) lies inside the other at distance `d`
+//! from its boundary ([`crate::mesh::union::deepest_overlap`], both ways). Every pair of bodies
+//! is checked, with the tolerance
 //!
 //! ```text
 //!   tol(a, b) = max over the [[contact_pair]] tables joining a and b of their max_initial_overlap,
@@ -20,7 +21,7 @@
 use super::bodies::{BodySpec, ContactPairSpec, PartRef};
 use super::{boundary_group, MaterialSpec, Scene};
 use crate::error::{Error, Location, Result};
-use crate::mesh::union::{deepest_overlap, disjoint_union, BodyLayout};
+use crate::mesh::union::{deepest_overlap, disjoint_union, BodyLayout, OverlapWitness};
 use crate::mesh::Mesh;
 
 /// The default accepted initial overlap of two bodies, as a fraction of the smaller of their
@@ -161,12 +162,18 @@ fn check_overlaps(bodies: &[BodySpec], pairs: &[ContactPairSpec], meshes: &[Mesh
                 None => (bodies[b].at.clone(), "the default accepted overlap (no [[contact_pair]] joins them)".into()),
             };
             let [x, y] = overlap.position;
+            let what = match overlap.witness {
+                OverlapWitness::Node(_) => format!("the node of `{}` at [{x}, {y}]", bodies[inner].name),
+                OverlapWitness::Edge { crossing: [cx, cy], .. } => format!(
+                    "their boundaries cross at [{cx:.4e}, {cy:.4e}], and the boundary of `{}` at [{x:.4e}, {y:.4e}]",
+                    bodies[inner].name
+                ),
+            };
             return Err(Error::Scene {
                 location,
                 message: format!(
-                    "bodies `{}` and `{}` overlap: the node of `{}` at [{x}, {y}] is {:.3e} inside `{}`, more than \
-                     {stated}, {tolerance:.3e}",
-                    bodies[a].name, bodies[b].name, bodies[inner].name, overlap.depth, bodies[outer].name
+                    "bodies `{}` and `{}` overlap: {what} is {:.3e} inside `{}`, more than {stated}, {tolerance:.3e}",
+                    bodies[a].name, bodies[b].name, overlap.depth, bodies[outer].name
                 ),
                 hint: "bodies must start apart or touching: move one (its [[body]] `translate`, or its mesh's \
                        `origin`/`center`), or, for an intended interpenetration, give max_initial_overlap (m) in \

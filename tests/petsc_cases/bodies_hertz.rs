@@ -286,7 +286,79 @@ pub fn cattaneo_mindlin_two_cylinders(s: &Session) -> Result<(), String> {
     ensure((c - c_exact).abs() <= spacing, || format!("{line}: c beyond one spacing"))?;
     ensure(e.abs() <= 0.5 * spacing, || format!("{line}: the stick zone is not centred"))?;
     ensure(worst < 0.02, || format!("{line}: tangential traction off Cattaneo's"))?;
+    // The whole profile, slip zones included: measured 0.87 % of μp0 RMS.
+    let rms = cattaneo_rms(&p, mu, effective_modulus(STEEL, STEEL));
+    eprintln!("    Cattaneo, ν = 0.3: RMS |q − q_Cattaneo|/μp0 over |x| < a = {rms:.4}");
+    ensure(rms < 0.02, || format!("Cattaneo, ν = 0.3: RMS {rms:.4} of μp0"))?;
     check_bodies_report(&p, "Cattaneo", 1e-10).map(|_| ())
+}
+
+/// The tangential traction of the slave points against Cattaneo–Mindlin's closed form over the
+/// whole contact zone `|x| < a`: RMS of `(q − q_C)/μp0`, where
+/// `q_C = μp0 (√(1 − x²/a²) − (c/a) √(1 − x²/c²)₊)` (the slip zones `|x| > c` follow the Coulomb
+/// limit `μp`), `c/a = √(1 − Q/μP)`, and P, Q (the contact loads) and a, p0 (Hertz, from P and
+/// `estar`) from the solution's contact forces.
+fn cattaneo_rms(p: &ElasticityProblem, mu: f64, estar: f64) -> f64 {
+    let (load, shear) = contact_loads(p);
+    let (a, p0) = hertz_exact(load, estar);
+    let c = a * (1.0 - shear.abs() / (mu * load)).max(0.0).sqrt();
+    let sign = shear.signum();
+    let errors: Vec<f64> = contact_points(p)
+        .iter()
+        .filter(|q| q.0.abs() < a)
+        .map(|&(x, _, q, _)| {
+            let exact = (1.0 - x * x / (a * a)).max(0.0).sqrt() - (c / a) * (1.0 - x * x / (c * c)).max(0.0).sqrt();
+            sign * q / (mu * p0) - exact
+        })
+        .collect();
+    (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt()
+}
+
+/// Cattaneo–Mindlin near incompressibility (issue 23, item 4): the two cylinders of
+/// [`cattaneo_mindlin_two_cylinders`] at ν = 0.4999 with P2–P0 elements (`element = "p2p0"`),
+/// the same supports and imposed motion. Identical bodies keep the normal and tangential
+/// problems uncoupled at any ν (Dundurs β = 0), so the closed form holds with
+/// E* = E/(2(1 − ν²)). The tangential traction over the whole contact zone, RMS of μp0: at
+/// most 2 % (measured 0.68 %; 0.73 % at ν = 0.49, 0.87 % at ν = 0.3). With P2 elements alone
+/// (which lock) it is 11.4 % at ν = 0.4999 (1.5 % at ν = 0.49): the test tells the two apart.
+///
+/// The 6.9 % RMS reported in the issue is one cylinder on the rigid plane
+/// (`examples/scenes/hertz_incompressible.toml` with Coulomb friction and a tangential motion of
+/// its flat side), a single-body route: there the profile is right but the stick zone is
+/// shifted by e/a ≈ −0.10 at a/R = 0.055 (the same, −0.103, with cells half as large; −0.05
+/// at a/R = 0.025), so the comparison with the closed form centred at 0 gives 8.5 % RMS, and
+/// 1.4 % once centred where the stick zone is.
+/// The shift scales with a/R: it is the curved body's own response (a vertical pressure on
+/// a surface tilted by x/R), which the half-space theory leaves out and which two identical
+/// cylinders cancel by symmetry. At ν = 0.49 the Dundurs coupling of an elastic body on a
+/// rigid one (β ≈ 0.02) shifts it the other way, which is why that profile looked better.
+pub fn cattaneo_mindlin_two_cylinders_near_incompressible(s: &Session) -> Result<(), String> {
+    let mu = 0.3;
+    let nu = 0.4999;
+    let estar = effective_modulus((STEEL.0, nu), (STEEL.0, nu));
+    let (text, path) = cattaneo_scene("2.5e-4", 2.5e-4, -1e-3, mu);
+    ensure(text.matches("poisson = 0.3\n").count() == 2 && text.matches("order = 2\n").count() == 2, || {
+        "test bug: two_cylinders.toml's materials or orders changed".into()
+    })?;
+    let text = text.replace("poisson = 0.3\n", &format!("poisson = {nu}\n"));
+    let mut rms = Vec::new();
+    for element in ["p2p0", "lagrange"] {
+        let text = text.replace("order = 2\n", &format!("order = 2\nelement = \"{element}\"\n"));
+        let p = solve_text(s, &text, &path).map_err(|e| format!("Cattaneo, ν = {nu}, {element}: {e}"))?;
+        let (load, shear) = contact_loads(&p);
+        let value = cattaneo_rms(&p, mu, estar);
+        eprintln!(
+            "    Cattaneo, ν = {nu}, {element}: P = {load:.4e}, Q/μP = {:.4}, RMS |q − q_Cattaneo|/μp0 over |x| < a \
+             = {value:.4}",
+            shear.abs() / (mu * load)
+        );
+        if element == "p2p0" {
+            check_bodies_report(&p, "Cattaneo near incompressibility", 1e-10)?;
+        }
+        rms.push(value);
+    }
+    ensure(rms[0] <= 0.02, || format!("P2–P0 at ν = {nu}: RMS {:.4} of μp0 (at most 0.02)", rms[0]))?;
+    ensure(rms[1] > 0.05, || format!("P2 at ν = {nu}: RMS {:.4} of μp0, expected the locking's > 0.05", rms[1]))
 }
 
 /// report.json → `bodies`, on a coarse mesh (cells of 1e-3 near the contact): both bodies'

@@ -18,6 +18,7 @@ mod adapt;
 mod bodies_blocks;
 mod bodies_full_space;
 mod bodies_hertz;
+mod bodies_sides;
 mod contact;
 mod dual;
 mod dual_contact;
@@ -116,6 +117,10 @@ pub const TESTS: &[(&str, Case)] = &[
     ("hertz_two_cylinders_steel_on_aluminium", bodies_hertz::hertz_two_cylinders_steel_on_aluminium),
     ("cattaneo_mindlin_two_cylinders", bodies_hertz::cattaneo_mindlin_two_cylinders),
     (
+        "cattaneo_mindlin_two_cylinders_near_incompressible",
+        bodies_hertz::cattaneo_mindlin_two_cylinders_near_incompressible,
+    ),
+    (
         "two_bodies_report_equilibrium_and_action_reaction",
         bodies_hertz::two_bodies_report_equilibrium_and_action_reaction,
     ),
@@ -129,6 +134,11 @@ pub const TESTS: &[(&str, Case)] = &[
     ("three_block_stack", bodies_blocks::three_block_stack),
     ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
     ("point_condition_at_a_shared_place_is_its_bodys", bodies_blocks::point_condition_at_a_shared_place_is_its_bodys),
+    ("which_side_is_slave_decides_the_pointwise_check", bodies_sides::which_side_is_slave_decides_the_pointwise_check),
+    (
+        "bodies_out_of_pairing_range_solve_without_contact_force",
+        bodies_sides::bodies_out_of_pairing_range_solve_without_contact_force,
+    ),
     ("bodies_full_space_patch_test", bodies_full_space::bodies_full_space_patch_test),
     ("bodies_full_space_block_on_block", bodies_full_space::bodies_full_space_block_on_block),
     ("bodies_full_space_block_elimination", bodies_full_space::bodies_full_space_block_elimination),
