@@ -6,17 +6,26 @@
 use std::fmt;
 use std::path::PathBuf;
 
-/// Where in a text file something is (1-based line and column).
+/// Where in a text file something is (1-based line and column), shown `file:line:column`.
+/// Line 0 means no line (a scene built in Rust, whose errors name the builder call instead):
+/// shown as the file alone.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Location {
+    /// The file, or a name in angle brackets for a text that is not a file (`<default scene>`,
+    /// `<scene built in Rust>`).
     pub file: PathBuf,
+    /// 1-based line; 0 for none.
     pub line: usize,
+    /// 1-based column, in characters.
     pub column: usize,
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+        match self.line {
+            0 => write!(f, "{}", self.file.display()),
+            line => write!(f, "{}:{}:{}", self.file.display(), line, self.column),
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! The scene format: the example scenes parse to what they say, and every mistake is an
 //! `Error::Scene` at the right line, naming the key or value, never a panic.
 
+mod builder;
 mod contact;
 mod element_and_formulation;
 mod examples;
