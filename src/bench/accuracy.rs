@@ -10,7 +10,7 @@
 //!
 //! Each point is the relative error in the constitutive relation (the estimate, % of the energy
 //! norm) and, where a reference is computed, the true error against it, `(‖Δu‖² + ‖Δσ‖²)^½ /
-//! ‖σ_ref‖` as in [`crate::adapt::study`] (the reference is P2, one halving finer than the finest
+//! ‖σ_ref‖` as in [`crate::adapt::study()`] (the reference is P2, one halving finer than the finest
 //! uniform P1 level, solved by the full-space Newton). The time of a uniform or solver point is
 //! that mesh's run: meshing, primal solve, dual solve and estimate; the time of an adaptive step
 //! is the cumulative run time of the loop up to its estimate (every earlier step, remeshing and

@@ -15,7 +15,7 @@
 //! so node, cell, edge and dof ranges of a body are contiguous ([`BodyRange`]), and
 //! [`BodyLayout::cell_body`] gives the body of every triangle (to look up its material). No
 //! node is shared: the bodies are coupled only by their contact pairs. All bodies must have the
-//! same [`Order`] (a [`Mesh`] has one).
+//! same [`Order`](super::Order) (a [`Mesh`] has one).
 //!
 //! # Overlap
 //!

@@ -319,7 +319,7 @@ impl Session {
     /// Initialise PETSc (and MPI) with these arguments (`args[0]` is the program name). All
     /// `-option value` pairs in them go into PETSc's options database. A process that no MPI
     /// launcher started gets Open MPI's fast singleton settings first (see
-    /// [`SINGLETON_SETTINGS`]; variables the user set are left alone).
+    /// `SINGLETON_SETTINGS` in `petsc/mod.rs`; variables the user set are left alone).
     pub fn init(args: &[String]) -> Result<Session> {
         match SESSION_STATE.compare_exchange(0, 1, Ordering::SeqCst, Ordering::SeqCst) {
             Ok(_) => {}

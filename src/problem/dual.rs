@@ -47,7 +47,7 @@ pub struct DualReport {
     /// The independent check of static admissibility, and the complementary energy.
     pub check: DualCheck,
     pub solver: SolveStats,
-    /// With a [contact] section: the dual contact solution and its independent check (forces
+    /// With a `[contact]` section: the dual contact solution and its independent check (forces
     /// at both ends of every contact edge, in the contact frames).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<super::contact::ContactReport>,
