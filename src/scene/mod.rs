@@ -93,7 +93,9 @@ pub const POINT_TOLERANCE: f64 = 1e-8;
 pub struct Scene {
     /// The scene file, or `<default scene>`.
     pub source: PathBuf,
+    /// `title`: a name for the problem, copied to the outputs.
     pub title: Option<String>,
+    /// `[mesh]`: the geometry and how to mesh it.
     pub mesh: MeshSpec,
     /// Order of the triangles and of the Lagrange finite-element space.
     pub order: Order,
@@ -106,6 +108,7 @@ pub struct Scene {
     /// `[estimate]`: also solve the other formulation and estimate the error (see
     /// [`crate::estimate`]).
     pub estimate: bool,
+    /// `[material]`: Young's modulus, Poisson's ratio and the plane model.
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
     pub body_force: [f64; 2],
@@ -145,6 +148,7 @@ pub enum Formulation {
 }
 
 impl Formulation {
+    /// The name written in a scene: `"primal"` or `"dual"`.
     pub fn name(self) -> &'static str {
         match self {
             Formulation::Primal => "primal",
@@ -167,6 +171,7 @@ pub enum DualConstraints {
 }
 
 impl DualConstraints {
+    /// The name written in a scene: `"eliminated"` or `"multipliers"`.
     pub fn name(self) -> &'static str {
         match self {
             DualConstraints::Eliminated => "eliminated",
@@ -179,16 +184,50 @@ impl DualConstraints {
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshSpec {
     /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
-    Rectangle { origin: [f64; 2], size: [f64; 2], cell_size: f64, mesher: Mesher, refine: Option<RefineSpec> },
+    Rectangle {
+        /// Lower-left corner (m).
+        origin: [f64; 2],
+        /// Width and height (m), > 0.
+        size: [f64; 2],
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Structured grid or Gmsh.
+        mesher: Mesher,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// Full disc; boundary part `circle`. Always meshed by gmsh.
-    Disc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
+    Disc {
+        /// Centre (m).
+        center: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `flat`.
     /// Always meshed by gmsh.
-    HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
+    HalfDisc {
+        /// Centre of the full disc (m); the flat side is at `center[1]`.
+        center: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
     /// `geometry`: the Gmsh `.geo` script the file was meshed from (`geometry = "part.geo"`),
     /// which `signorini adapt` remeshes with its size map.
-    File { path: PathBuf, geometry: Option<PathBuf> },
+    File {
+        /// The MSH 4.1 file.
+        path: PathBuf,
+        /// The `.geo` script it was meshed from, if given.
+        geometry: Option<PathBuf>,
+    },
 }
 
 /// Who meshes a rectangle.
@@ -204,21 +243,27 @@ pub enum Mesher {
 /// growing back to the mesh's `cell_size` away from it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefineSpec {
+    /// Centre of the refined zone (m).
     pub point: [f64; 2],
+    /// Target edge length near `point` (m), > 0 and not above the mesh's `cell_size`.
     pub cell_size: f64,
+    /// Radius of the zone meshed at `cell_size` (m), > 0.
     pub radius: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
+/// A homogeneous, isotropic, linear elastic material (`[material]`).
 pub struct MaterialSpec {
     /// Young's modulus E (Pa), finite and > 0.
     pub young: f64,
     /// Poisson's ratio ν, in (-1, 0.5).
     pub poisson: f64,
+    /// Plane strain or plane stress.
     pub plane: PlaneSpec,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The plane model of the 2D problem (`[material] plane`).
 pub enum PlaneSpec {
     /// εzz = 0: a long body loaded uniformly along z.
     Strain,
@@ -229,8 +274,11 @@ pub enum PlaneSpec {
 /// Prescribed displacement components on a boundary part or at a node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirichletSpec {
+    /// The boundary part or the node whose displacement is prescribed.
     pub target: DirichletTarget,
+    /// Prescribed x displacement (m); `None` leaves it free.
     pub ux: Option<f64>,
+    /// Prescribed y displacement (m); `None` leaves it free.
     pub uy: Option<f64>,
     /// Where `part = ...` or `point = ...` is written, for errors found later (unknown part, no
     /// node at the point).
@@ -346,13 +394,16 @@ fn boundary_group(mesh: &Mesh, part: &str, at: &Location) -> Result<usize> {
 /// A surface load on a boundary part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TractionSpec {
+    /// The boundary part loaded.
     pub part: String,
+    /// The traction or pressure on it.
     pub load: Load,
     /// Where `part = ...` is written, for errors found later (unknown part).
     pub at: Location,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
+/// A surface load (`traction` or `pressure` of a `[[traction]]` table).
 pub enum Load {
     /// σ n = t, a force per unit area in global x and y (N/m²).
     Traction([f64; 2]),
