@@ -71,6 +71,7 @@
 //!
 //! The library never prints or exits; the `signorini` binary does.
 #![deny(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod adapt;
 pub mod bench;

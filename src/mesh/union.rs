@@ -32,9 +32,13 @@ use std::ops::Range;
 /// Where one body is in the union mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BodyRange {
+    /// The body's name.
     pub name: String,
+    /// Its nodes in the union.
     pub nodes: Range<usize>,
+    /// Its triangles in the union.
     pub cells: Range<usize>,
+    /// Its boundary edges in the union.
     pub edges: Range<usize>,
     /// Its groups (renamed `name.part`) in the union's `groups`.
     pub groups: Range<usize>,
@@ -50,6 +54,7 @@ impl BodyRange {
 /// The bodies of a union mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BodyLayout {
+    /// Each body's ranges, in scene order.
     pub bodies: Vec<BodyRange>,
     /// The body (index into `bodies`) of every triangle of the union.
     pub cell_body: Vec<usize>,
@@ -124,6 +129,7 @@ pub fn disjoint_union(bodies: &[(&str, &Mesh)]) -> Result<(Mesh, BodyLayout)> {
 pub struct Overlap {
     /// The node (of the first mesh given to [`deepest_overlap`]).
     pub node: usize,
+    /// Its coordinates (m).
     pub position: [f64; 2],
     /// Its distance to the boundary of the other mesh.
     pub depth: f64,
