@@ -697,7 +697,7 @@ impl SceneBuilder {
             gap: gap.unwrap_or(0.0),
             // Coulomb with μ = 0 is frictionless, as in a file (the reader stores it so).
             friction: match friction {
-                Some(FrictionSpec::Coulomb { mu }) if mu == 0.0 => FrictionSpec::None,
+                Some(FrictionSpec::Coulomb { mu: 0.0 }) => FrictionSpec::None,
                 other => other.unwrap_or(FrictionSpec::None),
             },
             solver: solver.unwrap_or(ContactSolverSpec::FullSpaceNewton),
@@ -796,7 +796,7 @@ impl BodiesBuilder {
             PartRef { body: body.into(), part: part.into(), at: here() }
         };
         let friction = match friction {
-            FrictionSpec::Coulomb { mu } if mu == 0.0 => FrictionSpec::None,
+            FrictionSpec::Coulomb { mu: 0.0 } => FrictionSpec::None,
             other => other,
         };
         self.pairs.push(ContactPairSpec {
