@@ -13,7 +13,7 @@ use std::path::Path;
 
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
-use signorini::scene::Scene;
+use signorini::scene::SceneBuilder;
 
 fn main() -> Result<(), signorini::Error> {
     let args: Vec<String> = std::env::args().collect();
@@ -35,37 +35,16 @@ fn main() -> Result<(), signorini::Error> {
     let p0 = 2.0 * load / (PI * a);
     let fine = if small { a / 5.0 } else { a / 20.0 };
 
-    let scene_text = format!(
-        r#"
-title = "Hertz line contact (example)"
-[mesh]
-shape = "half_disc"
-center = [0.0, {radius}]
-radius = {radius}
-cell_size = {coarse}
-refine = {{ point = [0.0, 0.0], cell_size = {fine:e}, radius = {zone:e} }}
-[discretization]
-order = 2
-[material]
-young = {young:e}
-poisson = {poisson}
-[[traction]]
-part = "flat"
-pressure = {pressure:e}
-[[dirichlet]]
-point = [0.0, {radius}]
-ux = 0.0
-[contact]
-part = "arc"
-obstacle = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-"#,
-        coarse = radius / 10.0,
-        zone = 3.0 * a,
-        pressure = load / (2.0 * radius),
-    );
-    let scene = Scene::from_str(&scene_text, Path::new("hertz_contact.toml"))?;
+    // A half cylinder (flat side on top), quadratic, its mesh refined where it touches the plane.
+    let scene = SceneBuilder::half_disc([0.0, radius], radius, radius / 10.0)
+        .title("Hertz line contact (example)")
+        .refine([0.0, 0.0], fine, 3.0 * a)
+        .quadratic()
+        .material(young, poisson)
+        .pressure("flat", load / (2.0 * radius))
+        .dirichlet_point([0.0, radius], Some(0.0), None)
+        .contact_line("arc", [0.0, 0.0], [0.0, 1.0])
+        .build()?;
 
     let mut problem = ElasticityProblem::setup_system(&session, scene)?;
     problem.assemble()?;

@@ -2,6 +2,57 @@
 //!
 //! 2D frictional contact in linear elasticity with certified error control, on PETSc.
 //!
+//! # Quick start
+//!
+//! A block pressed onto a rigid floor with Coulomb friction, solved and checked:
+//!
+//! ```
+//! use signorini::{petsc::Session, problem::ElasticityProblem, scene::SceneBuilder};
+//! let scene = SceneBuilder::rectangle([0.0, 0.0], [2.0, 1.0], 0.25) // 2 m × 1 m, cells of 0.25 m
+//!     .material(210e9, 0.3) // Young's modulus (Pa), Poisson's ratio
+//!     .pressure("top", 1e6) // N/m², pushing into the block
+//!     .contact_line("bottom", [0.0, 0.0], [0.0, 1.0]) // the floor y = 0, normal towards the block
+//!     .coulomb(0.3)
+//!     .dirichlet_point([0.0, 1.0], Some(0.0), None) // the top-left corner held sideways
+//!     .build()?;
+//! let session = Session::init(&[])?; // PETSc and MPI: one session per process
+//! let mut problem = ElasticityProblem::setup_system(&session, scene)?;
+//! problem.assemble()?;
+//! problem.solve()?;
+//! problem.postprocess()?;
+//! let contact = problem.report()?.contact.expect("a scene with contact reports on its contact");
+//! // The floor pushes the block up with the whole load: 1 MPa over 2 m (N per metre of thickness).
+//! assert!((contact.resultant[1] - 2e6).abs() < 1e-6 * 2e6, "{:?}", contact.resultant);
+//! # Ok::<(), signorini::Error>(())
+//! ```
+//!
+//! # The pipeline
+//!
+//! ```text
+//! scene::SceneBuilder ──build()──▶ scene::Scene ◀── Scene::from_file / from_str (a TOML scene file)
+//!                                       │
+//! petsc::Session::init ──▶ problem::ElasticityProblem::setup_system(&session, scene)
+//!                               .assemble()      stiffness and loads
+//!                               .solve()         linear solve, or the contact solve
+//!                               .postprocess()   stresses, reactions, the independent checks
+//!                               .report()        problem::Report (what report.json holds)
+//!                               .write_output(dir)   solution.vtu, report.json, contact files
+//! ```
+//!
+//! - A scene describes one problem: geometry and mesh, material, loads, displacement
+//!   conditions, contact with a rigid obstacle or between bodies, solver choices. Its reference
+//!   is `docs/scene-format.md`; [`scene::SceneBuilder`] has one call per key (several bodies:
+//!   [`scene::BodiesBuilder`]), and every scene, however made, gets the checks of a scene file.
+//! - [`petsc::Session`] initialises PETSc and MPI once per process; its arguments are PETSc
+//!   options (`-ksp_type cg`), which override the scene's.
+//! - [`problem::ElasticityProblem`] runs the steps in order (a step out of order is an
+//!   [`Error`]); its public fields hold the mesh, the displacement, the post-processed
+//!   [`problem::Results`] and the contact outcome. [`problem::Report`] sums the run up.
+//! - Every failure is an [`Error`] saying where and what to do: a scene mistake with its file
+//!   and line (or builder call), a singular problem, a solver that did not converge.
+//!
+//! # Modules
+//!
 //! Modules, bottom up:
 //! - [`petsc`]: the only module that touches the PETSc FFI crate (`signorini-sys`); all `unsafe`
 //!   code lives there. One process-wide session, vectors, matrices, KSP, SNES, TAO, MUMPS.
@@ -25,10 +76,11 @@
 //! - [`problem`]: the driver, whose methods read like the algorithm.
 //! - [`adapt`]: the optimal size map, remeshing, the adaptive loop and studies of the estimator.
 //! - [`export`]: the condensed contact problem in the FCLIB format (HDF5), for other solvers.
-//! - [`bench`]: the benchmark cases the `signorini bench` subcommands run.
+//! - [`bench`](mod@bench): the benchmark cases the `signorini bench` subcommands run.
 //!
 //! The library never prints or exits; the `signorini` binary does.
 #![deny(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod adapt;
 pub mod bench;

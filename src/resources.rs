@@ -55,6 +55,7 @@ pub struct Timings {
 }
 
 impl Timings {
+    /// No phase timed yet.
     pub fn new() -> Self {
         Timings::default()
     }

@@ -136,6 +136,7 @@ pub struct AdaptOptions {
     /// Clamps of the reduction ratios per step.
     #[serde(serialize_with = "serialize_limits")]
     pub limits: SizeMapLimits,
+    /// The a priori model of the error's decrease with the element size.
     pub rates: RateModel,
     /// The loop stops (status `element_limit`) rather than remesh to more predicted elements.
     pub max_elements: usize,
@@ -196,6 +197,7 @@ pub struct StepSeconds {
 }
 
 impl StepSeconds {
+    /// Seconds of the whole step.
     pub fn total(&self) -> f64 {
         self.mesh + self.solve + self.dual + self.estimate + self.remesh + self.output
     }
@@ -211,11 +213,15 @@ pub struct SizeMapSummary {
     pub target_error: f64,
     /// The error and element count the a priori model predicts on the new mesh.
     pub predicted_error: f64,
+    /// Elements the model predicts on the new mesh.
     pub predicted_elements: f64,
     /// Cells to refine (`r_E < 1`) and to coarsen (`r_E > 1`).
     pub refined: usize,
+    /// Cells to coarsen.
     pub coarsened: usize,
+    /// Smallest reduction ratio `r_E` of the map.
     pub min_ratio: f64,
+    /// Largest reduction ratio `r_E`.
     pub max_ratio: f64,
     /// The clamps keep the predicted error above the target: more steps are needed.
     pub target_unreachable: bool,
@@ -226,20 +232,27 @@ pub struct SizeMapSummary {
 pub struct AdaptStep {
     /// 0 for the scene's own mesh.
     pub step: usize,
+    /// Mesh triangles.
     pub elements: usize,
+    /// Mesh nodes.
     pub nodes: usize,
+    /// Displacement unknowns.
     pub dofs: usize,
     /// `e`, absolute (energy units^½).
     pub error: f64,
     /// `ε = 100 e / ‖½(σ_h + Cε(u_h))‖`.
     pub error_percent: f64,
+    /// `‖½(σ_h + Cε(u_h))‖`, the denominator of `error_percent`.
     pub reference_norm: f64,
+    /// Guaranteed bound or estimator (Coulomb friction).
     pub kind: EstimateKind,
+    /// Seconds of each phase of the step.
     pub seconds: StepSeconds,
     /// Run time from the start of the loop to the end of this step's estimate.
     pub cumulative_seconds: f64,
     /// The error is larger than the previous step's.
     pub error_grew: bool,
+    /// The size map made from the step's estimate.
     pub size_map: SizeMapSummary,
     /// The step's directory (`step_K`).
     pub dir: PathBuf,
@@ -263,15 +276,23 @@ pub enum AdaptStatus {
 /// The whole run (`adapt.json`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct AdaptOutcome {
+    /// The program and its version.
     pub program: String,
+    /// The scene's source.
     pub scene: String,
+    /// The scene's title.
     pub title: Option<String>,
+    /// The options of the run.
     pub options: AdaptOptions,
+    /// Why the loop stopped.
     pub status: AdaptStatus,
+    /// Whether the target error was reached.
     pub reached: bool,
+    /// The last step's relative error (percent).
     pub final_error_percent: f64,
     /// Plain statements of what went wrong: a step whose error grew, a target not reached.
     pub warnings: Vec<String>,
+    /// Every step, the scene's own mesh first.
     pub steps: Vec<AdaptStep>,
     /// `adapt_mesh.svg`: the last mesh coloured by the element size, with a zoom on the cell of
     /// largest error (not drawn above [`MESH_PICTURE_CELLS`] cells).

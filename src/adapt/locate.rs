@@ -10,6 +10,8 @@
 //! fields are then extrapolated over a sliver of width O(h²).
 use crate::mesh::Mesh;
 
+/// Finds the cell of a mesh holding a point (a bucket grid over the cells), for transferring fields
+/// between meshes.
 pub struct Locator<'m> {
     mesh: &'m Mesh,
     lo: [f64; 2],
@@ -26,6 +28,7 @@ fn barycentric(t: &[[f64; 2]; 3], x: [f64; 2]) -> [f64; 3] {
 }
 
 impl<'m> Locator<'m> {
+    /// The locator of `mesh`'s cells.
     pub fn new(mesh: &'m Mesh) -> Self {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in &mesh.nodes {

@@ -6,7 +6,7 @@
 //! elements as possible. The remeshing itself (Gmsh with the sizes as a background field)
 //! is separate: estimator, marking (here, the size map) and refinement stay apart.
 //! [`driver`] runs the loop (solve, dual, estimate, size map, remesh), [`report`] writes its
-//! table and plot, [`study`] measures true errors and rates on uniform refinements.
+//! table and plot, [`mod@study`] measures true errors and rates on uniform refinements.
 pub mod driver;
 pub mod locate;
 pub mod remesh;

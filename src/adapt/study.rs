@@ -52,24 +52,32 @@ pub struct StudyOptions {
 /// One level of the study.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StudyLevel {
+    /// Level number, 0 the coarsest.
     pub level: usize,
     /// The scene's cell size at this level.
     pub cell_size: f64,
     /// `(|Ω| / elements)^½`, the `h` of the rates.
     pub mean_size: f64,
+    /// Mesh nodes.
     pub nodes: usize,
+    /// Mesh triangles.
     pub elements: usize,
+    /// Displacement unknowns.
     pub dofs: usize,
     /// `‖u_ref − u_h‖_a`, `‖σ_ref − σ_h‖_b` (σ_h the dual solution) and their combination
     /// `(‖Δu‖² + ‖Δσ‖²)^½`.
     pub error_displacement: f64,
+    /// `‖σ_ref − σ_h‖` of the dual solution.
     pub error_stress: f64,
+    /// `(‖Δu‖² + ‖Δσ‖²)^½`.
     pub error_true: f64,
     /// `100 error_true / ‖σ_ref‖`.
     pub true_percent: f64,
     /// The estimate `e`, its relative value (its own denominator) and `e / error_true`.
     pub estimate: f64,
+    /// The estimate relative to its own denominator (percent).
     pub estimate_percent: f64,
+    /// `e / error_true` (≥ 1 for a guaranteed bound).
     pub effectivity: f64,
     /// Run time of the level (mesh, solves, estimate, true errors).
     pub seconds: f64,
@@ -78,35 +86,53 @@ pub struct StudyLevel {
 /// The reference solution.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StudyReference {
+    /// The reference mesh's cell size (m).
     pub cell_size: f64,
+    /// The reference's polynomial order (2).
     pub order: u8,
+    /// Reference mesh nodes.
     pub nodes: usize,
+    /// Reference mesh triangles.
     pub elements: usize,
+    /// Reference displacement unknowns.
     pub dofs: usize,
     /// `‖σ_ref‖_{C⁻¹} = a(u_ref, u_ref)^½`.
     pub energy_norm: f64,
+    /// Seconds of the reference solve.
     pub seconds: f64,
 }
 
 /// Least-squares slopes of `log error` against `log h` (`None` with fewer than 2 levels).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StudyRates {
+    /// Rate of the displacement error.
     pub displacement: Option<f64>,
+    /// Rate of the dual stress error.
     pub stress: Option<f64>,
+    /// Rate of the combined true error.
     pub true_error: Option<f64>,
+    /// Rate of the estimate.
     pub estimate: Option<f64>,
 }
 
 /// The whole study (`study.json`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StudyOutcome {
+    /// The program and its version.
     pub program: String,
+    /// The scene's source.
     pub scene: String,
+    /// The scene's title.
     pub title: Option<String>,
+    /// The levels' polynomial order.
     pub order: u8,
+    /// The options of the study.
     pub options: StudyOptions,
+    /// The reference solution.
     pub reference: StudyReference,
+    /// Every level, coarsest first.
     pub levels: Vec<StudyLevel>,
+    /// The convergence rates.
     pub rates: StudyRates,
 }
 

@@ -10,7 +10,7 @@
 //!
 //! Each point is the relative error in the constitutive relation (the estimate, % of the energy
 //! norm) and, where a reference is computed, the true error against it, `(‖Δu‖² + ‖Δσ‖²)^½ /
-//! ‖σ_ref‖` as in [`crate::adapt::study`] (the reference is P2, one halving finer than the finest
+//! ‖σ_ref‖` as in [`crate::adapt::study()`] (the reference is P2, one halving finer than the finest
 //! uniform P1 level, solved by the full-space Newton). The time of a uniform or solver point is
 //! that mesh's run: meshing, primal solve, dual solve and estimate; the time of an adaptive step
 //! is the cumulative run time of the loop up to its estimate (every earlier step, remeshing and
@@ -45,22 +45,45 @@ pub const DEFAULT_SCENE_PATH: &str = "examples/scenes/square_block_tresca.toml";
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum AccuracyCase {
     /// The P2 reference at this cell size (primal only).
-    Reference { cell_size: f64 },
+    Reference {
+        /// The reference mesh's cell size.
+        cell_size: f64,
+    },
     /// One uniform level: the scene at `cell_size`, elements of degree `order`.
-    Uniform { order: u8, level: usize, cell_size: f64 },
+    Uniform {
+        /// Polynomial degree, 1 or 2.
+        order: u8,
+        /// Level, 0 the coarsest.
+        level: usize,
+        /// The level's cell size.
+        cell_size: f64,
+    },
     /// The adaptive loop from the scene's mesh at degree `order`.
-    Adaptive { order: u8, max_elements: usize },
+    Adaptive {
+        /// Polynomial degree, 1 or 2.
+        order: u8,
+        /// The loop's element budget.
+        max_elements: usize,
+    },
     /// The named contact solver on the uniform P1 mesh of `cell_size`.
-    Solver { name: String, cell_size: f64 },
+    Solver {
+        /// The contact solver's scene name.
+        name: String,
+        /// The mesh's cell size.
+        cell_size: f64,
+    },
 }
 
 /// What the children need: the scene (as TOML) and the cases.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct AccuracyPlan {
+    /// The scene's text.
     pub scene_toml: String,
+    /// The scene's file (for relative paths and reports).
     pub scene_path: PathBuf,
     /// The adaptive loops' target (%).
     pub target_percent: f64,
+    /// The largest size run (dofs).
     pub max_dofs: usize,
     /// `(estimated dofs, case, name)`.
     pub cases: Vec<(usize, AccuracyCase, String)>,
@@ -73,14 +96,19 @@ pub struct AccuracyRow {
     pub series: String,
     /// The level's cell size, the step, or the solver's name.
     pub label: String,
+    /// Mesh triangles.
     pub elements: usize,
+    /// Displacement unknowns.
     pub dofs: usize,
     /// Contact points of the primal (0 without contact).
     pub contact_points: usize,
+    /// Seconds to make the mesh.
     pub mesh_seconds: f64,
     /// Assembly, solve and post-processing of the primal (the contact solve included).
     pub primal_seconds: f64,
+    /// Seconds of the dual solve.
     pub dual_seconds: f64,
+    /// Seconds of the estimate.
     pub estimate_seconds: f64,
     /// Adaptive steps: the size map and Gmsh remeshing that made the next mesh.
     pub remesh_seconds: f64,
@@ -100,9 +128,12 @@ pub struct AccuracyRow {
 /// for an adaptive loop, how it ended (the target, or the budget of elements or steps).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct AccuracyCaseResult {
+    /// The points of the case's curve.
     pub rows: Vec<AccuracyRow>,
+    /// Why the case stopped early, if it did.
     pub failure: Option<String>,
     #[serde(default)]
+    /// How an adaptive loop ended.
     pub note: Option<String>,
 }
 

@@ -16,16 +16,23 @@ use crate::resources;
 use crate::scene::DualConstraints;
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+/// One row of the dual benchmark: one solver at one size.
 pub struct DualBenchRow {
+    /// HCT dofs.
     pub dual_dofs: usize,
+    /// Unknowns solved for.
     pub unknowns: usize,
+    /// The solver's name.
     pub solver: String,
     /// Elements (HCT bases), numbering and boundary elimination.
     pub setup_seconds: f64,
     /// Reduced assembly and solve (the KSP's time, factorisation included).
     pub solve_seconds: f64,
+    /// Krylov iterations (1 for a direct solve).
     pub iterations: usize,
+    /// Seconds of the estimate.
     pub estimate_seconds: f64,
+    /// Displacement unknowns of the P2 primal on the same mesh.
     pub primal_p2_dofs: usize,
     /// Assembly and MUMPS Cholesky solve of the P2 primal on the same mesh.
     pub primal_seconds: f64,
@@ -37,7 +44,9 @@ pub struct DualBenchRow {
 
 /// A linear solver of the dual benchmark and how it imposes the boundary constraints.
 pub struct DualBenchSolver {
+    /// The linear solver.
     pub solver: &'static BenchSolver,
+    /// Eliminated constraints or multipliers.
     pub constraints: DualConstraints,
 }
 

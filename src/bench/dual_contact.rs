@@ -29,9 +29,13 @@ use crate::resources;
 /// the `dual_` prefix of a dual solve after a primal one, except the condensation's own
 /// option), the scene's contact solver and the largest size it runs at.
 pub struct DualContactStrategy {
+    /// The strategy's name in the table.
     pub name: &'static str,
+    /// Its PETSc options (name, value).
     pub options: &'static [(&'static str, Option<&'static str>)],
+    /// The scene's contact `solver`.
     pub contact_solver: &'static str,
+    /// The largest size it runs at (dofs).
     pub max_dofs: usize,
 }
 
@@ -117,10 +121,15 @@ pub static STRATEGIES: &[DualContactStrategy] = &[
 ];
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+/// One row of the dual contact benchmark: one strategy at one size.
 pub struct DualContactBenchRow {
+    /// Displacement unknowns of the P1 primal.
     pub primal_dofs: usize,
+    /// Unknowns of the dual.
     pub dual_unknowns: usize,
+    /// Contact points.
     pub contact_points: usize,
+    /// The strategy's name.
     pub strategy: String,
     /// Assembly and full-space Newton of the primal (P1).
     pub primal_seconds: f64,
@@ -129,8 +138,11 @@ pub struct DualContactBenchRow {
     pub primal_p2_seconds: Option<f64>,
     /// Setup, condensation and contact solve of the dual.
     pub dual_seconds: f64,
+    /// Seconds of the estimate.
     pub estimate_seconds: f64,
+    /// The relative estimate (%).
     pub relative_percent: f64,
+    /// Peak resident memory of the process so far, MB.
     pub peak_memory_mb: f64,
 }
 
@@ -213,6 +225,7 @@ pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) ->
     })
 }
 
+/// The dual contact benchmark's rows as a Markdown table.
 pub fn dual_contact_table(rows: &[DualContactBenchRow]) -> String {
     let mut s = String::from(
         "| primal dofs | dual unknowns | contact points | strategy | primal P1 contact (s) | primal P2 contact (s) | \

@@ -13,16 +13,24 @@ use crate::resources;
 pub static DRIVES: &[&str] = &["displacement", "force"];
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+/// One row of the held-body benchmark: a body held by its contact, driven by displacement or force.
 pub struct HeldBenchRow {
+    /// Displacement unknowns.
     pub dofs: usize,
+    /// Contact points.
     pub contact_points: usize,
+    /// `"displacement"` or `"force"`.
     pub drive: String,
+    /// Contact solver iterations.
     pub iterations: usize,
+    /// Seconds of the contact solve.
     pub contact_seconds: f64,
     /// One linear solve of the same mesh (displacement-driven only: without supports K is
     /// singular).
     pub linear_seconds: Option<f64>,
+    /// Peak resident memory of the process so far, MB.
     pub peak_memory_mb: f64,
+    /// The contact solver as reported.
     pub solver: String,
 }
 

@@ -30,12 +30,17 @@ use crate::resources;
 /// One linear solver of the benchmark: a name, its options (under its own prefix) and the
 /// largest problem it is run on (slow preconditioners are skipped on the largest meshes).
 pub struct BenchSolver {
+    /// The solver's name in the tables.
     pub name: &'static str,
+    /// The PETSc options prefix of its KSP (`b_mumps_`).
     pub prefix: &'static str,
+    /// Its PETSc options (name, value), set under `prefix`.
     pub options: &'static [(&'static str, Option<&'static str>)],
+    /// The largest size (dofs) it is run at.
     pub max_dofs: usize,
 }
 
+/// The linear solvers of `signorini bench`, in table order.
 pub static SOLVERS: &[BenchSolver] = &[
     BenchSolver { name: "MUMPS Cholesky (default)", prefix: "b_mumps_", options: &[], max_dofs: usize::MAX },
     BenchSolver {
@@ -65,18 +70,27 @@ pub static SOLVERS: &[BenchSolver] = &[
 ];
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+/// One row of the linear-solver benchmark: one solver at one size.
 pub struct BenchRow {
+    /// Displacement unknowns.
     pub dofs: usize,
+    /// Seconds to make the mesh.
     pub mesh_seconds: f64,
+    /// Seconds to assemble the system.
     pub assemble_seconds: f64,
+    /// Seconds to write the outputs.
     pub output_seconds: f64,
+    /// The solver's name.
     pub solver: String,
+    /// Seconds of the solve (factorisation included).
     pub solve_seconds: f64,
+    /// Krylov iterations (1 for a direct solve).
     pub iterations: usize,
     /// Resident memory added by the solve (peak during solve minus before), MB.
     pub solve_memory_mb: f64,
     /// Peak resident memory of the process so far, MB.
     pub peak_memory_mb: f64,
+    /// ‖b − Ax‖ / ‖b‖ after the solve.
     pub relative_residual: f64,
 }
 
@@ -263,10 +277,15 @@ pub fn contact_max_dofs(solver: &str) -> usize {
 }
 
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+/// One row of the contact benchmark: one contact solver on one case.
 pub struct ContactBenchRow {
+    /// Displacement unknowns.
     pub dofs: usize,
+    /// Contact points.
     pub contact_points: usize,
+    /// The contact solver's name.
     pub solver: String,
+    /// Contact solver iterations.
     pub iterations: usize,
     /// Proximal iterations on the stabilisation springs (a body held by the contact alone; 0
     /// otherwise): `iterations` counts the contact solver's iterations over all of them.
@@ -275,11 +294,17 @@ pub struct ContactBenchRow {
     /// The most iterations one proximal iteration took (= `iterations` without them).
     #[serde(default)]
     pub most_in_one_proximal: usize,
+    /// Seconds of the contact solve.
     pub contact_seconds: f64,
+    /// Seconds of one linear solve of the same mesh, for comparison.
     pub linear_seconds: f64,
+    /// Peak resident memory of the process so far, MB.
     pub peak_memory_mb: f64,
+    /// The largest residual of the independent check.
     pub worst_residual: f64,
+    /// Sticking points.
     pub stick: usize,
+    /// Slipping points.
     pub slip: usize,
 }
 
@@ -288,6 +313,7 @@ pub fn contact_sizes(max_dofs: usize) -> Vec<usize> {
     [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_dofs).collect()
 }
 
+/// The contact benchmark's cases up to `max_dofs`: (target dofs, contact solver name).
 pub fn contact_cases(max_dofs: usize) -> Vec<(usize, &'static str)> {
     let mut cases = Vec::new();
     for n in contact_sizes(max_dofs) {
@@ -398,6 +424,7 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
     })
 }
 
+/// The contact benchmark's rows as a Markdown table.
 pub fn contact_table(rows: &[ContactBenchRow]) -> String {
     let mut s = String::from(
         "| dofs | contact points | solver | iterations (proximal) | contact solve (s) | one linear solve (s) | ratio | peak memory (MB) | worst residual | stick / slip |\n\

@@ -8,7 +8,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 pub struct FailedCase {
     /// The size asked for (dofs).
     pub dofs: usize,
+    /// The solver or strategy.
     pub solver: String,
+    /// Why it produced no row.
     pub reason: String,
 }
 
@@ -17,10 +19,13 @@ pub struct FailedCase {
 pub struct BenchRecord {
     /// `YYYY-MM-DD HH:MM:SS UTC` of the start of the run.
     pub date: String,
+    /// The program's version.
     pub version: String,
     /// `git rev-parse --short HEAD` at build time (`-modified` with uncommitted changes).
     pub commit: String,
+    /// The command line of the run.
     pub command_line: String,
+    /// The cases that produced no row.
     pub failures: Vec<FailedCase>,
 }
 

@@ -28,8 +28,11 @@ pub const HALF_DISC_SCENE: &str = include_str!("../../examples/scenes/half_disc_
 /// Wall times of repeated runs of one command, and their mean CPU time.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Timing {
+    /// Runs timed.
     pub runs: usize,
+    /// Fastest wall time (s).
     pub min_seconds: f64,
+    /// Median wall time (s).
     pub median_seconds: f64,
     /// Mean user + system time per run (resolution 0.01 s / runs).
     pub mean_cpu_seconds: f64,
@@ -38,25 +41,35 @@ pub struct Timing {
 /// One run of the half disc, from its report.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct MeshRun {
+    /// Displacement unknowns.
     pub dofs: usize,
+    /// Seconds to get the mesh.
     pub mesh_seconds: f64,
+    /// Seconds of the solve.
     pub solve_seconds: f64,
     /// `hit`, `miss` or `disabled`, as the run reported it.
     pub cache: String,
 }
 
 impl MeshRun {
+    /// Mesh time over solve time.
     pub fn ratio(&self) -> f64 {
         self.mesh_seconds / self.solve_seconds
     }
 }
 
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
+/// The start-up benchmark: a bare command, a small run, and the half disc meshed then cached.
 pub struct StartupBench {
+    /// Displacement unknowns of the small run.
     pub small_dofs: usize,
+    /// `signorini --version`.
     pub bare: Timing,
+    /// A small scene solved.
     pub small_run: Timing,
+    /// The half disc with an empty mesh cache.
     pub first: Option<MeshRun>,
+    /// The half disc again, its mesh from the cache.
     pub cached: Option<MeshRun>,
 }
 

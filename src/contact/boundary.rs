@@ -156,17 +156,24 @@ pub struct ContactBoundary {
 /// share `transfer` (`M_ij/D_i`) of the point's force, reversed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoupledNode {
+    /// The node of the other body.
     pub node: usize,
+    /// Its coefficients in the point's `B_N` row (x and y).
     pub normal: [f64; 2],
+    /// Its coefficients in the point's `B_T` row (x and y).
     pub tangent: [f64; 2],
+    /// Its share `M_ij/D_i` of the point's force, reversed.
     pub transfer: f64,
 }
 
 /// A node of the contact part left out of the contact points, to be checked for penetration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LeftOutNode {
+    /// The node.
     pub node: usize,
+    /// Its unit outward normal.
     pub normal: [f64; 2],
+    /// Its initial gap `g0` (m).
     pub gap: f64,
 }
 

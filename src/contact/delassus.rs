@@ -34,7 +34,14 @@ pub enum Delassus<'a> {
     /// augmentation parameters, the Jacobi preconditioner of the Krylov solves and the
     /// residual scales; an estimate of it is enough, every solver stays correct).
     /// Enough for Uzawa and the semi-smooth Newton method (Krylov linear solves).
-    Operator { size: usize, apply: DelassusProduct<'a>, diagonal: Vec<f64> },
+    Operator {
+        /// Number of contact unknowns.
+        size: usize,
+        /// The product `y = W x`.
+        apply: DelassusProduct<'a>,
+        /// `W`'s diagonal (or an estimate of it).
+        diagonal: Vec<f64>,
+    },
 }
 
 impl fmt::Debug for Delassus<'_> {

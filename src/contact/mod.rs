@@ -131,9 +131,15 @@ pub enum FrictionLaw {
     /// Frictionless: `rT = 0`, the tangential unknowns are never touched.
     None,
     /// Tresca: `|rT_i| ≤ threshold_i` with a given threshold `≥ 0` per point (force units).
-    Tresca { threshold: Vec<f64> },
+    Tresca {
+        /// The threshold of each point.
+        threshold: Vec<f64>,
+    },
     /// Coulomb: `|rT_i| ≤ −mu_i rN_i`, one friction coefficient `≥ 0` per point.
-    Coulomb { mu: Vec<f64> },
+    Coulomb {
+        /// The coefficient of each point.
+        mu: Vec<f64>,
+    },
 }
 
 impl FrictionLaw {
@@ -201,6 +207,7 @@ pub struct ContactSolution {
     pub displacement: Vec<f64>,
     /// Iterations of the solver that produced the answer (for a fallback: all of them).
     pub iterations: usize,
+    /// The solver's record of each iteration (residual, status changes).
     pub history: Vec<IterationRecord>,
     /// Per point, from the final force.
     pub status: Vec<PointStatus>,
@@ -217,18 +224,27 @@ pub struct ContactSolution {
 pub enum ContactSolver {
     /// Block Gauss–Seidel (`omega = 1`) or SOR sweeps over the points, each point's 2×2
     /// problem solved exactly. `0 < omega < 2`. Needs [`Delassus::Dense`].
-    ProjectedRelaxation { omega: f64 },
+    ProjectedRelaxation {
+        /// The relaxation factor ω.
+        omega: f64,
+    },
     /// D-PANA: alternate contact-only and friction-only box QPs. Needs [`Delassus::Dense`].
     /// Converges for Tresca; for Coulomb only for small μ.
     DPana,
     /// Projected gradient (Uzawa) on the contact forces with the step `1/λmax(W)`;
     /// `accelerated` adds Nesterov momentum with adaptive restart.
-    Uzawa { accelerated: bool },
+    Uzawa {
+        /// With Nesterov momentum.
+        accelerated: bool,
+    },
     /// Semi-smooth Newton on the Alart–Curnier function (= primal–dual active set).
     SemismoothNewton,
     /// Coulomb as a fixed point on Tresca thresholds `s = μ|rN|`, each Tresca problem solved
     /// by `inner`. For Tresca or frictionless problems it is just `inner`.
-    TrescaFixedPoint { inner: Box<ContactSolver> },
+    TrescaFixedPoint {
+        /// The solver of each Tresca problem.
+        inner: Box<ContactSolver>,
+    },
 }
 
 impl ContactSolver {
@@ -421,22 +437,27 @@ impl<'a> CondensedProblem<'a> {
         self.gap.len()
     }
 
+    /// The flexibility `W = B K⁻¹ Bᵀ` (dense or as an operator).
     pub fn delassus(&self) -> &Delassus<'a> {
         &self.delassus
     }
 
+    /// The free displacement `u_free` of the contact unknowns (without contact forces).
     pub fn free_displacement(&self) -> &[f64] {
         &self.free_displacement
     }
 
+    /// The initial gap `g0` of each point.
     pub fn gap(&self) -> &[f64] {
         &self.gap
     }
 
+    /// The friction law of the points.
     pub fn friction(&self) -> &FrictionLaw {
         &self.friction
     }
 
+    /// The boundary weight of each point (its share of the contact part's length).
     pub fn weights(&self) -> &[f64] {
         &self.weights
     }

@@ -75,12 +75,25 @@ use crate::error::{Error, Result};
 pub enum Obstacle {
     /// The straight line through `point`; `normal` is unit and points from the obstacle towards
     /// the body.
-    Line { point: [f64; 2], normal: [f64; 2] },
+    Line {
+        /// A point of the line.
+        point: [f64; 2],
+        /// Unit normal towards the body.
+        normal: [f64; 2],
+    },
     /// A rigid disc; the body is outside it.
-    Circle { center: [f64; 2], radius: f64 },
+    Circle {
+        /// Centre of the rigid disc.
+        center: [f64; 2],
+        /// Its radius, > 0.
+        radius: f64,
+    },
     /// An open polyline continued by half-lines at both ends; the body is on the left of the
     /// direction of travel `points[0] → points[1] → …`.
-    Polyline { points: Vec<[f64; 2]> },
+    Polyline {
+        /// The vertices, the body on the left of the direction of travel.
+        points: Vec<[f64; 2]>,
+    },
 }
 
 /// The closest point of an obstacle to a point `x`.

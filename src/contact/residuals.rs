@@ -40,13 +40,18 @@ pub struct ResidualScale {
 /// `contact::residuals` for the formulas). All are `≥ 0` and vanish at a solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactResiduals {
+    /// Largest penetration `(uN − g0)₊ / U`.
     pub max_penetration: f64,
+    /// Largest pulling normal force `(rN)₊ / F`.
     pub max_wrong_sign_pressure: f64,
+    /// Largest excess over the friction threshold `(|rT| − s)₊ / F`.
     pub max_cone_violation: f64,
+    /// Largest `min(|rN| / F, |uN − g0| / U)`: a point with both force and gap.
     pub normal_complementarity: f64,
     /// Includes the slip direction: sticking points must have `uT = 0`, slipping points `uT`
     /// opposite to `rT`.
     pub tangential_complementarity: f64,
+    /// The scales `F` and `U` the residuals are relative to.
     pub scale: ResidualScale,
     /// Contact point where the worst component is reached.
     pub worst_point: usize,

@@ -53,8 +53,11 @@ pub const STABILISATION: f64 = 1e-3;
 /// A stabilisation force above this fraction of the applied load means no static equilibrium.
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
 
+/// The contact of a problem before its solve: the scene's contact and its contact points.
 pub struct ContactSetup {
+    /// The scene's `[contact]` (with several bodies, the first contact part's, see `parts`).
     pub spec: ContactSpec,
+    /// The contact points: nodes, normals, weights and initial gaps.
     pub boundary: ContactBoundary,
     /// Stiffness of the stabilisation springs, when a rigid motion is not held by Dirichlet.
     pub spring: Option<f64>,
@@ -76,6 +79,9 @@ pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
 }
 
 impl ContactSetup {
+    /// The contact points of `spec` on `mesh`; `prescribed(node)` gives the Dirichlet values of a
+    /// node (a node with both prescribed is left out); `free_motions` are the rigid motions
+    /// Dirichlet leaves free, if any.
     pub fn new(
         mesh: &Mesh,
         spec: &ContactSpec,
@@ -97,6 +103,7 @@ impl ContactSetup {
         }
     }
 
+    /// The friction law of every point, for the contact solvers.
     pub fn friction_law(&self) -> FrictionLaw {
         let m = self.boundary.points();
         // The law of the whole problem: Coulomb or Tresca if some point has it (several bodies

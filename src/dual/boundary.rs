@@ -68,6 +68,7 @@ pub struct BoundaryEdge {
     pub mesh_edge: usize,
     /// Start and end nodes (counter-clockwise: the domain on the left).
     pub a: usize,
+    /// End node (the domain on the left of `a → b`).
     pub b: usize,
     /// The HCT edge index.
     pub edge: usize,
@@ -84,6 +85,7 @@ pub struct BoundaryEdge {
 /// `(N_a, T_a, N_b, T_b)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactEdge {
+    /// Index of the edge's first contact unknown.
     pub first: usize,
     /// Unit normal `n_k` and tangent `t_k` at each end.
     pub frames: [[[f64; 2]; 2]; 2],
@@ -106,7 +108,9 @@ pub enum DofRole {
 /// the contact forces (`num_masters .. num_masters + num_contact`, see [`ContactEdge`]).
 #[derive(Debug, Clone)]
 pub struct AffineDofs {
+    /// The role of every HCT dof: reduced unknown, affine function of them, or fixed.
     pub role: Vec<DofRole>,
+    /// Number of free HCT dofs among the reduced unknowns (numbered first).
     pub num_masters: usize,
     /// Contact unknowns (4 per contact edge), numbered after the masters.
     pub num_contact: usize,
@@ -124,6 +128,7 @@ impl AffineDofs {
         self.num_masters + self.num_contact
     }
 
+    /// All HCT dofs from the reduced unknowns `z`.
     pub fn expand(&self, z: &[f64]) -> Vec<f64> {
         self.role
             .iter()
@@ -212,8 +217,11 @@ pub fn eliminate_local(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> R
 /// run (slots `prev .. prev + 3`), zero at the run's first vertex.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EdgeForceMap {
+    /// Slot of the edge's own deviations `ξ_own` (4).
     pub first: usize,
+    /// Slot of the previous edge's deviations `ξ_prev` (3), `None` at a run's first edge.
     pub prev: Option<usize>,
+    /// The 4 × 7 matrix `R` of `r_e = R [ξ_own; ξ_prev]`.
     pub map: nalgebra::SMatrix<f64, 4, 7>,
 }
 

@@ -19,8 +19,12 @@ use crate::fem::quadrature;
 /// The residuals of a dual answer (all relative; round-off for an admissible field).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct DualCheck {
+    /// Largest `|σ n − t|` on the boundary where the traction is prescribed, relative to
+    /// `stress_scale`.
     pub traction_residual: f64,
+    /// Largest `|div σ + F|` inside, relative.
     pub interior_equilibrium: f64,
+    /// Largest traction jump `|[σ] n|` across interior edges, relative.
     pub stress_jump: f64,
     /// The largest stress component met, the scale of the residuals.
     pub stress_scale: f64,
@@ -29,6 +33,7 @@ pub struct DualCheck {
 }
 
 impl DualCheck {
+    /// The largest of the three residuals.
     pub fn worst(&self) -> f64 {
         self.traction_residual.max(self.interior_equilibrium).max(self.stress_jump)
     }

@@ -102,6 +102,7 @@ pub enum Storage {
 }
 
 impl Storage {
+    /// The name of `-dual_contact_storage`: `"dense"` or `"implicit"`.
     pub fn name(self) -> &'static str {
         match self {
             Storage::Dense => "dense",
@@ -122,11 +123,14 @@ impl Storage {
 /// The talk's condensation strategies (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Condensation {
+    /// One MUMPS factorisation with the Schur complement on the contact unknowns.
     Schur,
+    /// One interior solve per contact unknown (a column of `W`).
     Columns,
 }
 
 impl Condensation {
+    /// The name of the option value: `"schur"` or `"columns"`.
     pub fn name(self) -> &'static str {
         match self {
             Condensation::Schur => "schur",

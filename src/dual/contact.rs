@@ -87,9 +87,13 @@ pub struct DualContactPoint {
     pub edge: usize,
     /// 0 at the edge's start `a`, 1 at its end `b`.
     pub end: usize,
+    /// The mesh node at that end.
     pub node: usize,
+    /// Its coordinates (m).
     pub position: [f64; 2],
+    /// The unit contact normal at the end.
     pub normal: [f64; 2],
+    /// The unit tangent at the end.
     pub tangent: [f64; 2],
     /// `w = L/2`: the traction at the end is the force over `w`.
     pub weight: f64,
@@ -130,8 +134,11 @@ pub struct CondensedDual<'s> {
     /// `W` (dense, or implicit: products by interior solves), `u_free`, the gaps, the friction
     /// law and the weights `w`.
     pub problem: CondensedProblem<'s>,
+    /// Whether `W` is formed (dense) or applied by interior solves (implicit).
     pub storage: Storage,
+    /// The equilibrium conditions `E r = e` on the contact forces.
     pub equilibrium: ContactEquilibrium,
+    /// The reduced system's matrix (PETSc).
     pub matrix: Matrix<'s>,
     /// The reduced right-hand side `b` (all rows).
     pub rhs: Vec<f64>,
@@ -144,6 +151,7 @@ pub struct CondensedDual<'s> {
     pub local: bool,
     /// Seconds: assembly, factorisation with the Schur complement.
     pub assemble_seconds: f64,
+    /// Seconds of the factorisation.
     pub factor_seconds: f64,
 }
 
@@ -294,6 +302,7 @@ pub type ExternalSolver<'f> = &'f dyn Fn(&CondensedProblem) -> Result<ContactSol
 
 /// A solved dual contact problem.
 pub struct DualContactAnswer {
+    /// The contact forces, statuses and the condensed solver's report.
     pub solution: ContactSolution,
     /// The rigid displacements of the equilibrium conditions (one per row of `E`).
     pub rigid: Vec<f64>,
@@ -301,6 +310,7 @@ pub struct DualContactAnswer {
     pub outer_iterations: usize,
     /// All reduced unknowns `(z, r)` (`(z, ξ)` in the local parametrisation) and all HCT dofs.
     pub reduced: Vec<f64>,
+    /// All HCT dofs of φ.
     pub phi: Vec<f64>,
     /// The contact displacement recomputed from the assembled matrix, `(A x − b)_r + Eᵀ ρ`,
     /// independently of `W`.

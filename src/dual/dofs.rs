@@ -28,6 +28,7 @@ pub struct HctDofs {
 }
 
 impl HctDofs {
+    /// The HCT dofs of `mesh`'s vertices and edges.
     pub fn new(mesh: &Mesh) -> Self {
         let mut vertex_of_node = vec![usize::MAX; mesh.num_nodes()];
         let mut vertex_nodes = Vec::new();
@@ -63,6 +64,7 @@ impl HctDofs {
         self.edge_index.get(&[a.min(b), a.max(b)]).copied()
     }
 
+    /// Number of vertices (mesh nodes at triangle corners).
     pub fn num_vertices(&self) -> usize {
         self.vertex_nodes.len()
     }
@@ -72,6 +74,7 @@ impl HctDofs {
         3 * self.vertex_nodes.len() + self.edges.len()
     }
 
+    /// Whether the mesh has no vertices.
     pub fn is_empty(&self) -> bool {
         self.vertex_nodes.is_empty()
     }
@@ -81,6 +84,7 @@ impl HctDofs {
         3 * self.vertex_of_node[node] + component
     }
 
+    /// The dof (normal derivative) of HCT edge `edge`.
     pub fn edge_dof(&self, edge: usize) -> usize {
         3 * self.vertex_nodes.len() + edge
     }

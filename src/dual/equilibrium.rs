@@ -18,11 +18,14 @@ use crate::error::{Error, Result};
 /// The equilibrium conditions `E r = e` on the contact forces (dense, one row per condition).
 #[derive(Debug, Clone)]
 pub struct ContactEquilibrium {
+    /// `E`: one row per condition, one column per contact unknown.
     pub matrix: DMatrix<f64>,
+    /// `e`.
     pub rhs: Vec<f64>,
 }
 
 impl ContactEquilibrium {
+    /// The conditions of `system` (`AffineDofs::contact_equilibrium`).
     pub fn new(system: &DualSystem) -> Self {
         let rows = &system.affine.contact_equilibrium;
         let n = system.affine.num_contact;
@@ -35,6 +38,7 @@ impl ContactEquilibrium {
         ContactEquilibrium { matrix, rhs: rows.iter().map(|r| r.1).collect() }
     }
 
+    /// Whether there are no conditions.
     pub fn is_empty(&self) -> bool {
         self.rhs.is_empty()
     }

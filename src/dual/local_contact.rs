@@ -73,6 +73,8 @@ pub struct LocalContact {
 }
 
 impl LocalContact {
+    /// The parametrisation from the affine map and the contact edges' force maps; an error if an
+    /// edge's own block of `B` is singular.
     pub fn new(affine: AffineDofs, edges: Vec<EdgeForceMap>) -> Result<Self> {
         let own_inverse = edges
             .iter()
@@ -101,6 +103,7 @@ impl LocalContact {
         self.affine.num_contact
     }
 
+    /// Whether there are no contact unknowns.
     pub fn is_empty(&self) -> bool {
         self.affine.num_contact == 0
     }

@@ -45,12 +45,14 @@ pub enum BodyLoad {
 }
 
 impl BodyLoad {
+    /// The body force F (N/m³) at `x`.
     pub fn force(&self, x: [f64; 2]) -> [f64; 2] {
         match self {
             BodyLoad::Constant(f) => *f,
             BodyLoad::Field(g) => g(x).0,
         }
     }
+    /// A particular stress `σp` (Pa) with `div σp + F = 0`, `[σxx, σyy, σxy]` at `x`.
     pub fn particular(&self, x: [f64; 2]) -> [f64; 3] {
         match self {
             BodyLoad::Constant(f) => particular_stress(*f, x),
@@ -64,6 +66,7 @@ impl BodyLoad {
 
 /// The data of a dual problem besides the mesh and the material.
 pub struct DualData<'a> {
+    /// The body force.
     pub body_force: BodyLoad,
     /// Tractions on boundary groups (several on one group add up).
     pub edge_loads: &'a [EdgeLoad<'a>],
@@ -77,6 +80,7 @@ pub struct DualData<'a> {
 /// each edge, with its end values as contact forces ([`super::boundary::ContactEdge`]).
 #[derive(Clone, Copy)]
 pub struct ContactSide<'a> {
+    /// The contact part's boundary group (index into `mesh.groups`).
     pub group: usize,
     /// The body's unit contact direction `n` at a point; the frame is `(n, t)` with `t` = `n`
     /// turned by +90° (the convention of [`crate::contact::boundary`]).
@@ -91,16 +95,23 @@ pub fn particular_stress(f: [f64; 2], x: [f64; 2]) -> [f64; 3] {
 
 /// The assembled dual problem.
 pub struct DualSystem {
+    /// The HCT dofs of the mesh: φ, φ,x, φ,y per vertex, a normal derivative per edge.
     pub dofs: HctDofs,
+    /// Each cell's HCT element (its local basis on the macro-triangle).
     pub elements: Vec<HctElement>,
+    /// The boundary edges with their tractions or contact unknowns.
     pub edges: Vec<BoundaryEdge>,
+    /// The map from the reduced unknowns to all HCT dofs (boundary data and the affine kernel
+    /// eliminated).
     pub affine: AffineDofs,
     /// With contact: the local parametrisation of the contact part ([`super::local_contact`]).
     pub local: Option<LocalContact>,
     /// With contact and no [`Self::local`]: why the local parametrisation was not used (the
     /// routes that take it then keep the contact forces as unknowns, a dense boundary block).
     pub local_fallback: Option<String>,
+    /// The material (the compliance `C⁻¹` of the dual energy).
     pub material: Material,
+    /// The body force.
     pub body_force: BodyLoad,
 }
 
@@ -139,10 +150,15 @@ impl Terms<'_> {
 
 /// The reduced rows `rows` of the system, CSR with global column indices.
 pub struct ReducedRows {
+    /// Global index of the first row held.
     pub first_row: usize,
+    /// Start of each row in `indices` and `values` (length rows + 1).
     pub indptr: Vec<usize>,
+    /// Global column index of each stored entry.
     pub indices: Vec<usize>,
+    /// Value of each stored entry.
     pub values: Vec<f64>,
+    /// Right-hand side of the rows held.
     pub rhs: Vec<f64>,
 }
 
@@ -479,8 +495,11 @@ impl DualSystem {
 
 /// A solved dual stress field, cell by cell.
 pub struct DualField<'a> {
+    /// The dual system the dofs belong to.
     pub system: &'a DualSystem,
+    /// The mesh.
     pub mesh: &'a Mesh,
+    /// All HCT dofs of the Airy stress function φ.
     pub phi: &'a [f64],
 }
 

@@ -30,7 +30,9 @@ pub trait StressField {
 /// A stress field given by a function of position (an exact solution), on the straight vertex
 /// triangle of every cell.
 pub struct ExactStress<'m, F> {
+    /// The mesh whose cells the stress is integrated on.
     pub mesh: &'m Mesh,
+    /// The exact stress `[σxx, σyy, σxy]` (Pa) at a point.
     pub stress: F,
 }
 

@@ -17,13 +17,16 @@
 /// The friction part of the contact integrand.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactLawTerm {
+    /// No friction term.
     Frictionless,
     /// Slip threshold `g` (traction units, N/m²).
     Tresca {
+        /// The threshold `g`.
         threshold: f64,
     },
     /// Friction coefficient `μ`.
     Coulomb {
+        /// The coefficient `μ`.
         mu: f64,
     },
 }
@@ -73,6 +76,7 @@ pub struct ContactTerms {
 }
 
 impl ContactTerms {
+    /// Zero terms on `num_cells` cells.
     pub fn new(num_cells: usize) -> Self {
         ContactTerms { element: vec![0.0; num_cells], min_integrand: 0.0, max_scale: 0.0 }
     }

@@ -79,6 +79,7 @@ pub enum EstimateKind {
 /// The estimate of one primal–dual pair, globally and per element.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Estimate {
+    /// Which estimate: the pure elastic one, or with the contact terms.
     pub kind: EstimateKind,
     /// `e = (e_vol² + e_contact²)^½`, energy units^½ (J^½ per unit thickness).
     pub error: f64,

@@ -100,8 +100,11 @@ pub struct FclibSolution {
 /// The problem's description in `/fclib_local/info` (ASCII; other characters are replaced).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FclibInfo {
+    /// A short title.
     pub title: String,
+    /// What the problem is (scene, mesh, material).
     pub description: String,
+    /// The mathematical formulation stored.
     pub math_info: String,
 }
 

@@ -80,6 +80,7 @@ impl Constraints {
         Constraints { values: vec![None; num_dofs] }
     }
 
+    /// The number of dofs (fixed and free).
     pub fn num_dofs(&self) -> usize {
         self.values.len()
     }
@@ -97,10 +98,12 @@ impl Constraints {
         self.values.get(dof).copied().flatten()
     }
 
+    /// Whether `dof` is prescribed.
     pub fn is_fixed(&self, dof: usize) -> bool {
         self.value(dof).is_some()
     }
 
+    /// The number of prescribed dofs.
     pub fn num_fixed(&self) -> usize {
         self.values.iter().filter(|v| v.is_some()).count()
     }
@@ -226,7 +229,9 @@ impl Traction<'_> {
 /// A traction applied on the boundary edges of group `group` (an index into `mesh.groups`).
 #[derive(Clone, Copy)]
 pub struct EdgeLoad<'a> {
+    /// The boundary group (index into `mesh.groups`).
     pub group: usize,
+    /// The traction on it.
     pub traction: Traction<'a>,
 }
 
@@ -235,6 +240,7 @@ pub struct EdgeLoad<'a> {
 pub struct Loads<'a> {
     /// Body force per unit area `F(x)`.
     pub body_force: Option<&'a (dyn Fn([f64; 2]) -> [f64; 2] + Sync)>,
+    /// Tractions on boundary groups.
     pub edge_loads: Vec<EdgeLoad<'a>>,
 }
 
@@ -242,17 +248,24 @@ pub struct Loads<'a> {
 /// (starts at 0); column indices are global and sorted within each row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CsrRows {
+    /// Global index of the first row held.
     pub first_row: usize,
+    /// Number of columns of the global matrix.
     pub num_cols: usize,
+    /// Start of each row in `indices` and `values` (local rows, length rows + 1).
     pub indptr: Vec<usize>,
+    /// Global column index of each stored entry.
     pub indices: Vec<usize>,
+    /// Value of each stored entry.
     pub values: Vec<f64>,
 }
 
 impl CsrRows {
+    /// Number of rows held.
     pub fn num_rows(&self) -> usize {
         self.indptr.len().saturating_sub(1)
     }
+    /// Number of stored entries.
     pub fn nnz(&self) -> usize {
         self.indices.len()
     }
@@ -276,6 +289,7 @@ impl CsrRows {
 /// The owned rows of the constrained system and their right-hand side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearSystem {
+    /// The owned rows of the stiffness matrix, constraints applied.
     pub matrix: CsrRows,
     /// Right-hand side of the owned rows only (`rhs[r]` is global row `matrix.first_row + r`).
     pub rhs: Vec<f64>,

@@ -140,8 +140,11 @@ pub fn physical_gradients(j: &[[f64; 2]; 2], det: f64, ref_grads: &[[f64; 2]]) -
 pub struct MappedPoint {
     /// Physical position `x(ξ)`.
     pub x: [f64; 2],
+    /// Shape function values at the point (the first `nodes_per_cell` entries).
     pub values: [f64; MAX_CELL_NODES],
+    /// Jacobian `∂x/∂ξ` of the map, `jacobian[i][j] = ∂x_i/∂ξ_j`.
     pub jacobian: [[f64; 2]; 2],
+    /// Its determinant (> 0 for a counter-clockwise cell).
     pub det: f64,
     /// Physical gradients of the shape functions.
     pub gradients: [[f64; 2]; MAX_CELL_NODES],
@@ -196,7 +199,9 @@ pub fn edge_shape_derivatives(nodes: usize, t: f64) -> [f64; MAX_EDGE_NODES] {
 /// The map of a boundary edge at one parameter value.
 #[derive(Debug, Clone, Copy)]
 pub struct EdgePoint {
+    /// Physical position of the point.
     pub x: [f64; 2],
+    /// Shape function values of the edge's nodes at the point.
     pub values: [f64; MAX_EDGE_NODES],
     /// `x'(t)`.
     pub tangent: [f64; 2],

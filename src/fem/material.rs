@@ -53,6 +53,7 @@ pub struct Material {
     pub young: f64,
     /// Poisson's ratio ν (−1 < ν < 0.5).
     pub poisson: f64,
+    /// Plane strain or plane stress.
     pub plane: PlaneModel,
 }
 
@@ -108,6 +109,7 @@ impl CellMaterials {
 }
 
 impl Material {
+    /// The material of Young's modulus `young` (Pa), Poisson's ratio `poisson`, under `plane`.
     pub fn new(young: f64, poisson: f64, plane: PlaneModel) -> Self {
         Material { young, poisson, plane }
     }

@@ -47,16 +47,20 @@
 /// A quadrature rule on the reference triangle (points `(ξ, η)`, weights summing to 1/2).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangleRule {
+    /// Points `(ξ, η)` on the reference triangle.
     pub points: Vec<[f64; 2]>,
+    /// Weights, one per point.
     pub weights: Vec<f64>,
     /// Highest total polynomial degree integrated exactly.
     pub degree: usize,
 }
 
 impl TriangleRule {
+    /// Number of points.
     pub fn len(&self) -> usize {
         self.points.len()
     }
+    /// Whether the rule has no points.
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
     }
@@ -65,16 +69,20 @@ impl TriangleRule {
 /// A quadrature rule on `[0, 1]` (weights summing to 1).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LineRule {
+    /// Points in `[0, 1]`.
     pub points: Vec<f64>,
+    /// Weights, one per point.
     pub weights: Vec<f64>,
     /// Highest polynomial degree integrated exactly.
     pub degree: usize,
 }
 
 impl LineRule {
+    /// Number of points.
     pub fn len(&self) -> usize {
         self.points.len()
     }
+    /// Whether the rule has no points.
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
     }

@@ -12,16 +12,50 @@ use crate::error::{Error, Result};
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshSpec {
     /// `[origin, origin + size]`; boundary parts `bottom`, `right`, `top`, `left`.
-    Rectangle { origin: [f64; 2], size: [f64; 2], cell_size: f64, mesher: Mesher, refine: Option<RefineSpec> },
+    Rectangle {
+        /// Lower-left corner (m).
+        origin: [f64; 2],
+        /// Width and height (m), > 0.
+        size: [f64; 2],
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Structured grid or Gmsh.
+        mesher: Mesher,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// Full disc; boundary part `circle`. Always meshed by gmsh.
-    Disc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
+    Disc {
+        /// Centre (m).
+        center: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// Lower half disc (flat side on top, at `center.y`); boundary parts `arc` and `flat`.
     /// Always meshed by gmsh.
-    HalfDisc { center: [f64; 2], radius: f64, cell_size: f64, refine: Option<RefineSpec> },
+    HalfDisc {
+        /// Centre of the full disc (m); the flat side is at `center[1]`.
+        center: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
     /// `geometry`: the Gmsh `.geo` script the file was meshed from (`geometry = "part.geo"`),
     /// which `signorini adapt` remeshes with its size map.
-    File { path: PathBuf, geometry: Option<PathBuf> },
+    File {
+        /// The MSH 4.1 file.
+        path: PathBuf,
+        /// The `.geo` script it was meshed from, if given.
+        geometry: Option<PathBuf>,
+    },
 }
 
 /// Who meshes a rectangle.
@@ -37,8 +71,11 @@ pub enum Mesher {
 /// growing back to the mesh's `cell_size` away from it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefineSpec {
+    /// Centre of the refined zone (m).
     pub point: [f64; 2],
+    /// Target edge length near `point` (m), > 0 and not above the mesh's `cell_size`.
     pub cell_size: f64,
+    /// Radius of the zone meshed at `cell_size` (m), > 0.
     pub radius: f64,
 }
 

@@ -70,6 +70,7 @@ pub enum CacheStatus {
 /// The cache's part in getting one mesh.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 pub struct CacheReport {
+    /// Whether the mesh came from the cache, was stored in it, or the cache was off.
     pub status: CacheStatus,
     /// Something that went wrong without stopping the run: an unusable entry that was
     /// replaced ("corrupt entry ...: checksum mismatch; replaced"), or a mesh that could not
@@ -79,6 +80,7 @@ pub struct CacheReport {
 }
 
 impl CacheReport {
+    /// The report of a run with the cache switched off.
     pub fn disabled() -> Self {
         CacheReport { status: CacheStatus::Disabled, problem: None }
     }
@@ -130,10 +132,12 @@ impl MeshCache {
         Some(cache)
     }
 
+    /// The cache's directory.
     pub fn root(&self) -> &Path {
         &self.root
     }
 
+    /// The size limit of the cache (bytes); the oldest entries are removed beyond it.
     pub fn max_bytes(&self) -> u64 {
         self.max_bytes
     }

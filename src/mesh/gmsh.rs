@@ -71,34 +71,61 @@ use crate::error::{Error, Result};
 pub enum Shape {
     /// Axis-aligned rectangle with lower-left corner `origin`. Groups "bottom", "right", "top",
     /// "left", "domain".
-    Rectangle { origin: [f64; 2], size: [f64; 2] },
+    Rectangle {
+        /// Lower-left corner.
+        origin: [f64; 2],
+        /// Width and height.
+        size: [f64; 2],
+    },
     /// Full disc. Groups "circle", "domain".
-    Disc { center: [f64; 2], radius: f64 },
+    Disc {
+        /// Centre.
+        center: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
     /// Lower half disc `{|x - c| <= R, y <= cy}`. Groups "arc" (curved side), "flat" (top),
     /// "domain".
-    HalfDisc { center: [f64; 2], radius: f64 },
+    HalfDisc {
+        /// Centre of the full disc.
+        center: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
     /// A user's Gmsh script (built-in or OpenCASCADE kernel), read from `file`, with its own
     /// physical groups; only meshed with a background size map ([`generate_with_background`]).
     /// P2 by Gmsh's `-order 2`, which puts the mid nodes of boundary edges on the script's
     /// curves.
-    Geometry { script: String, file: PathBuf },
+    Geometry {
+        /// The script's text.
+        script: String,
+        /// The script's file (Gmsh resolves its includes and merges against it).
+        file: PathBuf,
+    },
 }
 
 /// Smaller cells around a point: `cell_size` within `radius`, growing to the request's size at
 /// `2 radius`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refinement {
+    /// Centre of the refined zone (m).
     pub point: [f64; 2],
+    /// Cell size within `radius` of `point` (m).
     pub cell_size: f64,
+    /// Radius of the refined zone (m).
     pub radius: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
+/// What to ask Gmsh for: a shape, its cell size, a refinement and the order.
 pub struct MeshRequest {
+    /// The geometry.
     pub shape: Shape,
     /// Target side length of the triangles away from the refinement.
     pub cell_size: f64,
+    /// Local refinement, if any.
     pub refinement: Option<Refinement>,
+    /// Linear or quadratic triangles.
     pub order: Order,
 }
 

@@ -31,23 +31,29 @@ use crate::error::{Error, Result};
 /// Polynomial order of the cells' geometry (and of the Lagrange space built on them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum Order {
+    /// Linear triangles: 3 nodes per cell, 2 per edge.
     P1,
+    /// Quadratic triangles: 6 nodes per cell (vertices, then the mid nodes of edges 01, 12, 20), 3
+    /// per edge.
     P2,
 }
 
 impl Order {
+    /// Nodes per triangle: 3 or 6.
     pub fn nodes_per_cell(self) -> usize {
         match self {
             Order::P1 => 3,
             Order::P2 => 6,
         }
     }
+    /// Nodes per boundary edge: 2 or 3.
     pub fn nodes_per_edge(self) -> usize {
         match self {
             Order::P1 => 2,
             Order::P2 => 3,
         }
     }
+    /// The polynomial degree: 1 or 2.
     pub fn degree(self) -> usize {
         match self {
             Order::P1 => 1,
@@ -59,8 +65,11 @@ impl Order {
 /// A named physical group (Gmsh's `$PhysicalNames`): a region (dim 2) or a boundary part (dim 1).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PhysicalGroup {
+    /// The group's name: a boundary part or region name of the scene.
     pub name: String,
+    /// Gmsh's physical tag (the `part_id` of the outputs).
     pub tag: i32,
+    /// Dimension: 2 for a region of triangles, 1 for a boundary part of edges.
     pub dim: u8,
 }
 
@@ -68,8 +77,11 @@ pub struct PhysicalGroup {
 pub const NO_GROUP: usize = usize::MAX;
 
 #[derive(Debug, Clone)]
+/// A triangle mesh (P1 or P2) with its boundary edges and named physical groups.
 pub struct Mesh {
+    /// Linear or quadratic triangles (geometry and field).
     pub order: Order,
+    /// Node coordinates (m).
     pub nodes: Vec<[f64; 2]>,
     /// Flat connectivity, `order.nodes_per_cell()` node indices per triangle.
     pub cells: Vec<usize>,
@@ -79,23 +91,29 @@ pub struct Mesh {
     pub edges: Vec<usize>,
     /// Index into `groups` of each boundary edge's part (always set: edges come from groups).
     pub edge_group: Vec<usize>,
+    /// The physical groups: regions (dim 2) and boundary parts (dim 1).
     pub groups: Vec<PhysicalGroup>,
 }
 
 impl Mesh {
+    /// Number of nodes (P2 mid nodes included).
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()
     }
+    /// Number of triangles.
     pub fn num_cells(&self) -> usize {
         self.cells.len() / self.order.nodes_per_cell()
     }
+    /// Number of boundary edges.
     pub fn num_edges(&self) -> usize {
         self.edges.len() / self.order.nodes_per_edge()
     }
+    /// The node indices of triangle `c`.
     pub fn cell(&self, c: usize) -> &[usize] {
         let n = self.order.nodes_per_cell();
         &self.cells[c * n..(c + 1) * n]
     }
+    /// The node indices of boundary edge `e` (v0, v1 and, for P2, the mid node).
     pub fn edge(&self, e: usize) -> &[usize] {
         let n = self.order.nodes_per_edge();
         &self.edges[e * n..(e + 1) * n]

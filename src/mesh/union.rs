@@ -56,9 +56,13 @@ use std::ops::Range;
 /// Where one body is in the union mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BodyRange {
+    /// The body's name.
     pub name: String,
+    /// Its nodes in the union.
     pub nodes: Range<usize>,
+    /// Its triangles in the union.
     pub cells: Range<usize>,
+    /// Its boundary edges in the union.
     pub edges: Range<usize>,
     /// Its groups (renamed `name.part`) in the union's `groups`.
     pub groups: Range<usize>,
@@ -74,6 +78,7 @@ impl BodyRange {
 /// The bodies of a union mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BodyLayout {
+    /// Each body's ranges, in scene order.
     pub bodies: Vec<BodyRange>,
     /// The body (index into `bodies`) of every triangle of the union.
     pub cell_body: Vec<usize>,
@@ -151,14 +156,20 @@ pub enum OverlapWitness {
     Node(usize),
     /// A piece of boundary edge `edge` (its chord) of the first mesh, whose chord crosses the
     /// other mesh's boundary at `crossing`.
-    Edge { edge: usize, crossing: [f64; 2] },
+    Edge {
+        /// The boundary edge (its index among the first mesh's edges).
+        edge: usize,
+        /// Where its chord crosses the other mesh's boundary (m).
+        crossing: [f64; 2],
+    },
 }
 
 /// A point of one mesh inside another, and how deep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overlap {
+    /// What is inside: a node, or a piece of a boundary edge.
     pub witness: OverlapWitness,
-    /// The point: the node, or the middle of the piece of edge inside the other mesh.
+    /// The point (m): the node, or the middle of the piece of edge inside the other mesh.
     pub position: [f64; 2],
     /// Its distance to the boundary of the other mesh.
     pub depth: f64,

@@ -33,7 +33,9 @@ use crate::output::write_atomically;
 /// One line of the plot: a label for the legend and its `(x, y)` points, in drawing order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
+    /// The legend's label.
     pub label: String,
+    /// The points `(x, y)`.
     pub points: Vec<(f64, f64)>,
 }
 
@@ -449,9 +451,13 @@ impl LinearAxis {
 
 /// One log-log plot of a multi-panel figure ([`write_loglog_panels_svg`]).
 pub struct Panel<'a> {
+    /// The panel's title.
     pub title: &'a str,
+    /// Label of the x axis.
     pub x_label: &'a str,
+    /// Label of the y axis.
     pub y_label: &'a str,
+    /// The lines drawn.
     pub series: &'a [Series],
 }
 

@@ -43,8 +43,11 @@ use crate::output::write_atomically;
 /// `components ×` (number of points, or of cells written).
 #[derive(Debug, Clone, Copy)]
 pub struct Field<'a> {
+    /// The array's name in the file (what ParaView shows).
     pub name: &'a str,
+    /// Values per point or cell: 1 (scalar), 2 or 3 (vector), ...
     pub components: usize,
+    /// The values, point by point (or cell by cell), components together.
     pub values: &'a [f64],
 }
 

@@ -27,9 +27,13 @@ use signorini_sys as sys;
 /// What a bound-constrained solve returned.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BoundedSolve {
+    /// The method, e.g. "PETSc SNES vinewtonrsls" or "PETSc TAO tron".
     pub method: String,
+    /// Outer iterations.
     pub iterations: usize,
+    /// Krylov iterations over all outer iterations.
     pub linear_iterations: usize,
+    /// PETSc's converged reason.
     pub converged_reason: String,
 }
 

@@ -31,17 +31,24 @@ use signorini_sys as sys;
 /// What a solve did, for the report.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SolveStats {
+    /// The Krylov method, e.g. `"cg"`, `"preonly"`.
     pub ksp_type: String,
+    /// The preconditioner, e.g. `"cholesky"`, `"gamg"`.
     pub pc_type: String,
     /// The factorisation package (mumps, petsc, ...) for direct solves.
     pub factor_package: Option<String>,
+    /// Krylov iterations (1 for a direct solve).
     pub iterations: usize,
+    /// PETSc's converged reason, e.g. `"CONVERGED_RTOL"`.
     pub converged_reason: String,
     /// ‖b − Ax‖ / ‖b‖, computed by us after the solve.
     pub relative_residual: f64,
+    /// Wall-clock seconds of the solve (setup and factorisation included).
     pub seconds: f64,
 }
 
+/// A PETSc KSP: a linear solver for one matrix, configured from the options database (MUMPS
+/// Cholesky by default).
 pub struct LinearSolver<'s> {
     raw: sys::KSP,
     comm: Comm,

@@ -8,6 +8,7 @@ use super::{petsc, to_petsc_int, Comm, Session, Vector};
 use crate::error::{Error, Result};
 use signorini_sys as sys;
 
+/// A PETSc AIJ matrix (distributed by rows over the session's ranks), owned: destroyed on drop.
 pub struct Matrix<'s> {
     pub(crate) raw: sys::Mat,
     global: usize,
@@ -142,9 +143,11 @@ impl<'s> Matrix<'s> {
         petsc!(MatSetOption(self.raw, sys::MatOption::MAT_SYMMETRY_ETERNAL, sys::PetscBool::PETSC_TRUE))
     }
 
+    /// Number of rows (and columns) of the whole matrix.
     pub fn global_size(&self) -> usize {
         self.global
     }
+    /// The global rows this rank owns.
     pub fn owned_rows(&self) -> Range<usize> {
         self.range.clone()
     }

@@ -144,11 +144,13 @@ impl Comm {
     pub(crate) fn raw(self) -> sys::MPI_Comm {
         self.raw
     }
+    /// This process's rank in the communicator.
     pub fn rank(self) -> Result<usize> {
         let mut r: c_int = 0;
         mpi_check(unsafe { sys::signorini_comm_rank(self.raw, &mut r) }, "MPI_Comm_rank")?;
         Ok(r as usize)
     }
+    /// The number of processes in the communicator.
     pub fn size(self) -> Result<usize> {
         let mut s: c_int = 0;
         mpi_check(unsafe { sys::signorini_comm_size(self.raw, &mut s) }, "MPI_Comm_size")?;
@@ -319,7 +321,7 @@ impl Session {
     /// Initialise PETSc (and MPI) with these arguments (`args[0]` is the program name). All
     /// `-option value` pairs in them go into PETSc's options database. A process that no MPI
     /// launcher started gets Open MPI's fast singleton settings first (see
-    /// [`SINGLETON_SETTINGS`]; variables the user set are left alone).
+    /// `SINGLETON_SETTINGS` in `petsc/mod.rs`; variables the user set are left alone).
     pub fn init(args: &[String]) -> Result<Session> {
         match SESSION_STATE.compare_exchange(0, 1, Ordering::SeqCst, Ordering::SeqCst) {
             Ok(_) => {}
@@ -384,9 +386,11 @@ impl Session {
         // SAFETY: valid after PetscInitialize.
         Comm { raw: unsafe { sys::signorini_comm_self() } }
     }
+    /// This process's MPI rank (0 without MPI).
     pub fn rank(&self) -> usize {
         self.rank
     }
+    /// The number of MPI processes (1 without MPI).
     pub fn size(&self) -> usize {
         self.size
     }

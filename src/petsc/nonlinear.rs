@@ -64,6 +64,7 @@ const CALLBACK_FAILED: sys::PetscErrorCode = 76;
 /// The verdict of [`NonlinearSystem::converged`].
 #[derive(Debug, Clone, PartialEq)]
 pub enum Convergence {
+    /// Not converged yet: go on.
     Iterating,
     /// Converged; the text says by which test (it becomes the reported reason).
     Converged(String),
@@ -107,14 +108,19 @@ pub trait NonlinearSystem {
 pub struct NonlinearSolve {
     /// e.g. "PETSc SNES newtonls (line search basic), KSP preonly + lu (mumps)".
     pub method: String,
+    /// The Krylov method of the inner linear solves.
     pub ksp_type: String,
+    /// Their preconditioner.
     pub pc_type: String,
+    /// The factorisation package (mumps, petsc, ...) for direct inner solves.
     pub factor_package: Option<String>,
     /// Newton steps.
     pub iterations: usize,
     /// Krylov iterations over all steps (1 per step for a direct solve).
     pub linear_iterations: usize,
+    /// Evaluations of the residual function.
     pub residual_evaluations: usize,
+    /// SNES's converged reason, or ours.
     pub converged_reason: String,
 }
 

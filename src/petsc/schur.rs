@@ -33,6 +33,8 @@ use super::{petsc, to_petsc_int, Matrix, Session, Vector};
 use crate::error::{Error, Result};
 use signorini_sys as sys;
 
+/// A MUMPS factorisation of a matrix with the Schur complement on a set of its rows (the contact
+/// dofs), for the condensed and full-space contact routes.
 pub struct SchurFactor<'s> {
     factor: sys::Mat,
     size: usize,
@@ -128,6 +130,7 @@ impl<'s> SchurFactor<'s> {
         &self.inverse
     }
 
+    /// Size of the factored matrix.
     pub fn size(&self) -> usize {
         self.size
     }

@@ -46,9 +46,11 @@ impl<'s> Vector<'s> {
         Ok(lo as usize..hi as usize)
     }
 
+    /// Length of the whole vector.
     pub fn global_size(&self) -> usize {
         self.global
     }
+    /// The global entries this rank owns.
     pub fn owned_range(&self) -> Range<usize> {
         self.range.clone()
     }
@@ -110,6 +112,7 @@ impl<'s> Vector<'s> {
         result
     }
 
+    /// The Euclidean norm of the whole vector.
     pub fn norm2(&self) -> Result<f64> {
         let mut n = 0.0;
         petsc!(VecNorm(self.raw, sys::NormType::NORM_2, &mut n))?;

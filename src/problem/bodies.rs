@@ -63,6 +63,7 @@ pub const PAIRING_DISTANCE: f64 = 0.1;
 /// of single bodies, each with its friction law, and the part of every contact point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactParts {
+    /// Every contact part: the pairs, then the bodies' rigid obstacles.
     pub parts: Vec<ContactPart>,
     /// The part of each contact point (index into `parts`).
     pub part_of: Vec<usize>,
@@ -79,6 +80,7 @@ pub struct ContactPart {
     pub slave_group: usize,
     /// The other side of a pair; `None` for a rigid obstacle.
     pub master: Option<MasterSide>,
+    /// The part's friction law.
     pub friction: FrictionSpec,
     /// Where the part's table starts.
     pub at: Location,
@@ -87,7 +89,9 @@ pub struct ContactPart {
 /// The master side of a contact pair: its body and its boundary group in the union mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MasterSide {
+    /// The master body's index.
     pub body: usize,
+    /// The master part's boundary group in the union mesh.
     pub group: usize,
     /// Slave nodes farther than this from the master side are not contact points.
     pub pairing_distance: f64,

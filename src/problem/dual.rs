@@ -35,33 +35,45 @@ pub struct DualReport {
     /// HCT degrees of freedom (3 per vertex, 1 per edge) and the unknowns left once the
     /// boundary conditions and the affine kernel are eliminated.
     pub hct_dofs: usize,
+    /// Unknowns solved for.
     pub unknowns: usize,
     /// How the boundary constraints were imposed: "eliminated" (the unknowns above) or
     /// "multipliers" (a saddle point of `saddle_point_size` unknowns).
     pub constraints: &'static str,
     #[serde(skip_serializing_if = "Option::is_none")]
+    /// Size of the saddle-point system, with `constraints = "multipliers"`.
     pub saddle_point_size: Option<usize>,
     /// The node where φ, φ,x, φ,y were fixed to zero.
     pub anchor_node: usize,
+    /// Largest von Mises stress of the dual solution over the nodes (Pa).
     pub max_von_mises: f64,
     /// The independent check of static admissibility, and the complementary energy.
     pub check: DualCheck,
+    /// The dual linear solve's statistics.
     pub solver: SolveStats,
-    /// With a [contact] section: the dual contact solution and its independent check (forces
+    /// With a `[contact]` section: the dual contact solution and its independent check (forces
     /// at both ends of every contact edge, in the contact frames).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact: Option<crate::report::contact::ContactReport>,
+    /// What happened on the way, in words.
     pub notes: Vec<String>,
 }
 
 /// The solved dual problem.
 pub struct DualOutcome {
+    /// The dual system: the HCT space, its constraints and matrices.
     pub system: DualSystem,
+    /// The Airy stress function's HCT dofs (the solution).
     pub phi: Vec<f64>,
+    /// Nodal stresses `[σxx, σyy, σxy]` (Pa) from φ.
     pub nodal_stress: Vec<[f64; 3]>,
+    /// Von Mises stress at the nodes (Pa).
     pub von_mises: Vec<f64>,
+    /// The Airy stress function φ at the mesh nodes.
     pub airy: Vec<f64>,
+    /// The summary written to `report.json`.
     pub report: DualReport,
+    /// The dual contact solution, with a `[contact]` table.
     pub contact: Option<DualContactOutcome>,
 }
 
@@ -69,6 +81,7 @@ pub struct DualOutcome {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct EstimateReport {
     #[serde(flatten)]
+    /// The error in the constitutive relation: total, relative, per element.
     pub estimate: Estimate,
     /// What `relative_percent` divides by.
     pub norm: &'static str,
@@ -76,7 +89,9 @@ pub struct EstimateReport {
     pub meaning: &'static str,
     /// Seconds: the primal solve, the dual solve, the estimate itself, and all of the run.
     pub primal_seconds: f64,
+    /// Seconds of the dual solve.
     pub dual_seconds: f64,
+    /// Seconds of the estimate itself.
     pub estimate_seconds: f64,
     /// The run time of every phase so far (mesh to output), next to the error it bought.
     pub run_seconds: f64,
@@ -97,6 +112,8 @@ impl<'s> ElasticityProblem<'s> {
         }
     }
 
+    /// Solve the dual (stress) formulation on the problem's mesh: the Airy stress function on HCT
+    /// elements, with its contact when the scene has one; fills [`ElasticityProblem::dual`].
     pub fn solve_dual(&mut self) -> Result<()> {
         self.refuse_bodies()?;
         self.progress().phase_started(super::Phase::Dual);

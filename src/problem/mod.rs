@@ -60,23 +60,38 @@ pub(crate) const EQUILIBRIUM_CHECK: f64 = 1e-6;
 /// Everything a run reports (serialised to `report.json`).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Report {
+    /// The program and its version, `signorini 0.1.0 (<git commit>)`.
     pub program: String,
+    /// The scene's source: its file, `<default scene>` or `<scene built in Rust>`.
     pub scene: String,
+    /// The scene's `title`.
     pub title: Option<String>,
+    /// `"primal"` (displacements) or `"dual"` (stresses only).
     pub formulation: &'static str,
+    /// The element, e.g. `"P1"`, `"P2"`, `"P2-P0"`, `"HCT"` for a dual-only run.
     pub element: &'static str,
+    /// The plane model: `"strain"` or `"stress"`.
     pub plane: &'static str,
+    /// Mesh nodes (P2 mid nodes included).
     pub nodes: usize,
+    /// Mesh triangles.
     pub elements: usize,
+    /// Boundary edges of the mesh.
     pub boundary_edges: usize,
+    /// Unknowns of the solve: 2 per node (primal), or the dual's unknowns for a dual-only run.
     pub dofs: usize,
+    /// Displacement dofs fixed by Dirichlet conditions.
     pub fixed_dofs: usize,
+    /// MPI processes of the run.
     pub mpi_ranks: usize,
+    /// Wall-clock seconds of each phase of the run (mesh, setup, assemble, solve, ...).
     pub timings: Timings,
     /// The mesh cache's part in getting a Gmsh mesh (absent for other meshes).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mesh_cache: Option<CacheReport>,
+    /// The main linear solver (or the contact route's solve) and the PETSc options.
     pub solver: SolverReport,
+    /// Peak resident memory.
     pub memory: MemoryReport,
     /// The primal solution's results (absent for a dual-only run).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -101,8 +116,10 @@ pub struct Report {
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
+/// The linear solver's part of a [`Report`].
 pub struct SolverReport {
     #[serde(flatten)]
+    /// KSP and PC types, iterations, residual, converged reason (PETSc's statistics of the solve).
     pub stats: SolveStats,
     /// PETSc options from the scene that were applied (the command line overrides them).
     pub scene_options: Vec<String>,
@@ -111,6 +128,7 @@ pub struct SolverReport {
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
+/// Peak memory of the run (read from the operating system; `None` where it cannot be read).
 pub struct MemoryReport {
     /// Peak resident memory of rank 0, bytes.
     pub peak_bytes: Option<u64>,
@@ -119,8 +137,11 @@ pub struct MemoryReport {
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
+/// The primal solution's summary: extremes, load and reaction resultants, the equilibrium check.
 pub struct ResultsReport {
+    /// Largest displacement magnitude |u| over the nodes (m).
     pub max_displacement: f64,
+    /// Largest von Mises stress over the nodes (Pa).
     pub max_von_mises: f64,
     /// Applied load resultant (body force + tractions), N per unit thickness.
     pub applied_force: [f64; 2],
@@ -131,32 +152,51 @@ pub struct ResultsReport {
     pub equilibrium_residual: f64,
 }
 
+/// One problem being solved: a scene on a PETSc session, taken step by step. Make it with
+/// [`ElasticityProblem::setup_system`] (mesh, material, conditions, contact points), then call
+/// [`assemble`](Self::assemble), [`solve`](Self::solve), [`postprocess`](Self::postprocess), and
+/// read the answer from its fields or [`report`](Self::report), or write the files with
+/// [`write_output`](Self::write_output). A step called before the one it needs is an [`Error`] (the
+/// state is held in the `Option` fields below, filled as the steps run). The module documentation
+/// draws the whole pipeline.
 pub struct ElasticityProblem<'s> {
     pub(crate) session: &'s Session,
+    /// The scene, as checked by [`Scene::validated`] (for a scene with several bodies, as prepared
+    /// for their union mesh).
     pub scene: Scene,
+    /// The mesh solved on (for several bodies, their union, each body's nodes a contiguous range).
     pub mesh: Mesh,
+    /// The material (the first body's, with several bodies: see `cell_materials`).
     pub material: Material,
     /// The material of every cell (one for a single body; one per body with several).
     pub cell_materials: CellMaterials,
     /// With several bodies: each body's mesh, ranges in [`ElasticityProblem::mesh`] (their
     /// union) and tables.
     pub bodies: Option<scene::BodiesModel>,
+    /// The Dirichlet conditions: every fixed dof (2·node + component) and its value (m).
     pub constraints: Constraints,
     /// Global dof rows owned by this rank.
     pub rows: Range<usize>,
+    /// Wall-clock seconds of each phase so far.
     pub timings: Timings,
     scene_options: Vec<String>,
     system: Option<(Matrix<'s>, Vector<'s>)>,
     /// The owned rows of K and f, kept in Rust for the full-space contact route (which builds
     /// its own mixed Jacobian instead of a PETSc K).
     full_space_system: Option<assembly::LinearSystem>,
+    /// The linear solve's statistics, after [`solve`](Self::solve).
     pub stats: Option<SolveStats>,
     /// The whole displacement vector (dof = 2·node + component), on every rank.
     pub displacement: Option<Vec<f64>>,
+    /// Stresses, von Mises and the summary of the solution, after
+    /// [`postprocess`](Self::postprocess).
     pub results: Option<Results>,
     /// Several bodies: the checks of each body and contact part ([`ElasticityProblem::postprocess`]).
     pub bodies_report: Option<BodiesReport>,
+    /// The contact's setup (contact points, their normals and weights, the obstacle or the pairs),
+    /// for a scene with contact.
     pub contact: Option<ContactSetup>,
+    /// The contact solution (forces, statuses, the solver's report), after [`solve`](Self::solve).
     pub contact_outcome: Option<ContactOutcome>,
     /// The dual solution, when solved ([`ElasticityProblem::solve_dual`]).
     pub dual: Option<DualOutcome>,
@@ -172,10 +212,13 @@ pub struct ElasticityProblem<'s> {
 
 /// Post-processed fields.
 pub struct Results {
+    /// Nodal stresses `[σxx, σyy, σxy]` (Pa), averaged from the cells around each node.
     pub nodal_stress: Vec<[f64; 3]>,
     /// Out-of-plane stress at the nodes (plane strain; 0 in plane stress).
     pub sigma_zz: Vec<f64>,
+    /// Von Mises stress at the nodes (Pa), with σzz in plane strain.
     pub von_mises: Vec<f64>,
+    /// The summary written to `report.json`.
     pub report: ResultsReport,
 }
 
@@ -348,6 +391,7 @@ impl<'s> ElasticityProblem<'s> {
         &*self.progress
     }
 
+    /// The number of displacement unknowns: 2 per node.
     pub fn num_dofs(&self) -> usize {
         2 * self.mesh.num_nodes()
     }

@@ -42,19 +42,28 @@ const NODE_PENETRATION_CHECK: f64 = 1e-3;
 /// The checks of every body and every contact part.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BodiesReport {
+    /// Each body's equilibrium, in scene order.
     pub bodies: Vec<BodyReport>,
+    /// Each contact part: the pairs, then the bodies' rigid obstacles.
     pub contacts: Vec<ContactPartReport>,
 }
 
 /// One body's equilibrium.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct BodyReport {
+    /// The body's name.
     pub name: String,
+    /// The body's mesh nodes.
     pub nodes: usize,
+    /// The body's triangles.
     pub elements: usize,
+    /// Resultant of the loads on the body: body force and tractions (N per unit thickness).
     pub applied_force: [f64; 2],
+    /// Resultant of its Dirichlet reactions (N per unit thickness).
     pub reaction: [f64; 2],
+    /// Resultant of the contact forces on it (N per unit thickness).
     pub contact_force: [f64; 2],
+    /// Largest displacement magnitude over its nodes (m).
     pub max_displacement: f64,
     /// `|F + R + C|` relative to the forces involved (module documentation).
     pub equilibrium_residual: f64,
@@ -63,11 +72,17 @@ pub struct BodyReport {
 /// One contact part (a pair, or a body's rigid obstacle).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct ContactPartReport {
+    /// `slave.part / master.part` for a pair, `body.part` for a rigid obstacle.
     pub name: String,
+    /// The friction law, e.g. `"Coulomb, mu = 0.3"`.
     pub friction: String,
+    /// Contact points of the part.
     pub points: usize,
+    /// Points without contact force.
     pub open: usize,
+    /// Points in contact, sticking.
     pub stick: usize,
+    /// Points in contact, slipping.
     pub slip: usize,
     /// The force the part's contact exerts on its slave body (N/m).
     pub slave_resultant: [f64; 2],
@@ -77,6 +92,7 @@ pub struct ContactPartReport {
     /// `|S + M| / |S|` (pairs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub action_reaction_residual: Option<f64>,
+    /// The independent check's residuals on this part's points.
     pub residuals: super::contact::ContactResidualsReport,
     /// Pairs: every node of both sides measured against the other side (module documentation).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -92,8 +108,9 @@ pub struct NodePenetrationReport {
     pub max_penetration: f64,
     /// The same in length units.
     pub max_penetration_length: f64,
-    /// Where it is: the node (union numbering) and its body.
+    /// Where it is: the node (union numbering) ...
     pub node: usize,
+    /// ... and the body it belongs to.
     pub body: String,
 }
 

@@ -33,6 +33,7 @@ pub struct ContactCurvePoint {
     /// Tangential displacement `uT = t·u` against the (fixed) obstacle: the slip of a
     /// slipping point.
     pub tangential_slip: f64,
+    /// Open, stick or slip.
     pub status: PointStatus,
 }
 

@@ -15,8 +15,11 @@ use crate::mesh::Mesh;
 /// The largest nodal contact pressure and where it is.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct PeakPressure {
+    /// The pressure (N/m²): the normal contact force divided by the point's boundary weight.
     pub pressure: f64,
+    /// The mesh node.
     pub node: usize,
+    /// Its coordinates (m).
     pub position: [f64; 2],
     /// Arc length along the contact part.
     pub s: f64,
@@ -27,8 +30,11 @@ pub struct PeakPressure {
 pub struct ClosedZone {
     /// `[s_start, s_end]`: arc length along the contact part.
     pub extent: [f64; 2],
+    /// Coordinates of the zone's first point (m).
     pub start: [f64; 2],
+    /// Coordinates of its last point (m).
     pub end: [f64; 2],
+    /// Closed points in the zone.
     pub points: usize,
 }
 

@@ -15,7 +15,9 @@ use crate::mesh::{Mesh, Order};
 /// One warning: a machine-readable kind and what it means.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Warning {
+    /// A machine-readable kind, e.g. `"locking"`, `"polygonal_boundary"`.
     pub kind: &'static str,
+    /// What the warning means and what to do.
     pub message: String,
 }
 

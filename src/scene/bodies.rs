@@ -68,6 +68,7 @@ pub const SINGLE_BODY_NAME: &str = "body";
 pub struct Placement {
     /// Degrees, counter-clockwise.
     pub rotate: f64,
+    /// Translation (m), applied after the rotation.
     pub translate: [f64; 2],
 }
 
@@ -83,6 +84,7 @@ impl Placement {
         };
         [c * p[0] - s * p[1] + self.translate[0], s * p[0] + c * p[1] + self.translate[1]]
     }
+    /// Whether the placement moves nothing (no rotation, no translation).
     pub fn is_identity(&self) -> bool {
         self.rotate == 0.0 && self.translate == [0.0, 0.0]
     }
@@ -91,16 +93,23 @@ impl Placement {
 /// One body: the data of a single-body scene, with a name and a placement.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodySpec {
+    /// The body's name (letters, digits, `_`, `-`), unique in the scene.
     pub name: String,
+    /// Where the body's mesh is placed in the scene's coordinates.
     pub placement: Placement,
     /// The mesh in the body's own coordinates (moved by `placement`).
     pub mesh: MeshSpec,
+    /// Order of the triangles (the same for every body of a scene).
     pub order: Order,
+    /// The displacement element: Lagrange or P2–P0.
     pub element: Element,
+    /// The body's material.
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³).
     pub body_force: [f64; 2],
+    /// The body's `[[traction]]` tables, in file order.
     pub tractions: Vec<TractionSpec>,
+    /// The body's `[[dirichlet]]` tables, in file order.
     pub dirichlet: Vec<DirichletSpec>,
     /// Contact of a part of this body with a rigid obstacle.
     pub contact: Option<ContactSpec>,
@@ -173,7 +182,9 @@ impl BodySpec {
 /// A boundary part of a body, written `"body.part"`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartRef {
+    /// The body's name.
     pub body: String,
+    /// One of the body's boundary parts.
     pub part: String,
     /// Where the `"body.part"` string is written.
     pub at: Location,
@@ -188,7 +199,9 @@ impl fmt::Display for PartRef {
 /// Contact between a part of one body (the slave) and a part of another (the master).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPairSpec {
+    /// The slave part: the contact conditions are written on its side (choose the finer mesh).
     pub slave: PartRef,
+    /// The master part, of another body.
     pub master: PartRef,
     /// Coulomb with `mu = 0` is stored as [`FrictionSpec::None`], as in `[contact]`.
     pub friction: FrictionSpec,

@@ -3,8 +3,9 @@
 //! [`Scene::to_toml`] writes any scene as scene-file text; [`Scene::validated`] reads that text
 //! back with the scene reader, so a `Scene` made field by field (or with [`SceneBuilder`]) is
 //! checked by the same code as a file, and the problem driver does this for every scene it is
-//! given. A mistake is reported as in a file, at `<scene built in Rust>`, with the line of the
-//! generated text quoted in the message.
+//! given. A mistake in a scene built in Rust is reported at `<scene built in Rust>` with the
+//! builder call and the key that hold the value (``SceneBuilder::material (`poisson = 0.6`)``);
+//! in a scene read from a file and changed in Rust, at the file with the generated line quoted.
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -12,7 +13,7 @@ use super::bodies::{BodySpec, ContactPairSpec, PartRef, Placement};
 use super::contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 use super::{
     DirichletSpec, DirichletTarget, DualConstraints, Formulation, Load, MaterialSpec, MeshSpec, Mesher, PlaneSpec,
-    Scene, TractionSpec,
+    RefineSpec, Scene, TractionSpec,
 };
 use crate::error::{Error, Location, Result};
 use crate::fem::mixed_pressure::Element;
@@ -40,7 +41,7 @@ fn pair(p: [f64; 2]) -> String {
 }
 
 /// The `refine = { ... }` line of a mesh table.
-fn refine_line(t: &mut String, refine: &Option<super::RefineSpec>) {
+fn refine_line(t: &mut String, refine: &Option<RefineSpec>) {
     if let Some(r) = refine {
         let _ = writeln!(
             t,
@@ -104,8 +105,10 @@ impl Scene {
     }
 
     /// The scene read back from [`Scene::to_toml`] by the scene reader: every check a scene file
-    /// gets. Scenes read from a file pass unchanged (their source is kept); a mistake in a scene
-    /// built in Rust is an [`Error::Scene`] at `<scene built in Rust>` quoting the generated line.
+    /// gets. Scenes read from a file pass unchanged (their source is kept). A mistake is an
+    /// [`Error::Scene`]: for a scene built in Rust (its `source` [`BUILT_IN_RUST`] or empty), at
+    /// [`BUILT_IN_RUST`] without a line, the message naming the builder call and the key; for a
+    /// scene read from a file and changed since, at the file, quoting the generated line.
     pub fn validated(&self) -> Result<Scene> {
         let text = self.to_toml();
         let source =
@@ -119,6 +122,12 @@ impl Scene {
                 s
             })
             .map_err(|e| match e {
+                // Built in Rust: the builder call and key, not a line of text the user never saw.
+                Error::Scene { location, message, hint } if source == Path::new(BUILT_IN_RUST) => Error::Scene {
+                    location: here(),
+                    message: format!("{}: {message}", builder_call(&text, location.line)),
+                    hint,
+                },
                 Error::Scene { location, message, hint } => {
                     let line = text.lines().nth(location.line.saturating_sub(1)).unwrap_or("").trim().to_string();
                     Error::Scene {
@@ -257,27 +266,104 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
     }
 }
 
-/// Build a scene in Rust; [`SceneBuilder::build`] checks it as a scene file is checked.
+/// Build a single-body scene in Rust: every key of a scene file has a call, the calls may come
+/// in any order, and [`SceneBuilder::build`] checks the scene as a scene file is checked.
 ///
-/// ```no_run
-/// # use signorini::scene::SceneBuilder;
-/// let scene = SceneBuilder::rectangle([0.0, 0.0], [2.0, 1.0], 0.1)
-///     .material(210e9, 0.3)
-///     .pressure("top", 1e6)
-///     .contact_line("bottom", [0.0, 0.0], [0.0, 1.0])
+/// Start from the shape ([`rectangle`](Self::rectangle), [`disc`](Self::disc),
+/// [`half_disc`](Self::half_disc), [`mesh_file`](Self::mesh_file)), then add what the scene
+/// needs. [`material`](Self::material) is required; everything else has the scene format's
+/// default (docs/scene-format.md, the table beside each call). Units are SI: m, Pa (N/m²),
+/// N/m³.
+///
+/// | Call | Scene-file key |
+/// |---|---|
+/// | [`rectangle`](Self::rectangle), [`disc`](Self::disc), [`half_disc`](Self::half_disc), [`mesh_file`](Self::mesh_file), [`mesh_file_with_geometry`](Self::mesh_file_with_geometry) | `[mesh]` `shape` and its keys |
+/// | [`gmsh`](Self::gmsh), [`refine`](Self::refine) | `[mesh]` `mesher = "gmsh"`, `refine` |
+/// | [`title`](Self::title) | `title` |
+/// | [`quadratic`](Self::quadratic), [`p2p0`](Self::p2p0) | `[discretization]` `order = 2`, `element = "p2p0"` |
+/// | [`formulation`](Self::formulation), [`dual_constraints`](Self::dual_constraints), [`estimate`](Self::estimate) | `[discretization]` `formulation`, `dual_constraints`; `[estimate]` |
+/// | [`material`](Self::material), [`plane_stress`](Self::plane_stress) | `[material]` |
+/// | [`body_force`](Self::body_force) | `[loads]` |
+/// | [`traction`](Self::traction), [`pressure`](Self::pressure) (any number) | `[[traction]]` |
+/// | [`dirichlet`](Self::dirichlet), [`dirichlet_point`](Self::dirichlet_point) (any number) | `[[dirichlet]]` |
+/// | [`contact_line`](Self::contact_line), [`contact_circle`](Self::contact_circle), [`contact_polyline`](Self::contact_polyline) | `[contact]` `part`, `obstacle` and its keys |
+/// | [`gap`](Self::gap), [`coulomb`](Self::coulomb), [`tresca`](Self::tresca) | `[contact]` `gap`, `friction` with `mu` or `threshold` |
+/// | [`contact_solver`](Self::contact_solver), [`contact_tolerance`](Self::contact_tolerance), [`contact_max_iterations`](Self::contact_max_iterations) | `[contact]` `solver` (and `omega`), `tolerance`, `max_iterations` |
+/// | [`petsc_options`](Self::petsc_options), [`output_dir`](Self::output_dir) | `[solver]`, `[output]` |
+///
+/// Several bodies: build each body with a `SceneBuilder` and join them with [`BodiesBuilder`].
+///
+/// **No call is lost.** A call that would have no effect is refused by `build()` with an
+/// [`Error::Scene`] naming it: a contact setting ([`coulomb`](Self::coulomb),
+/// [`gap`](Self::gap), ...) without a contact obstacle, [`refine`](Self::refine) or
+/// [`gmsh`](Self::gmsh) on a mesh file, and a second call of a setter (a second
+/// [`material`](Self::material), a second obstacle, [`coulomb`](Self::coulomb) after
+/// [`tresca`](Self::tresca), ...), which would replace the first. Only [`traction`](Self::traction),
+/// [`pressure`](Self::pressure), [`dirichlet`](Self::dirichlet),
+/// [`dirichlet_point`](Self::dirichlet_point) and [`petsc_options`](Self::petsc_options) add up.
+///
+/// **Mistakes are named by their call.** A value the scene reader refuses (ν = 0.6, μ < 0, a
+/// P2–P0 element on linear triangles, ...) gives the reader's message and hint, at
+/// [`BUILT_IN_RUST`], prefixed with the call and the key: ``SceneBuilder::material
+/// (`poisson = 0.6`): `poisson` must be below 0.5, found 0.6``. Part names and point
+/// conditions are checked against the mesh when the problem is set up.
+///
+/// ```
+/// use signorini::scene::{ContactSolverSpec, SceneBuilder};
+/// // A half disc pressed onto a rigid plane with Coulomb friction, on a quadratic Gmsh mesh
+/// // refined at the expected contact point (the calls may come in any order).
+/// let scene = SceneBuilder::half_disc([0.0, 1.0], 1.0, 0.2)
 ///     .coulomb(0.3)
+///     .contact_line("arc", [0.0, 0.0], [0.0, 1.0])
+///     .quadratic()
+///     .refine([0.0, 0.0], 0.02, 0.2)
+///     .material(210e9, 0.3)
+///     .pressure("flat", 1e6)
 ///     .dirichlet_point([0.0, 1.0], Some(0.0), None)
-///     .build()
-///     .unwrap();
+///     .contact_solver(ContactSolverSpec::Newton)
+///     .build()?;
+/// assert!(scene.contact.is_some_and(|c| c.friction == signorini::scene::FrictionSpec::Coulomb { mu: 0.3 }));
+/// // A call that would be ignored is refused, and named.
+/// let refused = SceneBuilder::rectangle([0.0, 0.0], [1.0, 1.0], 0.1).material(1e9, 0.3).coulomb(0.3).build();
+/// assert!(refused.unwrap_err().to_string().contains("SceneBuilder::coulomb"));
+/// # Ok::<(), signorini::Error>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct SceneBuilder {
+    /// The scene so far: mesh, discretization, material, loads and conditions (the contact is
+    /// put together at `build()`).
     scene: Scene,
+    material_given: bool,
+    gmsh: bool,
+    refine: Option<RefineSpec>,
+    /// The `[contact]` part and obstacle, and the call that gave them.
+    obstacle: Option<(String, ObstacleSpec)>,
+    gap: Option<f64>,
+    friction: Option<FrictionSpec>,
+    solver: Option<ContactSolverSpec>,
+    tolerance: Option<f64>,
+    max_iterations: Option<usize>,
+    /// The setters called so far, each with the setting it sets (a second call for a setting
+    /// is refused).
+    called: Vec<(&'static str, &'static str)>,
+    /// Calls refused so far: the call and why (the first is `build()`'s error).
+    refused: Vec<(String, String, String)>,
 }
 
+/// Where the items of a scene built in Rust are: [`BUILT_IN_RUST`], no line (the builder's
+/// errors name the call instead).
 fn here() -> Location {
-    Location { file: PathBuf::from(BUILT_IN_RUST), line: 1, column: 1 }
+    Location { file: PathBuf::from(BUILT_IN_RUST), line: 0, column: 0 }
 }
+
+/// A scene error at [`BUILT_IN_RUST`].
+fn built_in_rust_error(message: String, hint: String) -> Error {
+    Error::Scene { location: here(), message, hint }
+}
+
+/// The settings of the contact (each needs an obstacle), as [`SceneBuilder`]'s calls name them.
+const CONTACT_SETTINGS: [&str; 5] =
+    ["the gap", "the friction", "the contact solver", "the contact tolerance", "the contact iteration limit"];
 
 impl SceneBuilder {
     fn from_mesh(mesh: MeshSpec) -> Self {
@@ -291,7 +377,7 @@ impl SceneBuilder {
                 formulation: Formulation::Primal,
                 dual_constraints: DualConstraints::Eliminated,
                 estimate: false,
-                material: MaterialSpec { young: f64::NAN, poisson: 0.3, plane: PlaneSpec::Strain },
+                material: MaterialSpec { young: f64::NAN, poisson: f64::NAN, plane: PlaneSpec::Strain },
                 body_force: [0.0, 0.0],
                 tractions: Vec::new(),
                 dirichlet: Vec::new(),
@@ -302,13 +388,53 @@ impl SceneBuilder {
                 contact_pairs: Vec::new(),
                 contact_solver: None,
             },
+            material_given: false,
+            gmsh: false,
+            refine: None,
+            obstacle: None,
+            gap: None,
+            friction: None,
+            solver: None,
+            tolerance: None,
+            max_iterations: None,
+            called: Vec::new(),
+            refused: Vec::new(),
         }
     }
-    /// A rectangle `[origin, origin + size]` on a structured mesh of about `cell_size`.
+
+    /// Record a setter's call; a second call for `group` (one setting, possibly given by
+    /// several calls: `coulomb` and `tresca` both set the friction) is refused, as it would
+    /// replace the first.
+    fn once(&mut self, call: &'static str, group: &'static str) {
+        match self.called.iter().find(|(g, _)| *g == group) {
+            Some((_, first)) => self.refused.push((
+                format!("SceneBuilder::{call}"),
+                format!("{group} is set twice (by SceneBuilder::{first} before): this call would replace it"),
+                format!("keep one call that sets {group}"),
+            )),
+            None => self.called.push((group, call)),
+        }
+    }
+
+    /// A rectangle `[origin, origin + size]` (m), meshed with cells of about `cell_size` (m);
+    /// boundary parts `bottom`, `right`, `top`, `left`. Structured mesh (a grid of split
+    /// rectangles) unless [`gmsh`](Self::gmsh) is called.
     pub fn rectangle(origin: [f64; 2], size: [f64; 2], cell_size: f64) -> Self {
         Self::from_mesh(MeshSpec::Rectangle { origin, size, cell_size, mesher: Mesher::Structured, refine: None })
     }
-    /// A mesh file (MSH 4.1).
+    /// The full disc of `radius` (m) around `center`, meshed by Gmsh with cells of about
+    /// `cell_size`; boundary part `circle`.
+    pub fn disc(center: [f64; 2], radius: f64, cell_size: f64) -> Self {
+        Self::from_mesh(MeshSpec::Disc { center, radius, cell_size, refine: None })
+    }
+    /// The lower half of the disc of `radius` around `center` (flat side on top, at
+    /// `center[1]`), meshed by Gmsh with cells of about `cell_size`; boundary parts `arc` and
+    /// `flat`.
+    pub fn half_disc(center: [f64; 2], radius: f64, cell_size: f64) -> Self {
+        Self::from_mesh(MeshSpec::HalfDisc { center, radius, cell_size, refine: None })
+    }
+    /// A mesh file (Gmsh MSH 4.1); its boundary parts are its physical curve names. A relative
+    /// path is relative to the current directory.
     pub fn mesh_file(path: impl AsRef<Path>) -> Self {
         Self::from_mesh(MeshSpec::File { path: path.as_ref().to_path_buf(), geometry: None })
     }
@@ -319,85 +445,282 @@ impl SceneBuilder {
             geometry: Some(geometry.as_ref().to_path_buf()),
         })
     }
+    /// Mesh the rectangle with Gmsh (unstructured, Frontal-Delaunay) instead of the structured
+    /// grid: `mesher = "gmsh"`. Discs and half discs are always meshed by Gmsh (the call is
+    /// accepted and changes nothing); a mesh file is refused.
+    pub fn gmsh(mut self) -> Self {
+        self.once("gmsh", "the mesher");
+        self.gmsh = true;
+        self
+    }
+    /// Local refinement of a Gmsh mesh: cells of about `cell_size` (m) within `radius` (m) of
+    /// `point`, growing back to the mesh's cell size away from it (`refine = { ... }`). A
+    /// rectangle needs [`gmsh`](Self::gmsh) too; a mesh file is refused.
+    pub fn refine(mut self, point: [f64; 2], cell_size: f64, radius: f64) -> Self {
+        self.once("refine", "the refinement");
+        self.refine = Some(RefineSpec { point, cell_size, radius });
+        self
+    }
+    /// A name for the problem, copied to the outputs (`title`).
     pub fn title(mut self, title: &str) -> Self {
+        self.once("title", "the title");
         self.scene.title = Some(title.to_string());
         self
     }
-    /// Quadratic (P2) triangles.
+    /// Quadratic (P2) triangles and displacements (`order = 2`; the default is linear, P1).
     pub fn quadratic(mut self) -> Self {
+        self.once("quadratic", "the order");
         self.scene.order = Order::P2;
         self
     }
-    /// Young's modulus and Poisson's ratio (plane strain).
+    /// The locking-free P2–P0 element for nearly incompressible materials
+    /// (`element = "p2p0"`): needs [`quadratic`](Self::quadratic) and plane strain.
+    pub fn p2p0(mut self) -> Self {
+        self.once("p2p0", "the element");
+        self.scene.element = Element::P2P0;
+        self
+    }
+    /// Which field is solved for (`formulation`; the default is [`Formulation::Primal`],
+    /// displacements).
+    pub fn formulation(mut self, formulation: Formulation) -> Self {
+        self.once("formulation", "the formulation");
+        self.scene.formulation = formulation;
+        self
+    }
+    /// How the dual formulation imposes its boundary constraints (`dual_constraints`; the
+    /// default is [`DualConstraints::Eliminated`]).
+    pub fn dual_constraints(mut self, dual_constraints: DualConstraints) -> Self {
+        self.once("dual_constraints", "the dual constraints");
+        self.scene.dual_constraints = dual_constraints;
+        self
+    }
+    /// Also solve the other formulation and estimate the error (`[estimate]`).
+    pub fn estimate(mut self) -> Self {
+        self.once("estimate", "the estimate");
+        self.scene.estimate = true;
+        self
+    }
+    /// Young's modulus (Pa, > 0) and Poisson's ratio (in (-1, 0.5)); plane strain unless
+    /// [`plane_stress`](Self::plane_stress). Required.
     pub fn material(mut self, young: f64, poisson: f64) -> Self {
+        self.once("material", "the material");
+        self.material_given = true;
         self.scene.material.young = young;
         self.scene.material.poisson = poisson;
         self
     }
+    /// Plane stress (σzz = 0, a thin plate) instead of plane strain (`plane = "stress"`).
     pub fn plane_stress(mut self) -> Self {
+        self.once("plane_stress", "the plane model");
         self.scene.material.plane = PlaneSpec::Stress;
         self
     }
+    /// Force per unit volume (N/m³), e.g. `[0.0, -ρ g]` (`[loads] body_force`).
     pub fn body_force(mut self, f: [f64; 2]) -> Self {
+        self.once("body_force", "the body force");
         self.scene.body_force = f;
         self
     }
+    /// A traction `t` (N/m², global x and y) on the boundary part `part`: σn = t.
     pub fn traction(mut self, part: &str, t: [f64; 2]) -> Self {
         self.scene.tractions.push(TractionSpec { part: part.into(), load: Load::Traction(t), at: here() });
         self
     }
+    /// A normal pressure `p` (N/m², positive pushes into the body) on the boundary part `part`:
+    /// σn = −p n.
     pub fn pressure(mut self, part: &str, p: f64) -> Self {
         self.scene.tractions.push(TractionSpec { part: part.into(), load: Load::Pressure(p), at: here() });
         self
     }
+    /// Prescribed displacement components (m) on every node of the boundary part `part`;
+    /// `None` leaves a component free.
     pub fn dirichlet(mut self, part: &str, ux: Option<f64>, uy: Option<f64>) -> Self {
         self.scene.dirichlet.push(DirichletSpec { target: DirichletTarget::Part(part.into()), ux, uy, at: here() });
         self
     }
+    /// Prescribed displacement components (m) of the mesh node at `point`; `None` leaves a
+    /// component free.
     pub fn dirichlet_point(mut self, point: [f64; 2], ux: Option<f64>, uy: Option<f64>) -> Self {
         self.scene.dirichlet.push(DirichletSpec { target: DirichletTarget::Point(point), ux, uy, at: here() });
         self
     }
-    /// Frictionless contact of `part` with the rigid half-plane behind the line through
-    /// `point`, `normal` pointing towards the body.
-    pub fn contact_line(mut self, part: &str, point: [f64; 2], normal: [f64; 2]) -> Self {
-        self.scene.contact = Some(ContactSpec {
-            part: part.into(),
-            obstacle: ObstacleSpec::Line { point, normal },
-            gap: 0.0,
-            friction: FrictionSpec::None,
-            solver: ContactSolverSpec::FullSpaceNewton,
-            tolerance: None,
-            max_iterations: None,
+    fn obstacle(mut self, call: &'static str, part: &str, obstacle: ObstacleSpec) -> Self {
+        self.once(call, "the contact obstacle");
+        self.obstacle = Some((part.into(), obstacle));
+        self
+    }
+    /// Contact of the boundary part `part` with the rigid half-plane behind the line through
+    /// `point`, `normal` pointing from the obstacle towards the body (`obstacle = "line"`).
+    /// Frictionless unless [`coulomb`](Self::coulomb) or [`tresca`](Self::tresca).
+    pub fn contact_line(self, part: &str, point: [f64; 2], normal: [f64; 2]) -> Self {
+        self.obstacle("contact_line", part, ObstacleSpec::Line { point, normal })
+    }
+    /// Contact of the boundary part `part` with the rigid disc of `radius` (m) around `center`,
+    /// the body outside it (`obstacle = "circle"`).
+    pub fn contact_circle(self, part: &str, center: [f64; 2], radius: f64) -> Self {
+        self.obstacle("contact_circle", part, ObstacleSpec::Circle { center, radius })
+    }
+    /// Contact of the boundary part `part` with the rigid region on the right of the polyline
+    /// `points` (the body on its left, the end segments extended without end;
+    /// `obstacle = "polyline"`).
+    pub fn contact_polyline(self, part: &str, points: &[[f64; 2]]) -> Self {
+        self.obstacle("contact_polyline", part, ObstacleSpec::Polyline { points: points.to_vec() })
+    }
+    /// Added to the distance between the body and the obstacle (m); negative is an initial
+    /// overlap (`gap`, default 0).
+    pub fn gap(mut self, gap: f64) -> Self {
+        self.once("gap", "the gap");
+        self.gap = Some(gap);
+        self
+    }
+    /// Coulomb friction with coefficient `mu` ≥ 0 on the contact (`friction = "coulomb"`).
+    pub fn coulomb(mut self, mu: f64) -> Self {
+        self.once("coulomb", "the friction");
+        self.friction = Some(FrictionSpec::Coulomb { mu });
+        self
+    }
+    /// Tresca friction with slip threshold `threshold` > 0 (N/m²) on the contact
+    /// (`friction = "tresca"`).
+    pub fn tresca(mut self, threshold: f64) -> Self {
+        self.once("tresca", "the friction");
+        self.friction = Some(FrictionSpec::Tresca { threshold });
+        self
+    }
+    /// The contact algorithm (`solver`, and `omega` for [`ContactSolverSpec::Relaxation`]);
+    /// the default is [`ContactSolverSpec::FullSpaceNewton`].
+    pub fn contact_solver(mut self, solver: ContactSolverSpec) -> Self {
+        self.once("contact_solver", "the contact solver");
+        self.solver = Some(solver);
+        self
+    }
+    /// Relative residual tolerance of the contact solve, in (0, 1e-3] (`tolerance`; the
+    /// solver's default otherwise).
+    pub fn contact_tolerance(mut self, tolerance: f64) -> Self {
+        self.once("contact_tolerance", "the contact tolerance");
+        self.tolerance = Some(tolerance);
+        self
+    }
+    /// Iteration limit of the contact solve, ≥ 1 (`max_iterations`; the solver's default
+    /// otherwise).
+    pub fn contact_max_iterations(mut self, max_iterations: usize) -> Self {
+        self.once("contact_max_iterations", "the contact iteration limit");
+        self.max_iterations = Some(max_iterations);
+        self
+    }
+    /// PETSc options as on a command line, split at whitespace (`[solver] petsc_options`); a
+    /// second call adds its options after the first's. Command-line options win over them.
+    pub fn petsc_options(mut self, options: &str) -> Self {
+        self.scene.petsc_options.extend(options.split_whitespace().map(str::to_string));
+        self
+    }
+    /// Where the CLI writes results (`[output] dir`; relative to the current directory).
+    pub fn output_dir(mut self, dir: impl AsRef<Path>) -> Self {
+        self.once("output_dir", "the output directory");
+        self.scene.output_dir = Some(dir.as_ref().to_path_buf());
+        self
+    }
+
+    /// The scene, checked as a scene file is. [`Error::Scene`] at [`BUILT_IN_RUST`] naming the
+    /// call: for a refused call (see the type's documentation), a missing
+    /// [`material`](Self::material), or a value the scene reader refuses.
+    pub fn build(self) -> Result<Scene> {
+        let SceneBuilder {
+            mut scene,
+            material_given,
+            gmsh,
+            refine,
+            obstacle,
+            gap,
+            friction,
+            solver,
+            tolerance,
+            max_iterations,
+            called,
+            mut refused,
+        } = self;
+        let contact_calls: Vec<String> = called
+            .iter()
+            .filter(|(group, _)| CONTACT_SETTINGS.contains(group))
+            .map(|(_, call)| format!("SceneBuilder::{call}"))
+            .collect();
+        if obstacle.is_none() && !contact_calls.is_empty() {
+            refused.push((
+                contact_calls.join(", "),
+                "there is no contact: without an obstacle this contact setting would be ignored".into(),
+                "add the contact with .contact_line(..), .contact_circle(..) or .contact_polyline(..) (the calls \
+                 may come in any order), or remove the call"
+                    .into(),
+            ));
+        }
+        match &mut scene.mesh {
+            MeshSpec::Rectangle { mesher, refine: r, .. } => {
+                if gmsh {
+                    *mesher = Mesher::Gmsh;
+                }
+                *r = refine;
+            }
+            MeshSpec::Disc { refine: r, .. } | MeshSpec::HalfDisc { refine: r, .. } => *r = refine,
+            MeshSpec::File { .. } => {
+                for (given, call) in [(gmsh, "gmsh"), (refine.is_some(), "refine")] {
+                    if given {
+                        refused.push((
+                            format!("SceneBuilder::{call}"),
+                            "a mesh file is used as it is: it is not meshed again, and this call would be ignored"
+                                .into(),
+                            "remove the call, or describe the body with SceneBuilder::rectangle, disc or half_disc"
+                                .into(),
+                        ));
+                    }
+                }
+            }
+        }
+        if let Some((call, message, hint)) = refused.into_iter().next() {
+            return Err(built_in_rust_error(format!("{call}: {message}"), hint));
+        }
+        if !material_given {
+            return Err(built_in_rust_error(
+                "the scene has no material: SceneBuilder::material was not called".into(),
+                "add .material(young, poisson): Young's modulus (Pa) and Poisson's ratio".into(),
+            ));
+        }
+        // A line's normal is stored unit, as the reader stores it (a zero one is refused by it).
+        let obstacle = obstacle.map(|(part, obstacle)| match obstacle {
+            ObstacleSpec::Line { point, normal } if normal[0].hypot(normal[1]) > 0.0 => {
+                let length = normal[0].hypot(normal[1]);
+                (part, ObstacleSpec::Line { point, normal: [normal[0] / length, normal[1] / length] })
+            }
+            other => (part, other),
+        });
+        scene.contact = obstacle.map(|(part, obstacle)| ContactSpec {
+            part,
+            obstacle,
+            gap: gap.unwrap_or(0.0),
+            // Coulomb with μ = 0 is frictionless, as in a file (the reader stores it so).
+            friction: match friction {
+                Some(FrictionSpec::Coulomb { mu: 0.0 }) => FrictionSpec::None,
+                other => other.unwrap_or(FrictionSpec::None),
+            },
+            solver: solver.unwrap_or(ContactSolverSpec::FullSpaceNewton),
+            tolerance,
+            max_iterations,
             at: here(),
         });
-        self
-    }
-    /// Coulomb friction with coefficient `mu` on the contact.
-    pub fn coulomb(mut self, mu: f64) -> Self {
-        if let Some(c) = self.scene.contact.as_mut() {
-            c.friction = FrictionSpec::Coulomb { mu };
-        }
-        self
-    }
-    /// Tresca friction with threshold `g` (N/m²) on the contact.
-    pub fn tresca(mut self, threshold: f64) -> Self {
-        if let Some(c) = self.scene.contact.as_mut() {
-            c.friction = FrictionSpec::Tresca { threshold };
-        }
-        self
-    }
-    /// The scene, checked as a scene file is.
-    pub fn build(self) -> Result<Scene> {
-        self.scene.validated()
+        scene.validated()
     }
 }
 
 /// A scene with several bodies built in Rust: each body a single-body scene (from
-/// [`SceneBuilder`]) with a name and a placement, and the contact pairs between their parts.
-/// [`BodiesBuilder::build`] checks it as a scene file with `[[body]]` tables is checked.
+/// [`SceneBuilder`]) with a name and a placement, and the contact pairs between their parts
+/// (`[[body]]` and `[[contact_pair]]` tables). [`BodiesBuilder::build`] checks it as a scene
+/// file with `[[body]]` tables is checked.
 ///
-/// ```no_run
+/// Each body's scene carries the body's data only (mesh, order, element, material, loads,
+/// conditions, a rigid contact); the settings of the whole scene (title, PETSc options, output
+/// directory, contact solver) are the `BodiesBuilder`'s. A body's scene that sets one of them,
+/// which would be ignored, is refused by `build()`, as is a scene that has several bodies
+/// itself. Body names and pairs are checked as in a file.
+///
+/// ```
 /// use signorini::scene::{BodiesBuilder, FrictionSpec, SceneBuilder};
 /// let block = SceneBuilder::rectangle([0.0, 0.0], [1.0, 1.0], 0.1).material(1e9, 0.3).traction("top", [0.0, -1e6]).build()?;
 /// let base = SceneBuilder::rectangle([-0.5, -1.0], [2.0, 1.0], 0.15).material(2e9, 0.3).dirichlet("bottom", Some(0.0), Some(0.0)).build()?;
@@ -406,6 +729,7 @@ impl SceneBuilder {
 ///     .body("base", base)
 ///     .pair("block.bottom", "base.top", FrictionSpec::Coulomb { mu: 0.3 })
 ///     .build()?;
+/// assert_eq!(scene.bodies.len(), 2);
 /// # Ok::<(), signorini::Error>(())
 /// ```
 #[derive(Debug, Clone)]
@@ -413,19 +737,28 @@ pub struct BodiesBuilder {
     title: String,
     bodies: Vec<(BodySpec, Scene)>,
     pairs: Vec<ContactPairSpec>,
+    petsc_options: Vec<String>,
+    output_dir: Option<PathBuf>,
+    contact_solver: Option<ContactSolverSpec>,
 }
 
 impl BodiesBuilder {
+    /// An empty scene titled `title`: add bodies with [`body`](Self::body) and pairs with
+    /// [`pair`](Self::pair).
     pub fn new(title: &str) -> Self {
-        BodiesBuilder { title: title.into(), bodies: Vec::new(), pairs: Vec::new() }
+        BodiesBuilder {
+            title: title.into(),
+            bodies: Vec::new(),
+            pairs: Vec::new(),
+            petsc_options: Vec::new(),
+            output_dir: None,
+            contact_solver: None,
+        }
     }
 
-    fn here() -> Location {
-        Location { file: PathBuf::from(BUILT_IN_RUST), line: 0, column: 0 }
-    }
-
-    /// A body named `name`: the body of the single-body scene `scene` (its mesh, order, element,
-    /// material, loads, conditions and rigid contact), where its mesh says.
+    /// A body named `name` (letters, digits, `_`, `-`): the body of the single-body scene
+    /// `scene` (its mesh, order, element, material, loads, conditions and rigid contact), where
+    /// its mesh says.
     pub fn body(self, name: &str, scene: Scene) -> Self {
         self.placed_body(name, scene, Placement::default())
     }
@@ -435,39 +768,199 @@ impl BodiesBuilder {
         let mut body = scene.bodies()[0].clone();
         body.name = name.into();
         body.placement = placement;
-        body.at = Self::here();
+        body.at = here();
         self.bodies.push((body, scene));
         self
     }
 
     /// Contact between `slave` and `master`, each `"body.part"`, with `friction`.
-    pub fn pair(mut self, slave: &str, master: &str, friction: FrictionSpec) -> Self {
+    pub fn pair(self, slave: &str, master: &str, friction: FrictionSpec) -> Self {
+        self.pair_spec(slave, master, friction, None)
+    }
+
+    /// [`BodiesBuilder::pair`] accepting an initial interpenetration of the two bodies of up to
+    /// `max_initial_overlap` (m, ≥ 0; `max_initial_overlap` of `[[contact_pair]]`).
+    pub fn pair_with_overlap(
+        self,
+        slave: &str,
+        master: &str,
+        friction: FrictionSpec,
+        max_initial_overlap: f64,
+    ) -> Self {
+        self.pair_spec(slave, master, friction, Some(max_initial_overlap))
+    }
+
+    fn pair_spec(mut self, slave: &str, master: &str, friction: FrictionSpec, overlap: Option<f64>) -> Self {
         let part = |s: &str| {
             let (body, part) = s.split_once('.').unwrap_or((s, ""));
-            PartRef { body: body.into(), part: part.into(), at: Self::here() }
+            PartRef { body: body.into(), part: part.into(), at: here() }
+        };
+        let friction = match friction {
+            FrictionSpec::Coulomb { mu: 0.0 } => FrictionSpec::None,
+            other => other,
         };
         self.pairs.push(ContactPairSpec {
             slave: part(slave),
             master: part(master),
             friction,
-            max_initial_overlap: None,
-            at: Self::here(),
+            max_initial_overlap: overlap,
+            at: here(),
         });
         self
     }
 
-    /// The scene, checked ([`Error::Scene`] at `<scene built in Rust>` for a mistake, quoting
-    /// the generated line; [`Error::Usage`] without any body).
+    /// PETSc options of the whole run, split at whitespace (`[solver] petsc_options`); a
+    /// second call adds its options after the first's.
+    pub fn petsc_options(mut self, options: &str) -> Self {
+        self.petsc_options.extend(options.split_whitespace().map(str::to_string));
+        self
+    }
+
+    /// Where the CLI writes results (`[output] dir`).
+    pub fn output_dir(mut self, dir: impl AsRef<Path>) -> Self {
+        self.output_dir = Some(dir.as_ref().to_path_buf());
+        self
+    }
+
+    /// The contact solver of every contact, pairs and rigid obstacles (as the command line's
+    /// `--contact-solver`: [`Scene::contact_solver`]; a scene file has no key for it).
+    pub fn contact_solver(mut self, solver: ContactSolverSpec) -> Self {
+        self.contact_solver = Some(solver);
+        self
+    }
+
+    /// The scene, checked ([`Error::Scene`] at [`BUILT_IN_RUST`] for a mistake, naming the
+    /// builder call and key; [`Error::Usage`] without any body).
     pub fn build(self) -> Result<Scene> {
         let Some((_, first)) = self.bodies.first() else {
             return Err(Error::Usage("BodiesBuilder::build: no body was given".into()));
         };
+        for (body, scene) in &self.bodies {
+            let ignored = [
+                (scene.has_body_tables(), "several bodies of its own (BodiesBuilder scenes do not nest)"),
+                (scene.title.is_some(), "a title (SceneBuilder::title)"),
+                (!scene.petsc_options.is_empty(), "PETSc options (SceneBuilder::petsc_options)"),
+                (scene.output_dir.is_some(), "an output directory (SceneBuilder::output_dir)"),
+                (scene.estimate, "the estimate (SceneBuilder::estimate)"),
+                (scene.formulation != Formulation::Primal, "a formulation (SceneBuilder::formulation)"),
+                (
+                    scene.dual_constraints != DualConstraints::Eliminated,
+                    "dual constraints (SceneBuilder::dual_constraints)",
+                ),
+                (scene.contact_solver.is_some(), "a contact solver for the whole run"),
+            ];
+            if let Some((_, what)) = ignored.iter().find(|(set, _)| *set) {
+                return Err(built_in_rust_error(
+                    format!(
+                        "BodiesBuilder::body(\"{}\", ..): the body's scene sets {what}, which would be ignored: a \
+                         body's scene gives the body's data only",
+                        body.name
+                    ),
+                    "set the scene-wide settings on the BodiesBuilder (new's title, petsc_options, output_dir, \
+                     contact_solver), not on a body's SceneBuilder"
+                        .into(),
+                ));
+            }
+        }
         let scene = Scene {
+            source: PathBuf::from(BUILT_IN_RUST),
             title: Some(self.title.clone()),
             bodies: self.bodies.iter().map(|(b, _)| b.clone()).collect(),
             contact_pairs: self.pairs.clone(),
+            petsc_options: self.petsc_options.clone(),
+            output_dir: self.output_dir.clone(),
+            contact_solver: self.contact_solver,
             ..first.clone()
         };
         scene.validated()
+    }
+}
+
+/// The builder call that wrote line `line` (1-based) of `text`, the scene text [`Scene::to_toml`]
+/// generated for a scene built in Rust, with the key written on that line:
+/// ``SceneBuilder::material (`poisson = 0.6`)``; for a `[[body]]`'s tables, prefixed with
+/// `BodiesBuilder::body("name", ..)`.
+fn builder_call(text: &str, line: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let Some(last) = lines.len().checked_sub(1) else { return "SceneBuilder".into() };
+    let index = line.saturating_sub(1).min(last);
+    let written = lines[index].trim();
+    let key = written.split_once(" = ").map(|(k, _)| k.trim());
+    // The table of the line: the nearest header at or above it, and its lines.
+    let start = (0..=index).rev().find(|&i| lines[i].starts_with('['));
+    let header = start.map_or("", |i| lines[i].trim_matches(|c| c == '[' || c == ']'));
+    let table: Vec<&str> = match start {
+        Some(s) => lines[s + 1..].iter().take_while(|l| !l.starts_with('[')).copied().collect(),
+        None => Vec::new(),
+    };
+    let value = |k: &str| {
+        table.iter().find_map(|l| l.strip_prefix(k).and_then(|r| r.strip_prefix(" = "))).unwrap_or("..").to_string()
+    };
+    let (body, table_name) = match header.strip_prefix("body.") {
+        Some(t) => {
+            // The enclosing [[body]]'s name.
+            let name = start
+                .and_then(|s| (0..s).rev().find(|&i| lines[i] == "[[body]]"))
+                .and_then(|b| lines[b + 1].strip_prefix("name = "))
+                .unwrap_or("..");
+            (Some(name), t)
+        }
+        None => (None, header),
+    };
+    let of_value = |k: &str, choices: &[(&str, &'static str)], otherwise: &'static str| {
+        let v = value(k);
+        choices.iter().find(|(c, _)| v.trim_matches('"') == *c).map_or(otherwise, |(_, call)| call)
+    };
+    let call = match (table_name, key) {
+        ("", _) => "SceneBuilder::title".to_string(),
+        ("mesh", Some("mesher")) => "SceneBuilder::gmsh".into(),
+        ("mesh", Some("refine")) => "SceneBuilder::refine".into(),
+        ("mesh", _) => format!(
+            "SceneBuilder::{}",
+            of_value("shape", &[("rectangle", "rectangle"), ("disc", "disc"), ("half_disc", "half_disc")], "mesh_file")
+        ),
+        ("discretization", Some("element")) => "SceneBuilder::p2p0".into(),
+        ("discretization", Some("formulation")) => "SceneBuilder::formulation".into(),
+        ("discretization", Some("dual_constraints")) => "SceneBuilder::dual_constraints".into(),
+        ("discretization", _) => "SceneBuilder::quadratic".into(),
+        ("material", Some("plane")) => "SceneBuilder::plane_stress".into(),
+        ("material", _) => "SceneBuilder::material".into(),
+        ("loads", _) => "SceneBuilder::body_force".into(),
+        ("traction", _) => {
+            let call = if value("pressure") != ".." { "pressure" } else { "traction" };
+            format!("SceneBuilder::{call}({}, ..)", value("part"))
+        }
+        ("dirichlet", _) => match value("point") {
+            p if p != ".." => format!("SceneBuilder::dirichlet_point({p}, ..)"),
+            _ => format!("SceneBuilder::dirichlet({}, ..)", value("part")),
+        },
+        ("contact", Some("gap")) => "SceneBuilder::gap".into(),
+        ("contact", Some("friction" | "mu" | "threshold")) => {
+            format!("SceneBuilder::{}", of_value("friction", &[("tresca", "tresca")], "coulomb"))
+        }
+        ("contact", Some("solver" | "omega")) => "SceneBuilder::contact_solver".into(),
+        ("contact", Some("tolerance")) => "SceneBuilder::contact_tolerance".into(),
+        ("contact", Some("max_iterations")) => "SceneBuilder::contact_max_iterations".into(),
+        ("contact", _) => format!(
+            "SceneBuilder::{}",
+            of_value("obstacle", &[("circle", "contact_circle"), ("polyline", "contact_polyline")], "contact_line")
+        ),
+        ("solver", _) => "SceneBuilder::petsc_options".into(),
+        ("output", _) => "SceneBuilder::output_dir".into(),
+        ("estimate", _) => "SceneBuilder::estimate".into(),
+        ("body", _) => format!("BodiesBuilder::body({}, ..)", value("name")),
+        ("contact_pair", Some("max_initial_overlap")) => {
+            format!("BodiesBuilder::pair_with_overlap({}, {}, ..)", value("slave"), value("master"))
+        }
+        ("contact_pair", _) => format!("BodiesBuilder::pair({}, {}, ..)", value("slave"), value("master")),
+        (other, _) => format!("[{other}]"),
+    };
+    let call = match body {
+        Some(name) => format!("BodiesBuilder::body({name}, ..), its {call}"),
+        None => call,
+    };
+    match key {
+        Some(_) => format!("{call} (`{written}`)"),
+        None => call,
     }
 }

@@ -60,10 +60,13 @@ use crate::error::{Location, Result};
 pub struct ContactSpec {
     /// The boundary part that may touch the obstacle.
     pub part: String,
+    /// The rigid obstacle.
     pub obstacle: ObstacleSpec,
     /// Added to the geometric distance to the obstacle (m); negative means an initial overlap.
     pub gap: f64,
+    /// The friction law.
     pub friction: FrictionSpec,
+    /// The contact algorithm (the command line's `--contact-solver` replaces it).
     pub solver: ContactSolverSpec,
     /// Relative residual tolerance of the contact solve, in (0, 1); the solver's default if `None`.
     pub tolerance: Option<f64>,
@@ -78,12 +81,25 @@ pub struct ContactSpec {
 pub enum ObstacleSpec {
     /// The half-plane `{(x − point)·normal ≤ 0}`; `normal` is a unit vector pointing from the
     /// obstacle towards the body.
-    Line { point: [f64; 2], normal: [f64; 2] },
+    Line {
+        /// A point of the line (m).
+        point: [f64; 2],
+        /// Unit normal, from the obstacle towards the body.
+        normal: [f64; 2],
+    },
     /// The disc of `radius > 0` around `center`; the body is outside it.
-    Circle { center: [f64; 2], radius: f64 },
+    Circle {
+        /// Centre of the rigid disc (m).
+        center: [f64; 2],
+        /// Its radius (m), > 0.
+        radius: f64,
+    },
     /// At least two points, no two consecutive ones equal, never turning back; the body is on
     /// the left of the direction of travel, the end segments are extended to infinity.
-    Polyline { points: Vec<[f64; 2]> },
+    Polyline {
+        /// The vertices (m), in the direction of travel (the body on the left).
+        points: Vec<[f64; 2]>,
+    },
 }
 
 /// The friction law on the contact part.
@@ -92,9 +108,15 @@ pub enum FrictionSpec {
     /// Frictionless (also Coulomb with `mu = 0`).
     None,
     /// `|σT| ≤ threshold`, a given slip threshold > 0 (N/m²).
-    Tresca { threshold: f64 },
+    Tresca {
+        /// The slip threshold on |σT| (N/m²), > 0.
+        threshold: f64,
+    },
     /// `|σT| ≤ −mu σN`, `mu > 0`.
-    Coulomb { mu: f64 },
+    Coulomb {
+        /// The friction coefficient μ, > 0.
+        mu: f64,
+    },
 }
 
 /// The algorithm for the contact problem (`solver = "..."`).
@@ -107,7 +129,10 @@ pub enum ContactSolverSpec {
     /// SNES, one sparse LU per step, `solver = "newton_full"` (the default).
     FullSpaceNewton,
     /// Projected block Gauss–Seidel / SOR, over-relaxation factor `omega` in (0, 2).
-    Relaxation { omega: f64 },
+    Relaxation {
+        /// The over-relaxation factor ω, in (0, 2) (1 is Gauss–Seidel).
+        omega: f64,
+    },
     /// D-PANA block relaxation (contact and friction alternately).
     DPana,
     /// Uzawa: projected gradient on the contact forces.

@@ -94,7 +94,9 @@ pub const POINT_TOLERANCE: f64 = 1e-8;
 pub struct Scene {
     /// The scene file, or `<default scene>`.
     pub source: PathBuf,
+    /// `title`: a name for the problem, copied to the outputs.
     pub title: Option<String>,
+    /// `[mesh]`: the geometry and how to mesh it.
     pub mesh: MeshSpec,
     /// Order of the triangles and of the Lagrange finite-element space.
     pub order: Order,
@@ -107,6 +109,7 @@ pub struct Scene {
     /// `[estimate]`: also solve the other formulation and estimate the error (see
     /// [`crate::estimate`]).
     pub estimate: bool,
+    /// `[material]`: Young's modulus, Poisson's ratio and the plane model.
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
     pub body_force: [f64; 2],
@@ -146,6 +149,7 @@ pub enum Formulation {
 }
 
 impl Formulation {
+    /// The name written in a scene: `"primal"` or `"dual"`.
     pub fn name(self) -> &'static str {
         match self {
             Formulation::Primal => "primal",
@@ -168,6 +172,7 @@ pub enum DualConstraints {
 }
 
 impl DualConstraints {
+    /// The name written in a scene: `"eliminated"` or `"multipliers"`.
     pub fn name(self) -> &'static str {
         match self {
             DualConstraints::Eliminated => "eliminated",
@@ -177,15 +182,18 @@ impl DualConstraints {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
+/// A homogeneous, isotropic, linear elastic material (`[material]`).
 pub struct MaterialSpec {
     /// Young's modulus E (Pa), finite and > 0.
     pub young: f64,
     /// Poisson's ratio ν, in (-1, 0.5).
     pub poisson: f64,
+    /// Plane strain or plane stress.
     pub plane: PlaneSpec,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The plane model of the 2D problem (`[material] plane`).
 pub enum PlaneSpec {
     /// εzz = 0: a long body loaded uniformly along z.
     Strain,
@@ -196,8 +204,11 @@ pub enum PlaneSpec {
 /// Prescribed displacement components on a boundary part or at a node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirichletSpec {
+    /// The boundary part or the node whose displacement is prescribed.
     pub target: DirichletTarget,
+    /// Prescribed x displacement (m); `None` leaves it free.
     pub ux: Option<f64>,
+    /// Prescribed y displacement (m); `None` leaves it free.
     pub uy: Option<f64>,
     /// Where `part = ...` or `point = ...` is written, for errors found later (unknown part, no
     /// node at the point).
@@ -313,13 +324,16 @@ fn boundary_group(mesh: &Mesh, part: &str, at: &Location) -> Result<usize> {
 /// A surface load on a boundary part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TractionSpec {
+    /// The boundary part loaded.
     pub part: String,
+    /// The traction or pressure on it.
     pub load: Load,
     /// Where `part = ...` is written, for errors found later (unknown part).
     pub at: Location,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
+/// A surface load (`traction` or `pressure` of a `[[traction]]` table).
 pub enum Load {
     /// σ n = t, a force per unit area in global x and y (N/m²).
     Traction([f64; 2]),

@@ -33,6 +33,7 @@ pub const DEFAULT_OVERLAP_FRACTION: f64 = 1e-6;
 pub struct BodiesModel {
     /// [`Scene::bodies`].
     pub bodies: Vec<BodySpec>,
+    /// The scene's `[[contact_pair]]` tables.
     pub contact_pairs: Vec<ContactPairSpec>,
     /// Each body's mesh in the common coordinates, with its own part names.
     pub body_meshes: Vec<Mesh>,

@@ -76,10 +76,15 @@ const SYMMETRY_TOLERANCE: f64 = 1e-10;
 /// `indices[indptr[i]..indptr[i + 1]]` (any order, no duplicates) and their `values`.
 #[derive(Debug, Clone, Copy)]
 pub struct CsrMatrix<'a> {
+    /// Number of rows.
     pub num_rows: usize,
+    /// Number of columns.
     pub num_cols: usize,
+    /// Start of each row in `indices` (length `num_rows + 1`).
     pub indptr: &'a [usize],
+    /// Column index of each stored entry.
     pub indices: &'a [usize],
+    /// Value of each stored entry.
     pub values: &'a [f64],
 }
 

@@ -3,6 +3,7 @@
 #[path = "../common/edit.rs"]
 mod edit;
 
+mod builder;
 mod contact;
 mod element_and_formulation;
 mod examples;

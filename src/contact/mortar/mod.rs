@@ -295,12 +295,15 @@ impl MortarSide {
         self
     }
 
+    /// The side's name (`body.part`).
     pub fn name(&self) -> &str {
         &self.name
     }
+    /// The order of its edges.
     pub fn order(&self) -> Order {
         self.order
     }
+    /// Its edges, each as its node indices.
     pub fn edges(&self) -> &[Vec<usize>] {
         &self.edges
     }
@@ -377,6 +380,7 @@ pub struct MortarOptions {
     /// Master points farther than this along the slave normal (`|g| >`) are not paired
     /// (default: infinite, every facing master edge is a candidate, the nearest is paired).
     pub max_distance: f64,
+    /// What to do with slave nodes the master side does not face.
     pub uncovered: UncoveredNodes,
 }
 
@@ -389,14 +393,18 @@ impl Default for MortarOptions {
 /// A slave node whose normal line misses the master side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct UncoveredNode {
+    /// The slave node.
     pub node: usize,
+    /// Its coordinates.
     pub position: [f64; 2],
+    /// Its normal, along which no master edge was found.
     pub normal: [f64; 2],
 }
 
 /// A contact node whose `ψ` support is only partly faced by the master side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PartlyCovered {
+    /// The contact node.
     pub node: usize,
     /// `∫_covered ψ_i ds / ∫ φ_i ds`, the fraction of its weight the master side faces (its
     /// weight `D_i` is the covered one, so that `Σ_j M_ij / D_i = 1` all the same).
