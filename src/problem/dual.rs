@@ -50,6 +50,10 @@ pub struct DualReport {
     /// boundary conditions and the affine kernel are eliminated.
     pub hct_dofs: usize,
     pub unknowns: usize,
+    /// The HCT dofs set by the boundary conditions: by the known tractions, by the contact
+    /// forces on the contact part, and the three of the anchor node (φ = φ,x = φ,y = 0); the
+    /// others are free unknowns. The `fixed_dofs` of a dual-only run's report.
+    pub fixed_hct_dofs: usize,
     /// How the boundary constraints were imposed: "eliminated" (the unknowns above) or
     /// "multipliers" (a saddle point of `saddle_point_size` unknowns).
     pub constraints: &'static str,
@@ -210,6 +214,7 @@ impl<'s> ElasticityProblem<'s> {
         let report = DualReport {
             hct_dofs: system.dofs.len(),
             unknowns: system.num_unknowns(),
+            fixed_hct_dofs: system.dofs.len() - system.affine.num_masters,
             constraints: constraints.name(),
             saddle_point_size: (constraints == DualConstraints::Multipliers).then(|| system.saddle_point_size()),
             anchor_node: system.affine.anchor,
@@ -262,7 +267,11 @@ impl<'s> ElasticityProblem<'s> {
                                  dual solutions would not be of the same problem",
                                 p[0], p[1], r[0], r[1]
                             ),
-                            hint: "distribute the support over a boundary part (a [[dirichlet]] with part = ...)".into(),
+                            hint: "distribute the support over a boundary part (a [[dirichlet]] with part = ...), or drop it \
+                                   if the other supports hold the body; examples/scenes/square_block_tresca.toml is \
+                                   the default scene's square block so changed (no corner point, Tresca friction) and \
+                                   runs with the estimate"
+                                .into(),
                         });
                     }
                 }

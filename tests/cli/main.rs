@@ -3,6 +3,7 @@
 //! Python meshio, the independent reader (installed by ./setup.sh).
 
 mod bench;
+mod dual_outputs;
 mod errors;
 mod examples;
 mod formulations;
