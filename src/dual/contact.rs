@@ -374,8 +374,13 @@ impl CondensedDual<'_> {
         let nz = system.affine.num_masters;
         let local = system.local.as_ref().filter(|_| self.local);
         // The contact unknowns of the matrix: the forces, or their deviations ξ = B⁻¹ r.
+        // In the local parametrisation, ξ balanced so that the field's own closure holds.
         let unknowns = match local {
-            Some(l) => l.deviations(&solution.force),
+            Some(l) => {
+                let mut xi = l.deviations(&solution.force);
+                l.balance(&mut xi);
+                xi
+            }
             None => solution.force.clone(),
         };
         let mut reduced = match &mut self.interior {

@@ -647,3 +647,56 @@ pressure = {p:e}
         Ok(_) => Err("a point support carrying the load was accepted".into()),
     }
 }
+
+/// The dual keeps its digits as meshes grow and on graded meshes (issue 23, item 3c): the
+/// frictionless contact patch, uniformly refined to 1.05e5 unknowns (h = 0.0115 in a block of
+/// size 2; local parametrisation) and to h = 0.03, and graded by a Gmsh zone refined to
+/// h = 0.002 at the middle of the contact face (cells 0.2 elsewhere, a ratio of 100), the last
+/// two on both Schur routes.
+///
+/// - Admissibility: the check (tractions, interior equilibrium, stress jumps, relative to the
+///   stress) at most 1e-9; the run refuses above 1e-8. Before: the forces' equilibrium (to
+///   1e-12) left its residual on the edge where the boundary integration closes, amplified by
+///   (L/h)² (traction residual 5e-8 at h = 0.03, refused; 1e-6 at 1.05e5 unknowns with the
+///   forces as unknowns), and the stresses were evaluated from dofs of size σL² (equilibrium
+///   and jumps 5e-10 at 1.05e5, 2.3e-8 on the graded mesh, refused). Measured now: 1.2e-10 at
+///   1.05e5 (the closing edge's traction, forces as unknowns), 1.6e-12 on the graded mesh.
+/// - Exactness against the closed form (σyy = −p, σxx = −νp/(1−ν)): limited by the condition
+///   of the HCT system (a fourth-order operator, κ ~ (L/h)⁴) and of the flexibility W taken from
+///   its factor, not by the checks: measured 1.4e-5 p (local parametrisation) and 4.0e-5 p
+///   (forces as unknowns) at 1.05e5 unknowns, 2.0e-7 p and 3.9e-6 p on the graded mesh
+///   (1e-8 at h = 0.05, 8e-7 at h = 0.02 uniformly). Asserted: 1e-4 p refined, 1e-5 p graded.
+pub fn dual_contact_patch_refined_and_graded_keeps_its_digits(s: &signorini::petsc::Session) -> Result<(), String> {
+    let (p, nu) = (1e6, 0.2);
+    let lateral = nu * p / (1.0 - nu);
+    let (text, path) = example("contact_patch.toml");
+    let refined = set_line(&text, "cell_size", "cell_size = 0.0115");
+    let medium = set_line(&text, "cell_size", "cell_size = 0.03");
+    let graded = set_line(
+        &text,
+        "cell_size",
+        "cell_size = 0.2\nrefine = { point = [1.0, 0.0], cell_size = 0.002, radius = 0.05 }",
+    );
+    // The 1.05e5 unknowns on the default route only (5 s); h = 0.03 (1.6e4 unknowns, traction
+    // residual 5e-8 before) and the graded mesh on both.
+    let cases = [
+        ("refined", refined, 100_000, 1e-4, &["true"][..]),
+        ("medium", medium, 15_000, 1e-5, &["true", "false"][..]),
+        ("graded", graded, 5_000, 1e-5, &["true", "false"][..]),
+    ];
+    for (name, text, least, exact, routes) in cases {
+        for &local in routes {
+            s.set_option("-dual_contact_local", Some(local)).map_err(|e| e.to_string())?;
+            let solved = solve_dual(s, &text, &path, false);
+            s.clear_option("-dual_contact_local").map_err(|e| e.to_string())?;
+            let pr = solved.map_err(|e| format!("{name}, local {local}: {e}"))?;
+            let d = pr.dual.as_ref().unwrap();
+            ensure(d.report.unknowns >= least, || format!("{name}: {} unknowns", d.report.unknowns))?;
+            let check = &d.report.check;
+            ensure(check.worst() <= 1e-9, || format!("{name}, local {local}: check {check:?}"))?;
+            let err = stress_error(&pr, [-lateral, -p, 0.0]);
+            ensure(err < exact, || format!("{name}, local {local}: stress error {err:e}"))?;
+        }
+    }
+    Ok(())
+}
