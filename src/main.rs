@@ -231,11 +231,26 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
         problem.solve()?;
         problem.postprocess()?;
     }
+    // With --estimate the primal solution stands on its own: when the dual formulation cannot
+    // take the scene (a point support that carries a force, a hole, ...) the primal results are
+    // written all the same, and the run then fails with the dual's reason.
+    let mut refused = None;
     if dual || estimate {
-        problem.solve_dual()?;
-    }
-    if estimate {
-        problem.estimate()?;
+        let outcome = problem.solve_dual().and_then(|()| if estimate { problem.estimate() } else { Ok(()) });
+        match outcome {
+            Err(Error::Formulation { message, hint }) if !dual && problem.results.is_some() => {
+                problem.dual = None;
+                problem.estimate = None;
+                refused = Some(Error::Formulation {
+                    message: format!("--estimate: {message}"),
+                    hint: format!(
+                        "{hint}; the primal results were written to {} (without the estimate)",
+                        out.display()
+                    ),
+                });
+            }
+            other => other?,
+        }
     }
     let (report, written) = problem.write_output(&out)?;
     drop(problem); // clears the spinner
@@ -248,7 +263,14 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
             eprintln!("{line}");
         }
     }
-    Ok(())
+    match refused {
+        Some(e) => {
+            // Results were written: the failure note must not say otherwise.
+            *REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()) = None;
+            Err(e)
+        }
+        None => Ok(()),
+    }
 }
 
 /// `signorini export SCENE [--out FILE] [--solve]`: the condensed contact problem in the FCLIB

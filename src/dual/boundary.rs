@@ -206,7 +206,9 @@ pub fn eliminate(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<
 /// The elimination with the local parametrisation of the contact part
 /// ([`super::local_contact`]): the contact edges' own dofs are their deviations `ξ` from the
 /// run's affine base, the forces local functions of `ξ` (one [`EdgeForceMap`] per contact edge,
-/// in walk order). `contact_equilibrium` is left empty (that of [`eliminate`] holds).
+/// in walk order). Its `contact_equilibrium` holds the same conditions as that of
+/// [`eliminate`], on the deviations `ξ` instead of the forces: the closure of the boundary
+/// integration as the field computes it ([`super::local_contact::LocalContact::balance`]).
 pub fn eliminate_local(mesh: &Mesh, dofs: &HctDofs, edges: &[BoundaryEdge]) -> Result<(AffineDofs, Vec<EdgeForceMap>)> {
     eliminate_with(mesh, dofs, edges, true)
 }
@@ -560,9 +562,6 @@ fn eliminate_with(
             }
             role[d] = DofRole::Slave(reduced, constant);
         }
-    }
-    if local {
-        contact_equilibrium.clear();
     }
     let affine = AffineDofs { role, num_masters, num_contact, anchor: dofs.vertex_nodes[anchor], contact_equilibrium };
     Ok((affine, force_maps))

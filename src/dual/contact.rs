@@ -242,7 +242,9 @@ pub fn condense<'s>(
             b.set_owned(&glued)?;
             let mut x = matrix.create_vector()?;
             factor.solve_interior(&b, &mut x)?;
-            let condensed_load = x.gather_all()?[nz..].to_vec();
+            // The solve returns s ℓ (`SchurFactor::solve_interior`).
+            let pass_through = factor.pass_through();
+            let condensed_load = x.gather_all()?[nz..].iter().map(|v| v / pass_through).collect();
             (Delassus::Dense(w), condensed_load, Interior::Schur(factor))
         }
         (Condensation::Columns, Storage::Dense) => {
@@ -377,20 +379,28 @@ impl CondensedDual<'_> {
             ));
         }
         // z = A_zz⁻¹ (b_z − A_zr r), never through W⁻¹: with the Schur factor one interior solve
-        // (forces r − ℓ on the contact rows: see `SchurFactor::solve_interior`), with the
+        // (r / s − ℓ on the contact rows: see `SchurFactor::solve_interior`), with the
         // three-step condensation one solve with A_zz.
         let nz = system.affine.num_masters;
         let local = system.local.as_ref().filter(|_| self.local);
         // The contact unknowns of the matrix: the forces, or their deviations ξ = B⁻¹ r.
+        // In the local parametrisation, ξ balanced so that the field's own closure holds.
         let unknowns = match local {
-            Some(l) => l.deviations(&solution.force),
+            Some(l) => {
+                let mut xi = l.deviations(&solution.force);
+                l.balance(&mut xi);
+                xi
+            }
             None => solution.force.clone(),
         };
         let mut reduced = match &mut self.interior {
             Interior::Schur(factor) => {
+                // y = s (b_c + ℓ) = r for b_c = r / s − ℓ: in the unit of the contact rows, so
+                // that the rounding of the sum is relative to the loads, whatever E.
+                let pass_through = factor.pass_through();
                 let mut rhs = self.rhs.clone();
                 for (k, (r, l)) in unknowns.iter().zip(&self.condensed_load).enumerate() {
-                    rhs[nz + k] = r - l;
+                    rhs[nz + k] = r / pass_through - l;
                 }
                 let mut b = self.matrix.create_vector()?;
                 b.set_owned(&rhs)?;
@@ -404,7 +414,7 @@ impl CondensedDual<'_> {
                 z
             }
         };
-        // The contact forces are the solver's exactly (the Schur solve returns them to ε |ℓ|).
+        // The contact forces are the solver's exactly (the Schur solve returns them to ε max(|r|, s |ℓ|)).
         reduced[nz..].copy_from_slice(&unknowns);
         // Independent displacement: the contact rows of A x − b, plus the rigid part.
         let mut full = self.matrix.create_vector()?;

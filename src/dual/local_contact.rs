@@ -108,6 +108,58 @@ impl LocalContact {
         self.affine.num_contact == 0
     }
 
+    /// Correct the deviations `ξ` by the least change that makes them meet the closure
+    /// conditions of the boundary integration in this parametrisation exactly (to round-off):
+    /// `ξ ← ξ − Cᵀ (C Cᵀ)⁻¹ (C ξ − c)`, `C ξ = c` the rows of `affine.contact_equilibrium`.
+    /// Returns the largest relative closure residual before and after (relative to
+    /// `|c_i| + Σ_j |C_ij ξ_j|`).
+    ///
+    /// Why: the forces balance the loads (`E r = e`, [`super::equilibrium`]), but `ξ = B⁻¹ r`
+    /// is a substitution along the whole contact run, whose round-off the field's closure meets
+    /// on the one edge where the boundary integration closes, as a traction error of the moment
+    /// residual over `h²`: 4.8e-9 of the pressure on the contact patch at 1.05e5 unknowns
+    /// (h = 0.0115, a moment residual of 3e-14), growing as the mesh is refined. The correction
+    /// is of that round-off's size.
+    pub fn balance(&self, xi: &mut [f64]) -> (f64, f64) {
+        let rows = &self.affine.contact_equilibrium;
+        let relative = |xi: &[f64]| {
+            let (mut worst, mut scale) = (0.0f64, 0.0f64);
+            for (terms, c) in rows {
+                let value: f64 = terms.iter().map(|&(j, a)| a * xi[j]).sum::<f64>() - c;
+                scale = scale.max(c.abs() + terms.iter().map(|&(j, a)| (a * xi[j]).abs()).sum::<f64>());
+                worst = worst.max(value.abs());
+            }
+            worst / scale.max(f64::MIN_POSITIVE)
+        };
+        let before = relative(xi);
+        let k = rows.len();
+        if k == 0 {
+            return (before, before);
+        }
+        let mut columns: Vec<usize> = rows.iter().flat_map(|(terms, _)| terms.iter().map(|t| t.0)).collect();
+        columns.sort_unstable();
+        columns.dedup();
+        let c = nalgebra::DMatrix::from_fn(k, columns.len(), |i, a| {
+            rows[i].0.iter().filter(|t| t.0 == columns[a]).map(|t| t.1).sum::<f64>()
+        });
+        let residual = nalgebra::DVector::from_iterator(
+            k,
+            rows.iter().map(|(terms, c)| terms.iter().map(|&(j, a)| a * xi[j]).sum::<f64>() - c),
+        );
+        let Some(cholesky) = (&c * c.transpose()).cholesky() else { return (before, before) };
+        let correction = c.transpose() * cholesky.solve(&residual);
+        let mut corrected = xi.to_vec();
+        for (a, &j) in columns.iter().enumerate() {
+            corrected[j] -= correction[a];
+        }
+        let after = relative(&corrected);
+        if after < before {
+            xi.copy_from_slice(&corrected);
+            return (before, after);
+        }
+        (before, before)
+    }
+
     /// `r = B ξ`.
     pub fn forces(&self, xi: &[f64]) -> Vec<f64> {
         let mut r = vec![0.0; self.len()];

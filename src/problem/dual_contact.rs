@@ -331,6 +331,47 @@ fn forces_from_field(system: &DualSystem, field: &crate::dual::DualField, points
     out
 }
 
+/// The arc length of every contact point along the contact part: points follow the boundary
+/// loop, an edge's two ends share the arc length of their nodes (a chain that is not connected
+/// to the previous one starts at the previous one's end).
+fn arc_lengths(points: &[DualContactPoint]) -> Vec<f64> {
+    let mut s = vec![0.0; points.len()];
+    for i in 1..points.len() {
+        let (a, b) = (points[i - 1].position, points[i].position);
+        let connected = points[i - 1].node == points[i].node || points[i].end == 1;
+        s[i] = s[i - 1] + if connected { (b[0] - a[0]).hypot(b[1] - a[1]) } else { 0.0 };
+    }
+    s
+}
+
+/// The dual contact answer point by point along the contact part, for `contact.csv` and
+/// `contact.svg`: two points per contact edge (its ends, where the linear traction is
+/// discontinuous across a node), pressure `−rN / w`, tangential traction `rT / w`, and the
+/// dual contact displacement (the multiplier of the force constraints: a weighted mean of the
+/// displacement near the edge end) with the gap `g̃ − uN` it closes.
+pub(crate) fn dual_contact_curve(outcome: &DualContactOutcome) -> Vec<super::ContactCurvePoint> {
+    let s = arc_lengths(&outcome.points);
+    outcome
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let (rn, rt) = (outcome.force[2 * i], outcome.force[2 * i + 1]);
+            let (un, ut) = (outcome.displacement[2 * i], outcome.displacement[2 * i + 1]);
+            super::ContactCurvePoint {
+                s: s[i],
+                position: p.position,
+                pressure: -rn / p.weight + 0.0, // never -0
+                tangential_traction: rt / p.weight + 0.0,
+                gap: p.gap - un,
+                normal_displacement: un,
+                tangential_slip: ut,
+                status: outcome.status[i],
+            }
+        })
+        .collect()
+}
+
 /// The peak pressure (−rN / w) and the closed zones along the contact part: points follow
 /// the boundary loop, an edge's two ends share the arc length of their nodes.
 fn peak_and_zones(
@@ -338,12 +379,7 @@ fn peak_and_zones(
     force: &[f64],
     status: &[PointStatus],
 ) -> (Option<PeakPressure>, Vec<ClosedZone>) {
-    let mut s = vec![0.0; points.len()];
-    for i in 1..points.len() {
-        let (a, b) = (points[i - 1].position, points[i].position);
-        let connected = points[i - 1].node == points[i].node || points[i].end == 1;
-        s[i] = s[i - 1] + if connected { (b[0] - a[0]).hypot(b[1] - a[1]) } else { 0.0 };
-    }
+    let s = arc_lengths(points);
     let mut peak: Option<PeakPressure> = None;
     for (i, p) in points.iter().enumerate() {
         let pressure = -force[2 * i] / p.weight;

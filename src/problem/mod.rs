@@ -78,9 +78,11 @@ pub struct Report {
     pub elements: usize,
     /// Boundary edges of the mesh.
     pub boundary_edges: usize,
-    /// Unknowns of the solve: 2 per node (primal), or the dual's unknowns for a dual-only run.
+    /// The primal dofs (2 per node) and those fixed by the supports; in a dual-only run the HCT
+    /// dofs (3 per vertex, 1 per edge) and those set by the boundary conditions (the known
+    /// tractions, the contact forces and the anchor: `dual.fixed_hct_dofs`).
     pub dofs: usize,
-    /// Displacement dofs fixed by Dirichlet conditions.
+    /// The dofs fixed (see `dofs`).
     pub fixed_dofs: usize,
     /// MPI processes of the run.
     pub mpi_ranks: usize,
@@ -634,8 +636,13 @@ impl<'s> ElasticityProblem<'s> {
             nodes: self.mesh.num_nodes(),
             elements: self.mesh.num_cells(),
             boundary_edges: self.mesh.num_edges(),
-            dofs: if dual_only { self.dual.as_ref().map_or(0, |d| d.report.unknowns) } else { self.num_dofs() },
-            fixed_dofs: self.constraints.num_fixed(),
+            // A dual-only run counts the HCT dofs, and those the boundary conditions set.
+            dofs: if dual_only { self.dual.as_ref().map_or(0, |d| d.report.hct_dofs) } else { self.num_dofs() },
+            fixed_dofs: if dual_only {
+                self.dual.as_ref().map_or(0, |d| d.report.fixed_hct_dofs)
+            } else {
+                self.constraints.num_fixed()
+            },
             mpi_ranks: self.session.size(),
             timings: self.timings.clone(),
             mesh_cache: self.mesh_cache.clone(),

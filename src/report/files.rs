@@ -133,15 +133,21 @@ impl ElasticityProblem<'_> {
         Some(super::contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
     }
 
-    /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`.
+    /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`: the
+    /// primal's contact answer, or the dual's in a run of the dual formulation alone.
     fn write_contact_files(&self, dir: &Path, written: &mut Vec<PathBuf>) -> Result<()> {
-        let (Some(points), Some(outcome)) = (self.contact_curve(), &self.contact_outcome) else {
-            return Ok(());
+        let (points, r) = match (self.contact_curve(), &self.contact_outcome) {
+            (Some(points), Some(outcome)) => (points, &outcome.report),
+            _ => match self.dual.as_ref().and_then(|d| d.contact.as_ref()) {
+                Some(outcome) if self.displacement.is_none() => {
+                    (crate::problem::dual_contact::dual_contact_curve(outcome), &outcome.report)
+                }
+                _ => return Ok(()),
+            },
         };
         let path = dir.join("contact.csv");
         super::contact_curve::write_contact_csv(&path, &points)?;
         written.push(path);
-        let r = &outcome.report;
         // The picture shows the closed zones and a quarter of their span on either side (the
         // whole part when it is mostly closed, or open everywhere); the CSV has every point.
         let (first, last) = (points.first().map_or(0.0, |p| p.s), points.last().map_or(0.0, |p| p.s));

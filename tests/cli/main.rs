@@ -5,6 +5,7 @@
 mod edit;
 
 mod bench;
+mod dual_outputs;
 mod errors;
 mod examples;
 mod formulations;

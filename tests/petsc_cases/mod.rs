@@ -57,6 +57,12 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_contact_patch_tests_exact", dual_contact::dual_contact_patch_tests_exact),
     ("dual_contact_patch_on_a_wall", dual_contact::dual_contact_patch_on_a_wall),
     ("dual_contact_local_fallback_agrees", dual_contact::dual_contact_local_fallback_agrees),
+    ("dual_contact_independent_of_young_modulus", dual_contact::dual_contact_independent_of_young_modulus),
+    ("estimate_accepts_round_off_point_reactions", dual_contact::estimate_accepts_round_off_point_reactions),
+    (
+        "dual_contact_patch_refined_and_graded_keeps_its_digits",
+        dual_contact::dual_contact_patch_refined_and_graded_keeps_its_digits,
+    ),
     ("dual_contact_sliding_has_no_static_solution", dual_contact::dual_contact_sliding_has_no_static_solution),
     ("dual_square_block_raous", dual_contact::dual_square_block_raous),
     ("dual_contact_condensations_agree", dual_contact::dual_contact_condensations_agree),
