@@ -64,9 +64,11 @@ pub struct BodyReport {
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct ContactPartReport {
     pub name: String,
-    pub friction: String,
+    pub friction: super::contact_report::FrictionReport,
     pub points: usize,
     pub open: usize,
+    /// Closed points (stick + slip under friction; `stick` and `slip` are 0 without).
+    pub closed: usize,
     pub stick: usize,
     pub slip: usize,
     /// The force the part's contact exerts on its slave body (N/m).
@@ -236,7 +238,8 @@ fn part_reports(
         let gap: Vec<f64> = points.iter().map(|&i| b.gap[i]).collect();
         let threshold = |k: usize, rn: f64| law.threshold(points[k], rn);
         let residuals = contact::evaluate_residuals(&r, &d, &gap, &threshold, scale);
-        let count = |s: PointStatus| points.iter().filter(|&&i| status[i] == s).count();
+        let frictional = part.friction != crate::scene::FrictionSpec::None;
+        let counts = super::contact_report::StateCounts::of(points.iter().map(|&i| (status[i], frictional)));
         let s = slave_force[p];
         let (master_resultant, action_reaction_residual) = match part.master {
             Some(_) => {
@@ -249,11 +252,12 @@ fn part_reports(
         };
         out.push(ContactPartReport {
             name: part.name.clone(),
-            friction: super::bodies::friction_text(part.friction),
+            friction: part.friction.into(),
             points: points.len(),
-            open: count(PointStatus::Open),
-            stick: count(PointStatus::Stick),
-            slip: count(PointStatus::Slip),
+            open: counts.open,
+            closed: counts.closed,
+            stick: counts.stick,
+            slip: counts.slip,
             slave_resultant: s,
             master_resultant,
             action_reaction_residual,

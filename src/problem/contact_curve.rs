@@ -5,6 +5,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
+use super::contact_report::ContactState;
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::PointStatus;
 use crate::error::Result;
@@ -33,17 +34,20 @@ pub struct ContactCurvePoint {
     /// Tangential displacement `uT = t·u` against the (fixed) obstacle: the slip of a
     /// slipping point.
     pub tangential_slip: f64,
-    pub status: PointStatus,
+    /// Open, stick or slip; closed without friction.
+    pub status: ContactState,
 }
 
 /// The points of the contact part in order of arc length. `force` holds `(rN, rT)` per point
-/// and `u` the whole displacement vector.
+/// and `u` the whole displacement vector; `frictional[i]`: has point `i` friction (else a closed
+/// point is `closed`, not stick or slip).
 pub fn contact_curve(
     mesh: &Mesh,
     b: &ContactBoundary,
     force: &[f64],
     status: &[PointStatus],
     u: &[f64],
+    frictional: &[bool],
 ) -> Vec<ContactCurvePoint> {
     let (pressure, traction) = b.tractions(force);
     let bu = b.gather(u);
@@ -58,18 +62,9 @@ pub fn contact_curve(
             gap: b.gap[i] - bu[2 * i],
             normal_displacement: bu[2 * i],
             tangential_slip: bu[2 * i + 1],
-            status: status[i],
+            status: ContactState::of(status[i], frictional[i]),
         })
         .collect()
-}
-
-/// The name of a status in `contact.csv`.
-pub fn status_name(status: PointStatus) -> &'static str {
-    match status {
-        PointStatus::Open => "open",
-        PointStatus::Stick => "stick",
-        PointStatus::Slip => "slip",
-    }
 }
 
 /// Write `contact.csv` (comma-separated, a header line, full precision), atomically.
@@ -91,7 +86,7 @@ fn write_rows(w: &mut dyn Write, points: &[ContactCurvePoint]) -> io::Result<()>
             p.gap,
             p.normal_displacement,
             p.tangential_slip,
-            status_name(p.status)
+            p.status.name()
         )?;
     }
     Ok(())

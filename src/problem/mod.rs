@@ -41,6 +41,7 @@ mod dual;
 mod dual_contact;
 mod floating_elimination;
 mod full_space;
+mod option_warnings;
 mod output_files;
 mod postprocess;
 mod progress;
@@ -48,7 +49,8 @@ mod warnings;
 pub use bodies::{ContactPart, ContactParts, MasterSide};
 pub use bodies_report::{BodiesReport, BodyReport, ContactPartReport};
 pub use contact::{ContactOutcome, ContactReport, ContactResidualsReport, ContactSetup};
-pub use contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
+pub use contact_curve::{contact_curve, ContactCurvePoint, CONTACT_CSV_HEADER};
+pub use contact_report::{ContactState, FrictionReport};
 pub use contact_zones::{ClosedZone, PeakPressure};
 pub use dual::{DualOutcome, DualReport, EstimateReport};
 pub use full_space::{dof_ranges, MixedLayout};
@@ -464,7 +466,7 @@ impl<'s> ElasticityProblem<'s> {
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
         if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == ContactSolverSpec::SnesVi) {
-            let (u, outcome) = contact.solve_vi(self.session, &self.mesh, matrix, rhs)?;
+            let (u, outcome) = contact.solve_vi(self.session, matrix, rhs)?;
             self.stats = Some(crate::petsc::SolveStats {
                 ksp_type: "snes vinewtonrsls".into(),
                 pc_type: "lu".into(),
@@ -478,8 +480,7 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {
-            let (u, outcome, stats) =
-                contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &*self.progress)?;
+            let (u, outcome, stats) = contact.solve(self.session, matrix, rhs, &mut ksp, &*self.progress)?;
             self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
             self.check_contact_equilibrium(&outcome)?;
             self.displacement = Some(u);
@@ -585,6 +586,14 @@ impl<'s> ElasticityProblem<'s> {
         };
         let peak = resources::peak_memory_bytes();
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
+        let unused_options = self.session.unused_options()?;
+        let route = option_warnings::OptionRoute {
+            contact_solver: self.contact.as_ref().map(|c| c.spec.solver.scene_name()),
+            primal: self.displacement.is_some(),
+            dual: self.dual.is_some(),
+        };
+        let mut warnings = self.warnings.clone();
+        warnings.extend(option_warnings::unused_option_warnings(&unused_options, route));
         let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
         Ok(Report {
             bodies: self.bodies_report.clone(),
@@ -605,11 +614,7 @@ impl<'s> ElasticityProblem<'s> {
             mpi_ranks: self.session.size(),
             timings: self.timings.clone(),
             mesh_cache: self.mesh_cache.clone(),
-            solver: SolverReport {
-                stats,
-                scene_options: self.scene_options.clone(),
-                unused_options: self.session.unused_options()?,
-            },
+            solver: SolverReport { stats, scene_options: self.scene_options.clone(), unused_options },
             memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
             results,
             parts,
@@ -625,7 +630,7 @@ impl<'s> ElasticityProblem<'s> {
                 e.run_seconds = self.timings.total();
                 e
             }),
-            warnings: self.warnings.clone(),
+            warnings,
         })
     }
 }
