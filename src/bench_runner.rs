@@ -413,3 +413,37 @@ pub fn bench_startup(runs: usize, skip_half_disc: bool, out: Option<PathBuf>) ->
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::select_cases;
+
+    fn cases() -> Vec<(usize, usize, String)> {
+        let names = ["newton_full", "newton", "relaxation", "MUMPS Cholesky (default)", "CG + ICC(0)", "CG + ICC(2)"];
+        [1_000, 10_000]
+            .iter()
+            .flat_map(|&d| names.iter().enumerate().map(move |(k, n)| (d, k, n.to_string())))
+            .collect()
+    }
+
+    fn chosen(solvers: &[&str]) -> Result<Vec<String>, String> {
+        let solvers: Vec<String> = solvers.iter().map(|s| s.to_string()).collect();
+        let picked = select_cases(cases(), Some(&solvers))?;
+        Ok(picked.into_iter().filter(|c| c.0 == 1_000).map(|c| c.2).collect())
+    }
+
+    #[test]
+    fn solvers_are_chosen_by_name_or_part_of_it() {
+        assert_eq!(select_cases(cases(), None).unwrap().len(), 12);
+        // An exact name (any case) selects that solver alone, though others contain it.
+        assert_eq!(chosen(&["NEWTON"]).unwrap(), ["newton"]);
+        assert_eq!(chosen(&["newton_full", "relaxation"]).unwrap(), ["newton_full", "relaxation"]);
+        // Else a part of names selects all of them.
+        assert_eq!(chosen(&["icc"]).unwrap(), ["CG + ICC(0)", "CG + ICC(2)"]);
+        assert_eq!(chosen(&["mumps"]).unwrap(), ["MUMPS Cholesky (default)"]);
+        assert_eq!(select_cases(cases(), Some(&["icc".to_string()])).unwrap().len(), 4, "every size");
+        let e = chosen(&["mumps", "amg"]).unwrap_err();
+        assert!(e.contains("--solvers amg") && e.contains("CG + ICC(2)"), "{e}");
+        assert!(chosen(&[""]).is_err());
+    }
+}

@@ -46,9 +46,9 @@ fn step_row(s: &adapt::AdaptStep) -> String {
     )
 }
 
-/// The header of the study table and one row per level.
+/// The header of the study table (its row: in `study_command`).
 const LEVEL_HEADER: &str =
-    "  level  h (m)      elements  ‖Δu‖ (m)    ‖Δσ‖        true (%)  estimate (%)  effectivity  time (s)";
+    "  level  h (m)     elements  ‖Δu‖ref    ‖Δσ‖ref    true (%)  estimate (%)  effectivity  time (s)";
 
 /// `adapt SCENE --target PERCENT`: exit status 0 when the loop ran (reached or not: a target
 /// not reached is a warning line, and `status` in adapt.json), 1 on an error.

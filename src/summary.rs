@@ -362,6 +362,46 @@ mod tests {
     }
 
     #[test]
+    fn a_megabyte_word_is_cut_into_full_lines_once() {
+        let mut l = Lines::default();
+        let word = "é".repeat(1 << 20); // two bytes per character: cuts fall on characters
+        l.add("run", &format!("a {word} b"));
+        let room = WIDTH - INDENT;
+        // "a" alone (the word does not fit after it), then full lines of the word, then its
+        // rest with " b".
+        assert_eq!(l.0.len(), 1 + (1 << 20) / room + 1, "{}", l.0.len());
+        assert_eq!(l.0[0], "run       a");
+        assert!(l.0[1..l.0.len() - 1].iter().all(|s| s.chars().count() == WIDTH));
+        assert!(l.0.last().unwrap().ends_with(" b"));
+        let joined: String = l.0.iter().map(|s| s.chars().skip(INDENT).collect::<String>()).collect();
+        assert_eq!(joined.matches('é').count(), 1 << 20);
+    }
+
+    #[test]
+    fn titles_are_shortened_with_an_ellipsis() {
+        assert_eq!(shortened("short", 10), "short");
+        assert_eq!(shortened("exactly 10", 10), "exactly 10");
+        assert_eq!(shortened("eleven char", 10), "eleven ch…");
+        assert_eq!(shortened("ééééééééééé", 10).chars().count(), 10);
+        let line = program_and_scene(Some(&"x".repeat(1 << 20)), "s.toml");
+        assert!(line.chars().count() < TITLE_CHARS + 50 && line.contains("x…"), "{line}");
+    }
+
+    #[test]
+    fn round_off_prints_as_zero() {
+        // The applied force of a shear-free load: 1e-25 next to 5e4 is round-off.
+        assert_eq!(point_in([1.034e-25, -5.0e4], 5.0e4), "(0, -5.0000e4)");
+        assert_eq!(point([0.0, 2.5e-3]), "(0, 2.5000e-3)");
+        // A genuine small component stays.
+        assert_eq!(point([1.0e-9, 1.0]), "(1.0000e-9, 1.0000e0)");
+        // Relative residuals below the machine epsilon are 0; above, two digits.
+        assert_eq!(relative(5.2e-97), "0");
+        assert_eq!(relative(0.0), "0");
+        assert_eq!(relative(8.5e-16), "8.5e-16");
+        assert_eq!(relative(1.3e-3), "1.3e-3");
+    }
+
+    #[test]
     fn long_status_change_lists_are_shortened() {
         assert_eq!(changes_list(&[3, 1, 0]), "[3, 1, 0]");
         let long: Vec<usize> = (0..111).collect();

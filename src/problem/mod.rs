@@ -462,7 +462,7 @@ impl<'s> ElasticityProblem<'s> {
             return Ok(());
         }
         let (matrix, rhs) =
-            self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
+            self.system.as_ref().ok_or_else(|| Error::CallOrder { call: "solve()", needs: "assemble()" })?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
         if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == ContactSolverSpec::SnesVi) {
@@ -561,7 +561,7 @@ impl<'s> ElasticityProblem<'s> {
                 built = self.to_petsc(&system)?;
                 (&built.0, &built.1)
             }
-            _ => return Err(Error::PetscUsage("linear_solve_seconds() before assemble()".into())),
+            _ => return Err(Error::CallOrder { call: "linear_solve_seconds()", needs: "assemble()" }),
         };
         let start = std::time::Instant::now();
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
@@ -577,12 +577,12 @@ impl<'s> ElasticityProblem<'s> {
         let stats = match (&self.stats, &self.dual) {
             (Some(s), _) => s.clone(),
             (None, Some(d)) => d.report.solver.clone(),
-            (None, None) => return Err(Error::PetscUsage("report() before solve()".into())),
+            (None, None) => return Err(Error::CallOrder { call: "report()", needs: "solve()" }),
         };
         let results = match &self.results {
             Some(r) => Some(r.report.clone()),
             None if dual_only => None,
-            None => return Err(Error::PetscUsage("report() before postprocess()".into())),
+            None => return Err(Error::CallOrder { call: "report()", needs: "postprocess()" }),
         };
         let peak = resources::peak_memory_bytes();
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];

@@ -52,10 +52,11 @@ fn message(option: &str, route: OptionRoute) -> String {
     if is_main_solver_option(name) {
         if route.primal && route.contact_solver == Some("newton_full") {
             return format!(
-                "{unread}: on the contact route newton_full (the default) the linear solves are inside the \
-                 full-space SNES, whose options take the prefix contact_ ({}; its system is indefinite: MUMPS LU, \
-                 or GMRES with a suitable preconditioner), or give --contact-solver newton, whose condensation solves \
-                 with the main linear solver these options set",
+                "{unread}: a typo, or an option of the main linear solver, which the contact route newton_full \
+                 (the default) does not use: its linear solves are inside the full-space SNES, whose options take \
+                 the prefix contact_ ({}; its system is indefinite: MUMPS LU, or GMRES with a suitable \
+                 preconditioner); or give --contact-solver newton, whose condensation solves with the main linear \
+                 solver",
                 with_prefix("contact_")
             );
         }
