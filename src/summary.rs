@@ -180,7 +180,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     if let Some(res) = &r.results {
         out.add(
             "result",
-            &format!("max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises),
+            &format!("max |u| = {:.4e} m, max von Mises = {:.4e} Pa", res.max_displacement, res.max_von_mises),
         );
         // Forces below round-off of the largest force of the balance are 0.
         let norm = |p: &[f64; 2]| p[0].hypot(p[1]);
@@ -190,7 +190,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "balance",
             &format!(
-                "applied force {}, reactions {}; equilibrium residual {}",
+                "forces (N/m): applied {}, reactions {}; equilibrium residual {}",
                 point_in(res.applied_force, scale),
                 if reactions.is_empty() { "none".into() } else { reactions.join(", ") },
                 relative(res.equilibrium_residual)
@@ -207,7 +207,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "contact",
             &format!(
-                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} (normal {}, tangential {})",
+                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} N/m (normal {}, tangential {})",
                 c.part,
                 c.friction,
                 c.points,
@@ -220,7 +220,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         match &c.peak_pressure {
             Some(p) => out.add(
                 "",
-                &format!("peak pressure {:.4e} at s = {:.4e}, (x, y) = {}", p.pressure, p.s, point(p.position)),
+                &format!("peak pressure {:.4e} Pa at s = {:.4e} m, (x, y) = {}", p.pressure, p.s, point(p.position)),
             ),
             None => out.add("", "peak pressure: no contact point"),
         }
@@ -231,7 +231,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
             out.add(
                 "",
                 &format!(
-                    "closed zone {}: s in [{:.4e}, {:.4e}], from {} to {}, {} points",
+                    "closed zone {}: s in [{:.4e}, {:.4e}] m, from {} to {}, {} points",
                     k + 1,
                     z.extent[0],
                     z.extent[1],

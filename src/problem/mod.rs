@@ -461,8 +461,7 @@ impl<'s> ElasticityProblem<'s> {
             self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
             return Ok(());
         }
-        let (matrix, rhs) =
-            self.system.as_ref().ok_or_else(|| Error::CallOrder { call: "solve()", needs: "assemble()" })?;
+        let (matrix, rhs) = self.system.as_ref().ok_or(Error::CallOrder { call: "solve()", needs: "assemble()" })?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
         if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == ContactSolverSpec::SnesVi) {

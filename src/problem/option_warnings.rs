@@ -76,14 +76,14 @@ fn message(option: &str, route: OptionRoute) -> String {
             return format!("{unread}: this run has no dual solve (--formulation dual or --estimate)");
         }
     }
-    if name.starts_with("-contact_") {
+    if let Some(rest) = name.strip_prefix("-contact_") {
         match route.contact_solver {
             None => return format!("{unread}: the run has no contact"),
             Some(solver) if route.primal && !["newton_full", "snes_vi", "tao"].contains(&solver) => {
                 return format!(
                     "{unread}: the contact solver {solver} solves with the main linear solver (options without \
                      the prefix contact_: -{}); the prefix contact_ is read by newton_full, snes_vi and tao",
-                    &name["-contact_".len()..]
+                    rest
                 );
             }
             _ => {}
