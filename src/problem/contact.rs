@@ -122,7 +122,7 @@ impl ContactSetup {
                     .collect(),
             }
         } else if tresca {
-            // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
+            // The threshold is a traction (Pa = N/m²); the per-point force threshold is g·w_i (N/m).
             FrictionLaw::Tresca {
                 threshold: (0..m)
                     .map(|i| match laws[i] {

@@ -22,10 +22,11 @@ pub struct ContactCurvePoint {
     pub s: f64,
     /// The point's position in the undeformed configuration.
     pub position: [f64; 2],
-    /// Normal contact pressure `−rN / w` (force per unit length, ≥ 0 in contact); the
-    /// `peak_pressure` of the report is the largest of these.
+    /// Normal contact pressure `−rN / w` (Pa: the nodal force per unit thickness, N/m, over the
+    /// point's boundary length w, m; ≥ 0 in contact); the `peak_pressure` of the report is the
+    /// largest of these.
     pub pressure: f64,
-    /// Tangential traction `rT / w` along the point's tangent `t` (the domain on the left).
+    /// Tangential traction `rT / w` (Pa) along the point's tangent `t` (the domain on the left).
     pub tangential_traction: f64,
     /// Gap to the obstacle after deformation, `g0 − uN` (0 where closed, > 0 where open).
     pub gap: f64,

@@ -54,7 +54,7 @@ fn own_flags_and_petsc_options_in_any_order() {
 
 #[test]
 fn missing_petsc_option_value_is_refused() {
-    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels"]), 1);
+    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels"]), 2);
     assert!(msg.contains("-pc_factor_levels") && msg.contains("needs a value"), "{msg}");
 }
 
@@ -200,7 +200,7 @@ fn contact_solver_from_the_command_line() {
     assert!(r["contact"]["solver"].as_str().unwrap().contains("relaxation"), "{r}");
     let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
     assert!(d < 1e-6, "relaxation differs from Newton by {d:e}");
-    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 1);
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 2);
     assert!(msg.contains("frictionless"), "{msg}");
     // An unknown name is a usage error that lists the names.
     let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 2);
