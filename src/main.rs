@@ -211,10 +211,12 @@ fn export_command(session: &Session, args: &ExportArgs) -> Result<(), Failure> {
     // Several bodies: checked, then refused (their first body's [contact] is not the scene's).
     signorini::problem::refuse_several_bodies(&scene)?;
     if scene.contact.is_none() {
-        return Err(mistake(format!(
+        // A scene the command cannot take, as a Tresca or several-body scene: not a mistake on
+        // the command line (exit 1).
+        return Err(Failure::Run(Error::Usage(format!(
             "signorini export: the scene {} has no [contact] section: there is no contact problem to export",
             path.display()
-        )));
+        ))));
     }
     let file = args
         .out

@@ -52,8 +52,9 @@ fn usage_errors_exit_2() {
 }
 
 /// Every mistake on the command line exits 2, also those found after parsing: a PETSc option
-/// without its value, a contact solver the scene's friction does not allow, a command the scene
-/// has nothing for, a benchmark solver that does not exist.
+/// without its value, a contact solver the scene's friction does not allow or a scene without
+/// contact, a flag for a part the scene lacks, a benchmark solver that does not exist. A scene
+/// that a command cannot take (export of a scene without contact) is not one (exit 1).
 #[test]
 fn every_command_line_mistake_exits_2() {
     let msg = run_err(bin().args(["run", "--quiet", "-pc_factor_levels"]), 2);
@@ -63,7 +64,7 @@ fn every_command_line_mistake_exits_2() {
     let msg = run_err(bin().arg("run").arg(block()).args(["--quiet", "--contact-solver", "newton"]), 2);
     assert!(msg.contains("no [contact] section"), "{msg}");
     let dir = scratch("export-usage");
-    let msg = run_err(bin().arg("export").arg(block()).arg("--out").arg(dir.join("p.hdf5")), 2);
+    let msg = run_err(bin().arg("export").arg(block()).arg("--out").arg(dir.join("p.hdf5")), 1);
     assert!(msg.contains("no [contact] section"), "{msg}");
     let msg = run_err(
         bin().arg("adapt").arg(scene("examples/scenes/clamped_block.toml")).args([
