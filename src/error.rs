@@ -179,6 +179,19 @@ pub enum Error {
     #[error("{0}")]
     Usage(String),
 
+    /// A step of the solve pipeline ([`crate::problem::ElasticityProblem`]) called before a
+    /// step it needs, e.g. `report()` before `solve()`.
+    #[error(
+        "{call} called before {needs}: call {needs} first (the order: setup_system, assemble, solve, postprocess, \
+         then report or write_output; solve_dual after setup_system, estimate after postprocess and solve_dual)"
+    )]
+    CallOrder {
+        /// The step called.
+        call: &'static str,
+        /// The step it needs first.
+        needs: &'static str,
+    },
+
     /// Mesh adaptation or a convergence study needs to remesh the scene's geometry, and the
     /// scene reads its mesh from a file (whose geometry the program does not know).
     #[error(

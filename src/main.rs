@@ -5,7 +5,7 @@ use std::process::ExitCode;
 mod command_line;
 
 use clap::Parser as _;
-use command_line::arguments::{self as cli, Bench, Cli, Command};
+use command_line::arguments::{self as cli, Bench, CaseArgs, Cli, Command, ExportArgs, RunArgs};
 use command_line::{bench_runner, error_control, summary, terminal_progress};
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
@@ -15,35 +15,39 @@ use signorini::{bench, Error};
 /// The output directory whose previous results this run removed (said after an error).
 static REMOVED_BEFORE_RUN: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
 
-struct RunArgs {
-    scene: Option<PathBuf>,
-    out: Option<PathBuf>,
-    quiet: bool,
-    max_dofs: usize,
-    /// bench elasticity-case: the size and the solver index.
-    case: Option<(usize, usize)>,
-    /// run: override of the scene's [contact] solver.
-    contact_solver: Option<String>,
-    /// run: `--formulation`, `--estimate`.
-    formulation: Option<String>,
-    estimate: bool,
-    /// run: `--dual-constraints`.
-    dual_constraints: Option<String>,
-    /// adapt: `--target`, `--max-steps`, `--max-elements`; study: `--levels`,
-    /// `--reference-halvings`.
-    target: f64,
-    max_steps: usize,
-    max_elements: usize,
-    /// adapt: `--contact-rate`.
-    contact_rate: Option<f64>,
-    levels: usize,
-    reference_halvings: usize,
-    /// export: `--solve`.
-    solve: bool,
-    petsc: Vec<String>,
+/// Why a command failed: a mistake on its command line (exit status 2, as clap's own) or an
+/// error of the work (exit status 1).
+enum Failure {
+    CommandLine(Error),
+    Run(Error),
 }
 
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Run(e)
+    }
+}
+
+impl Failure {
+    fn error(&self) -> &Error {
+        match self {
+            Failure::CommandLine(e) | Failure::Run(e) => e,
+        }
+    }
+}
+
+/// A command-line mistake found after parsing (a flag that does not fit the scene).
+fn mistake(message: String) -> Failure {
+    Failure::CommandLine(Error::Usage(message))
+}
+
+/// The exit status of a command-line mistake.
+const USAGE_EXIT: u8 = 2;
+
 fn main() -> ExitCode {
+    // A write past `ulimit -f` then fails with EFBIG (its partial file removed, the error said)
+    // instead of killing the program with a temporary file left behind.
+    signorini::petsc::ignore_file_size_signal();
     let args: Vec<String> = std::env::args().collect();
     let program = args.first().cloned().unwrap_or_else(|| "signorini".into());
     let (ours, petsc) = cli::split_petsc_options(args.get(1..).unwrap_or(&[]));
@@ -52,145 +56,88 @@ fn main() -> ExitCode {
         Err(e) => {
             // Help and version go to stdout with exit 0; mistakes to stderr with exit 2.
             let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+            return ExitCode::from(if e.use_stderr() { USAGE_EXIT } else { 0 });
         }
     };
-    let args = |scene, out, quiet, contact_solver, max_dofs, case| RunArgs {
-        scene,
-        out,
-        quiet,
-        max_dofs,
-        case,
-        contact_solver,
-        formulation: None,
-        estimate: false,
-        dual_constraints: None,
-        target: 0.0,
-        max_steps: 0,
-        max_elements: 0,
-        contact_rate: None,
-        levels: 0,
-        reference_halvings: 0,
-        solve: false,
-        petsc: petsc.clone(),
-    };
+    let session = |job: &dyn Fn(&Session) -> Result<(), Failure>| with_session(&program, &petsc, job);
     match parsed.command {
         Command::Run(r) => {
             if r.no_mesh_cache {
                 // Still one thread: MPI and PETSc start later.
                 std::env::set_var("SIGNORINI_NO_MESH_CACHE", "1");
             }
-            let mut a = args(r.scene, r.out, r.quiet, r.contact_solver, 0, None);
-            a.formulation = r.formulation;
-            a.estimate = r.estimate;
-            a.dual_constraints = r.dual_constraints;
-            with_session(&program, a, run)
+            session(&|s| run(s, &r))
         }
-        Command::Adapt(a) => {
-            let mut r = args(Some(a.scene), a.out, a.quiet, None, 0, None);
-            r.target = a.target;
-            r.max_steps = a.max_steps as usize;
-            r.max_elements = a.max_elements;
-            r.contact_rate = a.contact_rate;
-            with_session(&program, r, error_control::adapt_command)
-        }
-        Command::Study(a) => {
-            let mut r = args(Some(a.scene), a.out, a.quiet, None, 0, None);
-            r.levels = a.levels as usize;
-            r.reference_halvings = a.reference_halvings as usize;
-            with_session(&program, r, error_control::study_command)
-        }
-        Command::Export(e) => {
-            let mut r = args(Some(e.scene), e.out, false, None, 0, None);
-            r.solve = e.solve;
-            with_session(&program, r, export_command)
-        }
+        Command::Adapt(a) => session(&|s| error_control::adapt_command(s, &a)),
+        Command::Study(a) => session(&|s| error_control::study_command(s, &a)),
+        Command::Export(e) => session(&|s| export_command(s, &e)),
         Command::Bench { which } => match which {
-            Bench::Elasticity(o) => {
-                bench_runner::bench_elasticity(args(None, o.out, false, None, o.max_dofs.unwrap_or(1_000_000), None))
-            }
-            Bench::Contact(o) => {
-                bench_runner::bench_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
-            }
+            Bench::Elasticity(o) => bench_runner::bench_elasticity(&o, &petsc),
+            Bench::Contact(o) => bench_runner::bench_contact(&o, &petsc),
+            Bench::Dual(o) => bench_runner::bench_dual(&o, &petsc),
+            Bench::DualContact(o) => bench_runner::bench_dual_contact(&o, &petsc),
+            Bench::Held(o) => bench_runner::bench_held(&o, &petsc),
+            Bench::Accuracy(o) => bench_runner::bench_accuracy(&o, &petsc),
             Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
-            Bench::ElasticityCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_elasticity_case)
-            }
-            Bench::ContactCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_contact_case)
-            }
-            Bench::Dual(o) => {
-                bench_runner::bench_dual(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
-            }
-            Bench::Accuracy(o) => {
-                let mut a = args(o.scene, o.out, false, None, o.max_dofs.unwrap_or(20_000), None);
-                a.target = o.target.unwrap_or(1.0);
-                bench_runner::bench_accuracy(a)
-            }
-            Bench::AccuracyCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_accuracy_case)
-            }
-            Bench::DualCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_case)
-            }
-            Bench::DualContact(o) => {
-                bench_runner::bench_dual_contact(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
-            }
-            Bench::DualContactCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_dual_contact_case)
-            }
-            Bench::Held(o) => {
-                bench_runner::bench_held(args(None, o.out, false, None, o.max_dofs.unwrap_or(100_000), None))
-            }
-            Bench::HeldCase(c) => {
-                with_session(&program, args(None, c.out, true, None, 0, Some(c.case)), bench_held_case)
-            }
+            Bench::ElasticityCase(c) => session(&|s| bench_elasticity_case(s, &c)),
+            Bench::ContactCase(c) => session(&|s| bench_contact_case(s, &c)),
+            Bench::AccuracyCase(c) => session(&|s| bench_accuracy_case(s, &c)),
+            Bench::DualCase(c) => session(&|s| bench_dual_case(s, &c)),
+            Bench::DualContactCase(c) => session(&|s| bench_dual_contact_case(s, &c)),
+            Bench::HeldCase(c) => session(&|s| bench_held_case(s, &c)),
         },
     }
 }
 
-fn with_session(program: &str, parsed: RunArgs, job: fn(&Session, RunArgs) -> Result<(), Error>) -> ExitCode {
+/// Start PETSc with the command line's PETSc options, run `job`, say why it failed (exit 2 for
+/// a command-line mistake, a PETSc option without its value included; 1 otherwise).
+fn with_session(program: &str, petsc: &[String], job: &dyn Fn(&Session) -> Result<(), Failure>) -> ExitCode {
     let mut petsc_argv = vec![program.to_string()];
-    petsc_argv.extend(parsed.petsc.iter().cloned());
+    petsc_argv.extend(petsc.iter().cloned());
     let session = match Session::init(&petsc_argv) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::FAILURE;
+            // The options checked here are the command line's own.
+            let usage = matches!(e, Error::PetscOption { .. });
+            return if usage { ExitCode::from(USAGE_EXIT) } else { ExitCode::FAILURE };
         }
     };
     let rank = session.rank();
-    let result = job(&session, parsed);
+    let result = job(&session);
     // Under MPI, rank 0 says why the run failed, and so does the lowest rank whose failure was
     // its own when rank 0's was not (rank 0 then has Error::OtherRank, naming that rank). An
     // error every rank met alike (a scene mistake) is printed once. Every rank gets here: the
     // steps whose failure can differ between ranks are agreed (Session::agree).
-    let own_failure = matches!(&result, Err(e) if !matches!(e, Error::OtherRank { .. }));
+    let own_failure = matches!(&result, Err(f) if !matches!(f.error(), Error::OtherRank { .. }));
     let reporter = session.world().first_failure(own_failure).ok().flatten();
     drop(session); // PetscFinalize before exit
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if rank != 0 => {
-            if reporter == Some(rank) {
-                eprintln!("error (MPI rank {rank}): {e}");
-            }
-            ExitCode::FAILURE
+    let Err(failure) = result else {
+        return ExitCode::SUCCESS;
+    };
+    let code = match failure {
+        Failure::CommandLine(_) => ExitCode::from(USAGE_EXIT),
+        Failure::Run(_) => ExitCode::FAILURE,
+    };
+    let e = failure.error();
+    if rank != 0 {
+        if reporter == Some(rank) {
+            eprintln!("error (MPI rank {rank}): {e}");
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-                eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
-            }
-            ExitCode::FAILURE
-        }
+        return code;
     }
+    eprintln!("error: {e}");
+    if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+        eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
+    }
+    code
 }
 
-fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
+fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
     // Nothing stale after a failure: the previous results go before anything is read or solved
     // (with --out known now; else once the scene says where its results go).
     // Rank 0 alone clears: the ranks agree on its outcome before they go on together.
-    let clear = |out: &std::path::Path| -> Result<(), Error> {
+    let clear = |out: &std::path::Path| -> Result<(), Failure> {
         let cleared = if session.rank() == 0 { signorini::output::clear_previous_run(out) } else { Ok(Vec::new()) };
         if !session.agree(cleared, "clearing the previous results")?.is_empty() {
             *REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()) = Some(out.to_path_buf());
@@ -275,18 +222,20 @@ fn run(session: &Session, args: RunArgs) -> Result<(), Error> {
 
 /// `signorini export SCENE [--out FILE] [--solve]`: the condensed contact problem in the FCLIB
 /// format (and our solution of it with `--solve`); one line on stdout says what was written.
-fn export_command(session: &Session, args: RunArgs) -> Result<(), Error> {
+fn export_command(session: &Session, args: &ExportArgs) -> Result<(), Failure> {
     use signorini::contact::FrictionLaw;
     use signorini::export::{check_friction, write_fclib, FclibInfo};
-    let path = args.scene.clone().ok_or_else(|| Error::Usage("signorini export needs a scene".into()))?;
-    let scene = Scene::from_file(&path)?;
+    let path = &args.scene;
+    let scene = Scene::from_file(path)?;
     // Several bodies: checked, then refused (their first body's [contact] is not the scene's).
     signorini::problem::refuse_several_bodies(&scene)?;
     if scene.contact.is_none() {
-        return Err(Error::Usage(format!(
+        // A scene the command cannot take, as a Tresca or several-body scene: not a mistake on
+        // the command line (exit 1).
+        return Err(Failure::Run(Error::Usage(format!(
             "signorini export: the scene {} has no [contact] section: there is no contact problem to export",
             path.display()
-        )));
+        ))));
     }
     let file = args
         .out
@@ -344,7 +293,7 @@ fn export_command(session: &Session, args: RunArgs) -> Result<(), Error> {
 
 /// `--contact-solver NAME`: replace the scene's contact solver, with the scene's own rules
 /// (SNESVI is frictionless only, TAO is for Tresca).
-fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
+fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Failure> {
     use signorini::scene::{ContactSolverSpec as S, FrictionSpec};
     let candidates = [
         S::FullSpaceNewton,
@@ -357,7 +306,7 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
         S::Tao,
     ];
     let solver = candidates.into_iter().find(|c| c.scene_name() == name).ok_or_else(|| {
-        Error::Usage(format!(
+        mistake(format!(
             "--contact-solver {name}: unknown solver; choose one of newton_full, newton, relaxation, dpana, uzawa, tresca_fixed_point, snes_vi, tao"
         ))
     })?;
@@ -371,17 +320,17 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
         scene.contact.iter().map(|c| c.friction).collect()
     };
     if frictions.is_empty() {
-        return Err(Error::Usage(format!(
+        return Err(mistake(format!(
             "--contact-solver {name}: the scene {} has no [contact] section (nor, with [[body]] tables, a \
              [[contact_pair]] or a [body.contact])",
             scene.source.display()
         )));
     }
     if solver == S::SnesVi && frictions.iter().any(|f| *f != FrictionSpec::None) {
-        return Err(Error::Usage("--contact-solver snes_vi handles frictionless contact only: use newton_full".into()));
+        return Err(mistake("--contact-solver snes_vi handles frictionless contact only: use newton_full".into()));
     }
     if solver == S::Tao && !frictions.iter().all(|f| matches!(f, FrictionSpec::Tresca { .. })) {
-        return Err(Error::Usage("--contact-solver tao solves the Tresca problem only: use newton_full".into()));
+        return Err(mistake("--contact-solver tao solves the Tresca problem only: use newton_full".into()));
     }
     let several_bodies = scene.has_body_tables();
     match scene.contact.as_mut().filter(|_| !several_bodies) {
@@ -392,61 +341,53 @@ fn override_contact_solver(scene: &mut Scene, name: &str) -> Result<(), Error> {
 }
 
 /// `bench elasticity-case --case DOFS,SOLVER`: one case, its row as JSON on stdout.
-fn bench_elasticity_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) =
-        args.case.ok_or_else(|| Error::Usage("bench elasticity-case needs --case DOFS,SOLVER_INDEX".into()))?;
-    let solver = bench::SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no benchmark solver {index}")))?;
+fn bench_elasticity_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
+    let solver = bench::SOLVERS.get(index).ok_or_else(|| mistake(format!("no benchmark solver {index}")))?;
     let scratch = args.out.clone().unwrap_or_else(std::env::temp_dir);
     let row = bench::elasticity_case(session, dofs, solver, &scratch)?;
     print_case_row(session, &row)
 }
 
 /// A benchmark case's result: its JSON row on stdout, for the parent process (rank 0 only).
-fn print_case_row(session: &Session, row: &impl serde::Serialize) -> Result<(), Error> {
+fn print_case_row(session: &Session, row: &impl serde::Serialize) -> Result<(), Failure> {
     if session.rank() == 0 {
         println!("{}", serde_json::to_string(row).map_err(|e| Error::Usage(e.to_string()))?);
     }
     Ok(())
 }
 
-fn bench_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) =
-        args.case.ok_or_else(|| Error::Usage("bench contact-case needs --case DOFS,SOLVER_INDEX".into()))?;
-    let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| Error::Usage(format!("no contact solver {index}")))?;
+fn bench_contact_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
+    let solver = bench::CONTACT_SOLVERS.get(index).ok_or_else(|| mistake(format!("no contact solver {index}")))?;
     let row = bench::contact_case(session, dofs, solver)?;
     print_case_row(session, &row)
 }
 
-fn bench_dual_contact_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) =
-        args.case.ok_or_else(|| Error::Usage("bench dual-contact-case needs --case DOFS,STRATEGY_INDEX".into()))?;
+fn bench_dual_contact_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
     let row = bench::dual_contact::dual_contact_case(session, dofs, index)?;
     print_case_row(session, &row)
 }
 
-fn bench_held_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) =
-        args.case.ok_or_else(|| Error::Usage("bench held-case needs --case DOFS,DRIVE_INDEX".into()))?;
+fn bench_held_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
     let row = bench::held::held_case(session, dofs, index)?;
     print_case_row(session, &row)
 }
 
 /// `bench accuracy-case --case DOFS,INDEX --out SCRATCH`: case INDEX of SCRATCH/plan.json.
-fn bench_accuracy_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (_, index) = args.case.ok_or_else(|| Error::Usage("bench accuracy-case needs --case DOFS,INDEX".into()))?;
-    let scratch = args.out.clone().ok_or_else(|| Error::Usage("bench accuracy-case needs --out SCRATCH".into()))?;
+fn bench_accuracy_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (_, index) = args.case;
+    let scratch = args.out.clone().ok_or_else(|| mistake("bench accuracy-case needs --out SCRATCH".into()))?;
     let result = bench::accuracy::accuracy_case(session, &scratch, index)?;
-    if session.rank() == 0 {
-        println!("{}", serde_json::to_string(&result).map_err(|e| Error::Usage(e.to_string()))?);
-    }
-    Ok(())
+    print_case_row(session, &result)
 }
 
-fn bench_dual_case(session: &Session, args: RunArgs) -> Result<(), Error> {
-    let (dofs, index) =
-        args.case.ok_or_else(|| Error::Usage("bench dual-case needs --case DOFS,SOLVER_INDEX".into()))?;
+fn bench_dual_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
     let solvers = bench::dual::dual_solvers();
-    let solver = solvers.get(index).ok_or_else(|| Error::Usage(format!("no dual benchmark solver {index}")))?;
+    let solver = solvers.get(index).ok_or_else(|| mistake(format!("no dual benchmark solver {index}")))?;
     let row = bench::dual::dual_case(session, dofs, solver)?;
     print_case_row(session, &row)
 }

@@ -30,3 +30,12 @@ PetscBool signorini_mpi_initialized(void)
 /* Return freed heap memory to the operating system (glibc), so that resident-memory
  * measurements of a later phase are not hidden by memory an earlier phase freed. */
 int signorini_release_free_memory(void) { return malloc_trim(0); }
+
+#include <signal.h>
+/* Ignore SIGXFSZ (file size limit exceeded, `ulimit -f`), whose default action kills the
+ * process in the middle of a write: ignored, the write fails with EFBIG instead and the
+ * program removes its partial file and says why. Returns 0, or -1 if signal() failed. */
+int signorini_ignore_file_size_signal(void)
+{
+  return signal(SIGXFSZ, SIG_IGN) == SIG_ERR ? -1 : 0;
+}

@@ -13,4 +13,5 @@ int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, 
 PetscReal signorini_petsc_infinity(void);
 PetscBool signorini_mpi_initialized(void);
 int signorini_release_free_memory(void);
+int signorini_ignore_file_size_signal(void);
 #endif

@@ -33,6 +33,20 @@ fn run(cmd: &mut Command) -> (Option<i32>, String) {
     (out.status.code(), text)
 }
 
+/// Exit code, stdout and stderr apart.
+fn run_split(cmd: &mut Command) -> (Option<i32>, String, String) {
+    let out: Output = cmd.output().expect("spawn signorini");
+    let text = |b: &[u8]| String::from_utf8_lossy(b).to_string();
+    (out.status.code(), text(&out.stdout), text(&out.stderr))
+}
+
+/// As `run`: every line of the summary within 100 columns.
+fn assert_within_100_columns(text: &str) {
+    for line in text.lines() {
+        assert!(line.chars().count() <= 100, "{} columns: {line}\n{text}", line.chars().count());
+    }
+}
+
 fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -50,18 +64,25 @@ fn assert_svg(path: &Path) {
 #[test]
 fn adapt_reaches_the_target_and_writes_steps_table_and_plot() {
     let out = scratch("adapt");
-    let (code, stderr) = run(bin()
-        .arg("adapt")
-        .arg(scene("examples/scenes/clamped_block.toml"))
-        .args(["--target", "8", "--out"])
-        .arg(&out));
+    let (code, stdout, stderr) = run_split(
+        bin().arg("adapt").arg(scene("examples/scenes/clamped_block.toml")).args(["--target", "8", "--out"]).arg(&out),
+    );
     assert_eq!(code, Some(0), "{stderr}");
-    assert!(stderr.contains("step 0") && stderr.contains("target 8.000 % reached"), "{stderr}");
+    // The summary on stdout (as `run`'s), a row per step under a header, within 100 columns.
+    assert!(stdout.contains("  step  elements") && stdout.contains("target 8.000 % reached"), "{stdout}");
+    assert!(stderr.is_empty(), "nothing but warnings and errors on stderr: {stderr}");
+    assert_within_100_columns(&stdout);
     let a = json(&out.join("adapt.json"));
     assert_eq!(a["status"], "reached");
     assert_eq!(a["reached"], true);
     let steps = a["steps"].as_array().unwrap();
     assert!(steps.len() >= 2, "{a}");
+    let row = |k: usize| {
+        let s = &steps[k];
+        let n = |key: &str| s[key].as_u64().unwrap();
+        format!("  {k:>4}  {:>8}  {:>8}  {:>9}", n("elements"), n("nodes"), n("dofs"))
+    };
+    assert!((0..steps.len()).all(|k| stdout.contains(&row(k))), "a row per step: {stdout}");
     let errors: Vec<f64> = steps.iter().map(|s| s["error_percent"].as_f64().unwrap()).collect();
     assert!(errors[0] > 8.0 && *errors.last().unwrap() <= 8.0, "{errors:?}");
     // Each step meshes, solves both formulations and estimates (positive times); every step
@@ -86,6 +107,7 @@ fn adapt_reaches_the_target_and_writes_steps_table_and_plot() {
     let vtu = std::fs::read_to_string(out.join(format!("step_{}/solution.vtu", steps.len() - 1))).unwrap();
     assert!(vtu.contains("Name=\"error\"") && vtu.contains("Name=\"target_size\""));
     let md = std::fs::read_to_string(out.join("adapt.md")).unwrap();
+    assert!(md.ends_with('\n') && !md.ends_with("\n\n"), "adapt.md ends its last line: {md:?}");
     assert!(md.contains("| step | elements | nodes | dofs | error (%) | mesh (s) | solve (s) | dual (s)"), "{md}");
     assert_eq!(md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| step")).count(), steps.len());
     assert_svg(&out.join("adapt.svg"));
@@ -122,13 +144,13 @@ fn adapt_target_not_reached_warns_and_exits_0() {
 #[test]
 fn study_writes_table_json_and_plot_with_rates() {
     let out = scratch("study");
-    let (code, stderr) = run(bin()
-        .arg("study")
-        .arg(scene("examples/scenes/smooth_square.toml"))
-        .args(["--levels", "2", "--out"])
-        .arg(&out));
+    let (code, stdout, stderr) = run_split(
+        bin().arg("study").arg(scene("examples/scenes/smooth_square.toml")).args(["--levels", "2", "--out"]).arg(&out),
+    );
     assert_eq!(code, Some(0), "{stderr}");
-    assert!(stderr.contains("level 1") && stderr.contains("rates"), "{stderr}");
+    assert!(stdout.contains("  level  h (m)") && stdout.contains("rates"), "{stdout}");
+    assert!(stderr.is_empty(), "nothing but warnings and errors on stderr: {stderr}");
+    assert_within_100_columns(&stdout);
     let s = json(&out.join("study.json"));
     let levels = s["levels"].as_array().unwrap();
     assert_eq!(levels.len(), 2);
@@ -338,7 +360,7 @@ fn adapt_failure_after_the_first_step_keeps_the_steps_done() {
     let out = dir.join("out");
     let (code, text) = run(bin().arg("adapt").arg(dir.join("file.toml")).args(["--target", "0.1", "--out"]).arg(&out));
     assert_eq!(code, Some(1), "{text}");
-    assert!(text.contains("step 0 ") && text.contains("error: ") && text.contains("`top`"), "{text}");
+    assert!(text.contains("  step  elements") && text.contains("error: ") && text.contains("`top`"), "{text}");
     let report = json(&out.join("adapt.json"));
     assert_eq!(report["status"], "failed", "{report}");
     assert_eq!(report["steps"].as_array().unwrap().len(), 1);

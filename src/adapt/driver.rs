@@ -509,7 +509,7 @@ pub fn adapt_inspecting(
             let c = problem.mesh.nodes[v[0]];
             let half = problem.mesh.diagonal() / 150.0;
             let zoom = [c[0] - half, c[0] + half, c[1] - half, c[1] + half];
-            output::mesh_plot::write_mesh_svg(&path, &problem.mesh, &h, &title, "element size h_E", Some(zoom))?;
+            output::mesh_plot::write_mesh_svg(&path, &problem.mesh, &h, &title, "element size h_E (m)", Some(zoom))?;
             mesh_picture = Some(path);
         }
         let mut next = None;

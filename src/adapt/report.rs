@@ -208,7 +208,7 @@ pub fn write_study_outputs(outcome: &StudyOutcome, dir: &Path) -> Result<Vec<Pat
     crate::output::plot::write_loglog_svg(
         &svg,
         "Convergence: true errors and the estimate",
-        "mean cell size h",
+        "mean cell size h (m)",
         "error (energy norm)",
         &plotted,
     )?;

@@ -131,12 +131,13 @@ pub struct DualContactBenchRow {
     pub contact_points: usize,
     /// The strategy's name.
     pub strategy: String,
-    /// Assembly and full-space Newton of the primal (P1).
+    /// Assembly, full-space Newton and postprocessing of the primal (P1), the better of two.
     pub primal_seconds: f64,
     /// The same for the P2 primal on the same mesh (the first strategy's case only; None in the
     /// others), the order whose cost the cubic HCT dual compares with.
     pub primal_p2_seconds: Option<f64>,
-    /// Setup, condensation and contact solve of the dual.
+    /// Setup, condensation, contact solve and checks of the dual, the better of two (timed in
+    /// turn with the primal ones).
     pub dual_seconds: f64,
     /// Seconds of the estimate.
     pub estimate_seconds: f64,
@@ -179,21 +180,11 @@ pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) ->
     });
     let scene = crate::scene::Scene::from_str(&text, Path::new("bench-dual-contact.toml"))?;
     let mut problem = crate::problem::ElasticityProblem::setup_system(session, scene)?;
-    let t = Instant::now();
-    problem.assemble()?;
-    problem.solve()?;
-    problem.postprocess()?;
-    let primal_seconds = t.elapsed().as_secs_f64();
-    let primal_p2_seconds = if index == 0 {
+    let mut p2 = if index == 0 {
         let p2 = text.lines().map(|l| if l.trim_start().starts_with("order") { "order = 2" } else { l });
         let p2 = p2.collect::<Vec<_>>().join("\n");
         let scene = crate::scene::Scene::from_str(&p2, Path::new("bench-dual-contact-p2.toml"))?;
-        let mut p2 = crate::problem::ElasticityProblem::setup_system(session, scene)?;
-        let t = Instant::now();
-        p2.assemble()?;
-        p2.solve()?;
-        p2.postprocess()?;
-        Some(t.elapsed().as_secs_f64())
+        Some(crate::problem::ElasticityProblem::setup_system(session, scene)?)
     } else {
         None
     };
@@ -203,9 +194,23 @@ pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) ->
     if let Some(contact) = problem.scene.contact.as_mut() {
         contact.solver = solver;
     }
-    let t = Instant::now();
-    problem.solve_dual()?;
-    let dual_seconds = t.elapsed().as_secs_f64();
+    // Each side timed twice in turn in this process (P1 primal, P2 primal, dual; again), the
+    // better of two kept for each, as the contact benchmark does: none pays alone for the first
+    // touch of its memory or gains from coming last. The windows: the primal's assembly,
+    // contact solve and postprocessing (stresses, the independent contact check); the dual's
+    // setup, condensation, contact solve and its own checks (`solve_dual`).
+    let (mut primal_seconds, mut primal_p2_seconds, mut dual_seconds) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+    for _ in 0..2 {
+        primal_seconds = primal_seconds.min(timed_primal(&mut problem)?);
+        if let Some(p2) = p2.as_mut() {
+            primal_p2_seconds = primal_p2_seconds.min(timed_primal(p2)?);
+        }
+        let t = Instant::now();
+        problem.solve_dual()?;
+        dual_seconds = dual_seconds.min(t.elapsed().as_secs_f64());
+    }
+    let primal_p2_seconds = p2.is_some().then_some(primal_p2_seconds);
+    drop(p2);
     let t = Instant::now();
     problem.estimate()?;
     let estimate_seconds = t.elapsed().as_secs_f64();
@@ -223,6 +228,15 @@ pub fn dual_contact_case(session: &Session, target_dofs: usize, index: usize) ->
         relative_percent: estimate.estimate.relative_percent,
         peak_memory_mb: resources::peak_memory_bytes().map_or(f64::NAN, |b| b as f64 / 1048576.0),
     })
+}
+
+/// Assembly, contact solve and postprocessing of a primal problem, in seconds.
+fn timed_primal(problem: &mut crate::problem::ElasticityProblem<'_>) -> Result<f64> {
+    let t = Instant::now();
+    problem.assemble()?;
+    problem.solve()?;
+    problem.postprocess()?;
+    Ok(t.elapsed().as_secs_f64())
 }
 
 /// The dual contact benchmark's rows as a Markdown table.

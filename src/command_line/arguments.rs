@@ -22,12 +22,16 @@ petsc_options are defaults that the command line overrides. Examples:
   signorini run examples/scenes/cantilever.toml -ksp_type cg -pc_type icc -pc_factor_levels 2 -ksp_monitor
   mpirun -n 2 signorini run examples/scenes/cantilever.toml";
 
+/// The widest `--help` line: the terminal's width, at most this.
+pub const HELP_WIDTH: usize = 100;
+
 #[derive(Debug, Parser)]
 #[command(
     name = "signorini",
     version,
     about = "2D frictional contact in linear elasticity with certified error control, on PETSc",
-    after_help = PETSC_HELP
+    after_help = PETSC_HELP,
+    max_term_width = HELP_WIDTH
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -39,7 +43,7 @@ pub enum Command {
     /// Solve a scene and write DIR/solution.vtu and DIR/report.json (with contact also
     /// DIR/contact.csv, DIR/contact.svg and DIR/convergence.svg); the summary goes to stdout.
     #[command(after_help = PETSC_HELP)]
-    Run(RunOptions),
+    Run(RunArgs),
     /// Adapt the mesh to a target error: solve primal and dual, estimate the error in the
     /// constitutive relation, remesh the scene's geometry with the optimal size map (refines
     /// and coarsens), repeat until the relative error is at most --target. Writes
@@ -68,7 +72,7 @@ pub enum Command {
 }
 
 #[derive(Debug, Args)]
-pub struct RunOptions {
+pub struct RunArgs {
     /// The scene (a TOML file); without one, the embedded default scene (the square block of
     /// Raous–Chabrand–Lebon with Coulomb friction).
     pub scene: Option<PathBuf>,
@@ -175,62 +179,67 @@ fn parse_percent(v: &str) -> Result<f64, String> {
 pub enum Bench {
     /// Plane elasticity: assembly and solve times, peak memory and overhead ratios per linear
     /// solver, from 1e4 dofs up to --max-dofs (default 1e6).
-    Elasticity(BenchOptions),
+    Elasticity(BenchArgs),
     /// The square block (Coulomb) for each contact solver: iterations, time, memory and the
     /// ratio to one linear solve of the same mesh, from 1e3 dofs up to --max-dofs (default 1e5).
-    Contact(BenchOptions),
+    Contact(BenchArgs),
     /// The dual formulation (Airy/HCT) per linear solver against the primal P2 solve of the same
     /// mesh, with the estimate, from 1e4 dual dofs up to --max-dofs (default 1e5).
-    Dual(BenchOptions),
+    Dual(BenchArgs),
     /// Contact in the dual formulation: the square block without its corner point (Tresca) in
     /// the dual and in the primal, with the estimate, from 1e3 to --max-dofs (default 1e5).
-    DualContact(BenchOptions),
+    DualContact(BenchArgs),
     /// A body held by the contact: the P2 half disc (Coulomb) driven by a prescribed
     /// displacement and by a traction with no support, full-space Newton, the ratio of the two
     /// solve times, at 1e4, 8.6e4 and 3e5 dofs up to --max-dofs (default 1e5).
-    Held(BenchOptions),
+    Held(BenchArgs),
     /// Start-up and meshing: the wall and CPU time of a 1e3-dof `run` against
     /// `signorini --version`, and the mesh / contact-solve time ratio of the 8.6e4-dof P2 half
     /// disc on a first run and from the mesh cache.
-    Startup(StartupOptions),
+    Startup(StartupArgs),
     /// The work-precision diagram of a contact scene: relative error (the estimate, and the
     /// true error against a P2 reference) against wall time for uniform P1 and P2 meshes, the
     /// adaptive loop in P1 and P2, and every contact solver on one mesh; one SVG plot and a
     /// markdown table. Default scene: the square block without its corner point, Tresca
     /// friction (examples/scenes/square_block_tresca.toml).
-    Accuracy(AccuracyOptions),
+    Accuracy(AccuracyArgs),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
-    ElasticityCase(CaseOptions),
+    ElasticityCase(CaseArgs),
     /// One accuracy case (used by `bench accuracy`).
     #[command(hide = true)]
-    AccuracyCase(CaseOptions),
+    AccuracyCase(CaseArgs),
     /// One contact case (used by `bench contact`).
     #[command(hide = true)]
-    ContactCase(CaseOptions),
+    ContactCase(CaseArgs),
     /// One dual case (used by `bench dual`).
     #[command(hide = true)]
-    DualCase(CaseOptions),
+    DualCase(CaseArgs),
     /// One dual contact case (used by `bench dual-contact`).
     #[command(hide = true)]
-    DualContactCase(CaseOptions),
+    DualContactCase(CaseArgs),
     /// One held-by-contact case (used by `bench held`).
     #[command(hide = true)]
-    HeldCase(CaseOptions),
+    HeldCase(CaseArgs),
 }
 
 #[derive(Debug, Args)]
-pub struct BenchOptions {
+pub struct BenchArgs {
     /// Largest problem size, in degrees of freedom.
     #[arg(long, value_name = "N", value_parser = parse_dofs)]
     pub max_dofs: Option<usize>,
     /// Where the table and the plot go (default ./bench).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Run only these solvers (strategies, drives), comma-separated: each NAME is a solver's
+    /// name as the table writes it (any case), or else a part of the names it selects (`mumps`,
+    /// `icc`); a NAME that matches none is refused with the list of names.
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
+    pub solvers: Option<Vec<String>>,
 }
 
 #[derive(Debug, Args)]
-pub struct StartupOptions {
+pub struct StartupArgs {
     /// Start-up runs of each command.
     #[arg(long, value_name = "N", default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
@@ -243,7 +252,7 @@ pub struct StartupOptions {
 }
 
 #[derive(Debug, Args)]
-pub struct AccuracyOptions {
+pub struct AccuracyArgs {
     /// The scene (a TOML file with a geometry); default: the square block without its corner
     /// point, Tresca friction.
     pub scene: Option<PathBuf>,
@@ -257,10 +266,13 @@ pub struct AccuracyOptions {
     /// Where the table and the plot go (default ./bench).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Run only these series and solvers, comma-separated (as for the other benchmarks).
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
+    pub solvers: Option<Vec<String>>,
 }
 
 #[derive(Debug, Args)]
-pub struct CaseOptions {
+pub struct CaseArgs {
     /// DOFS,SOLVER_INDEX
     #[arg(long, value_parser = parse_case)]
     pub case: (usize, usize),
@@ -282,7 +294,7 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 13] = [
+const VALUE_FLAGS: [&str; 14] = [
     "--out",
     "--runs",
     "--max-dofs",
@@ -296,6 +308,7 @@ const VALUE_FLAGS: [&str; 13] = [
     "--levels",
     "--reference-halvings",
     "--contact-rate",
+    "--solvers",
 ];
 
 /// A PETSc option name: a dash then a letter or an underscore (`-ksp_type`, `-_x`), never

@@ -8,8 +8,8 @@ use std::process::ExitCode;
 use signorini::bench::{self, BenchRecord, FailedCase};
 use signorini::Error;
 
+use super::arguments::{AccuracyArgs, BenchArgs};
 use super::terminal_progress::{self, Spinner};
-use crate::RunArgs;
 
 /// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row; else the reason.
 fn run_case<T: serde::de::DeserializeOwned>(
@@ -78,10 +78,70 @@ fn command_line() -> String {
         .join(" ")
 }
 
+/// The cases whose solver `--solvers` names: each NAME selects the solver of that name (any
+/// case), or else every solver whose name contains it; a NAME that selects none is a mistake.
+pub fn select_cases(
+    cases: Vec<(usize, usize, String)>,
+    solvers: Option<&[String]>,
+) -> Result<Vec<(usize, usize, String)>, String> {
+    let Some(wanted) = solvers else { return Ok(cases) };
+    let mut names: Vec<String> = Vec::new();
+    for (_, _, name) in &cases {
+        if !names.contains(name) {
+            names.push(name.clone());
+        }
+    }
+    let mut chosen: Vec<String> = Vec::new();
+    for item in wanted.iter().map(|w| w.trim()).filter(|w| !w.is_empty()) {
+        let item_lower = item.to_lowercase();
+        let exact: Vec<String> = names.iter().filter(|n| n.to_lowercase() == item_lower).cloned().collect();
+        let matching = if exact.is_empty() {
+            names.iter().filter(|n| n.to_lowercase().contains(&item_lower)).cloned().collect()
+        } else {
+            exact
+        };
+        if matching.is_empty() {
+            return Err(format!(
+                "--solvers {item}: no solver of this benchmark (up to its --max-dofs) is named so or has it in its \
+                 name; its solvers: {}",
+                names.join("; ")
+            ));
+        }
+        chosen.extend(matching);
+    }
+    if chosen.is_empty() {
+        return Err("--solvers: give at least one solver name".into());
+    }
+    Ok(cases.into_iter().filter(|(_, _, name)| chosen.contains(name)).collect())
+}
+
+/// What every benchmark's parent takes from the command line.
+struct BenchLine<'a> {
+    out: Option<PathBuf>,
+    solvers: Option<&'a [String]>,
+    petsc: &'a [String],
+}
+
+impl<'a> BenchLine<'a> {
+    fn of(args: &'a BenchArgs, petsc: &'a [String]) -> Self {
+        BenchLine { out: args.out.clone(), solvers: args.solvers.as_deref(), petsc }
+    }
+}
+
 /// Run every case, print a line per case (a spinner while it runs, on a terminal), write the
 /// files. Fails when no case succeeded (the table of failures is written all the same).
-fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunner<T>) -> ExitCode {
-    let out = parsed.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
+fn run_bench<T: serde::de::DeserializeOwned>(line: &BenchLine, mut runner: CaseRunner<T>) -> ExitCode {
+    runner.cases = match select_cases(std::mem::take(&mut runner.cases), line.solvers) {
+        Ok(cases) => cases,
+        Err(message) => {
+            if let Some(scratch) = &runner.scratch {
+                let _ = std::fs::remove_dir_all(scratch);
+            }
+            eprintln!("error: {message}");
+            return ExitCode::from(crate::USAGE_EXIT);
+        }
+    };
+    let out = line.out.clone().unwrap_or_else(|| PathBuf::from("bench"));
     let exe = match std::env::current_exe() {
         Ok(e) => e,
         Err(e) => {
@@ -93,12 +153,12 @@ fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunne
     let scratch = runner.scratch.clone().unwrap_or_else(|| {
         std::env::temp_dir().join(format!("signorini-bench-{}-{}", runner.kind, std::process::id()))
     });
-    let spinner = Spinner::new(terminal_progress::wanted(parsed.quiet));
+    let spinner = Spinner::new(terminal_progress::wanted(false));
     let mut rows: Vec<T> = Vec::new();
     for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
         let head = format!("[{}/{}] ~{dofs} dofs, {name:<26}", k + 1, runner.cases.len());
         spinner.start(head.clone());
-        let result = run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, &parsed.petsc);
+        let result = run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, line.petsc);
         spinner.finish();
         match result {
             Ok(row) => {
@@ -141,15 +201,15 @@ fn run_bench<T: serde::de::DeserializeOwned>(parsed: &RunArgs, runner: CaseRunne
 }
 
 /// `bench elasticity`: each (size, solver) case in a child process.
-pub fn bench_elasticity(parsed: RunArgs) -> ExitCode {
-    let cases = bench::elasticity_cases(parsed.max_dofs)
+pub fn bench_elasticity(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::elasticity_cases(args.max_dofs.unwrap_or(1_000_000))
         .into_iter()
         .map(|(dofs, solver)| {
             (dofs, bench::SOLVERS.iter().position(|s| s.name == solver.name).unwrap_or(0), solver.name.to_string())
         })
         .collect();
     run_bench(
-        &parsed,
+        &BenchLine::of(args, petsc),
         CaseRunner::<bench::BenchRow> {
             kind: "elasticity",
             cases,
@@ -168,15 +228,15 @@ pub fn bench_elasticity(parsed: RunArgs) -> ExitCode {
 }
 
 /// `bench contact`: each (size, solver) case in a child process.
-pub fn bench_contact(parsed: RunArgs) -> ExitCode {
-    let cases = bench::contact_cases(parsed.max_dofs)
+pub fn bench_contact(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::contact_cases(args.max_dofs.unwrap_or(100_000))
         .into_iter()
         .map(|(dofs, solver)| {
             (dofs, bench::CONTACT_SOLVERS.iter().position(|s| *s == solver).unwrap_or(0), solver.to_string())
         })
         .collect();
     run_bench(
-        &parsed,
+        &BenchLine::of(args, petsc),
         CaseRunner::<bench::ContactBenchRow> {
             kind: "contact",
             cases,
@@ -198,10 +258,10 @@ pub fn bench_contact(parsed: RunArgs) -> ExitCode {
 }
 
 /// `bench dual`: each (size, solver) case in a child process.
-pub fn bench_dual(parsed: RunArgs) -> ExitCode {
-    let cases = bench::dual::dual_cases(parsed.max_dofs);
+pub fn bench_dual(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::dual::dual_cases(args.max_dofs.unwrap_or(100_000));
     run_bench(
-        &parsed,
+        &BenchLine::of(args, petsc),
         CaseRunner::<bench::dual::DualBenchRow> {
             kind: "dual",
             cases,
@@ -221,19 +281,20 @@ pub fn bench_dual(parsed: RunArgs) -> ExitCode {
 
 /// `bench accuracy [SCENE]`: the plan (levels meshed here to count their dofs) in a scratch
 /// directory, then each case in a child process.
-pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
+pub fn bench_accuracy(args: &AccuracyArgs, petsc: &[String]) -> ExitCode {
     use signorini::bench::accuracy::{self, AccuracyCaseResult};
     use signorini::scene::Scene;
-    let scene = match &parsed.scene {
+    let scene = match &args.scene {
         Some(path) => Scene::from_file(path),
         None => Scene::from_str(accuracy::DEFAULT_SCENE_TOML, Path::new(accuracy::DEFAULT_SCENE_PATH)),
     };
-    let plan = scene.and_then(|s| accuracy::plan(&s, parsed.max_dofs, parsed.target));
+    let (max_dofs, target) = (args.max_dofs.unwrap_or(20_000), args.target.unwrap_or(1.0));
+    let plan = scene.and_then(|s| accuracy::plan(&s, max_dofs, target));
     let plan = match plan {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(if matches!(e, Error::Usage(_)) { 2 } else { 1 });
+            return ExitCode::from(if matches!(e, Error::Usage(_)) { crate::USAGE_EXIT } else { 1 });
         }
     };
     let scratch = std::env::temp_dir().join(format!("signorini-bench-accuracy-{}", std::process::id()));
@@ -248,7 +309,7 @@ pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
     let cases = plan.cases.iter().enumerate().map(|(k, (dofs, _, name))| (*dofs, k, name.clone())).collect();
     let scene_name = plan.scene_path.display().to_string();
     run_bench(
-        &parsed,
+        &BenchLine { out: args.out.clone(), solvers: args.solvers.as_deref(), petsc },
         CaseRunner::<AccuracyCaseResult> {
             kind: "accuracy",
             cases,
@@ -278,10 +339,10 @@ pub fn bench_accuracy(parsed: RunArgs) -> ExitCode {
 }
 
 /// `bench held`: the half disc driven by displacement and by force, each case in a child process.
-pub fn bench_held(parsed: RunArgs) -> ExitCode {
-    let cases = bench::held::held_cases(parsed.max_dofs);
+pub fn bench_held(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::held::held_cases(args.max_dofs.unwrap_or(100_000));
     run_bench(
-        &parsed,
+        &BenchLine::of(args, petsc),
         CaseRunner::<bench::held::HeldBenchRow> {
             kind: "held",
             cases,
@@ -295,10 +356,10 @@ pub fn bench_held(parsed: RunArgs) -> ExitCode {
 }
 
 /// `bench dual-contact`: each (size, strategy) case in a child process.
-pub fn bench_dual_contact(parsed: RunArgs) -> ExitCode {
-    let cases = bench::dual_contact::dual_contact_cases(parsed.max_dofs);
+pub fn bench_dual_contact(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::dual_contact::dual_contact_cases(args.max_dofs.unwrap_or(100_000));
     run_bench(
-        &parsed,
+        &BenchLine::of(args, petsc),
         CaseRunner::<bench::dual_contact::DualContactBenchRow> {
             kind: "dual-contact",
             cases,
@@ -350,5 +411,39 @@ pub fn bench_startup(runs: usize, skip_half_disc: bool, out: Option<PathBuf>) ->
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::select_cases;
+
+    fn cases() -> Vec<(usize, usize, String)> {
+        let names = ["newton_full", "newton", "relaxation", "MUMPS Cholesky (default)", "CG + ICC(0)", "CG + ICC(2)"];
+        [1_000, 10_000]
+            .iter()
+            .flat_map(|&d| names.iter().enumerate().map(move |(k, n)| (d, k, n.to_string())))
+            .collect()
+    }
+
+    fn chosen(solvers: &[&str]) -> Result<Vec<String>, String> {
+        let solvers: Vec<String> = solvers.iter().map(|s| s.to_string()).collect();
+        let picked = select_cases(cases(), Some(&solvers))?;
+        Ok(picked.into_iter().filter(|c| c.0 == 1_000).map(|c| c.2).collect())
+    }
+
+    #[test]
+    fn solvers_are_chosen_by_name_or_part_of_it() {
+        assert_eq!(select_cases(cases(), None).unwrap().len(), 12);
+        // An exact name (any case) selects that solver alone, though others contain it.
+        assert_eq!(chosen(&["NEWTON"]).unwrap(), ["newton"]);
+        assert_eq!(chosen(&["newton_full", "relaxation"]).unwrap(), ["newton_full", "relaxation"]);
+        // Else a part of names selects all of them.
+        assert_eq!(chosen(&["icc"]).unwrap(), ["CG + ICC(0)", "CG + ICC(2)"]);
+        assert_eq!(chosen(&["mumps"]).unwrap(), ["MUMPS Cholesky (default)"]);
+        assert_eq!(select_cases(cases(), Some(&["icc".to_string()])).unwrap().len(), 4, "every size");
+        let e = chosen(&["mumps", "amg"]).unwrap_err();
+        assert!(e.contains("--solvers amg") && e.contains("CG + ICC(2)"), "{e}");
+        assert!(chosen(&[""]).is_err());
     }
 }

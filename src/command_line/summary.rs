@@ -10,54 +10,108 @@ pub const WIDTH: usize = 100;
 /// Where the text after a label starts.
 const INDENT: usize = 10;
 
+/// The longest scene title the terminal shows, in characters (longer ones end in `…`).
+pub const TITLE_CHARS: usize = 200;
+
 /// Lines of at most [`WIDTH`] characters.
 #[derive(Default)]
-struct Lines(Vec<String>);
+pub struct Lines(Vec<String>);
 
 impl Lines {
-    /// `label` then `text`, wrapped at spaces (a word longer than a line is cut).
-    fn add(&mut self, label: &str, text: &str) {
+    /// `label` then `text`, wrapped at spaces (a word longer than a line is cut). Linear in the
+    /// length of `text`: each character is copied once.
+    pub fn add(&mut self, label: &str, text: &str) {
         let room = WIDTH - INDENT;
         let mut current = String::new();
+        let mut used = 0; // characters in `current`
         let mut first = true;
-        let mut flush = |current: &mut String, first: &mut bool| {
+        let mut flush = |current: &mut String, used: &mut usize, first: &mut bool| {
             let lead = if *first { format!("{label:<INDENT$}") } else { " ".repeat(INDENT) };
-            self.0.push(format!("{lead}{current}").trim_end().to_string());
+            self.0.push(format!("{lead}{}", current.trim_end()).trim_end().to_string());
             current.clear();
+            *used = 0;
             *first = false;
         };
         for word in text.split(' ') {
-            let mut word: Vec<char> = word.chars().collect();
-            loop {
-                let used = current.chars().count();
-                let needed = if used == 0 { word.len() } else { used + 1 + word.len() };
-                if needed <= room {
-                    if used > 0 {
-                        current.push(' ');
-                    }
-                    current.extend(word.iter());
-                    break;
-                }
+            let length = word.chars().count();
+            if used > 0 && used + 1 + length > room {
+                flush(&mut current, &mut used, &mut first);
+            }
+            if length <= room {
                 if used > 0 {
-                    flush(&mut current, &mut first);
-                    continue;
+                    current.push(' ');
+                    used += 1;
                 }
-                // A word longer than a line: cut it.
-                let rest = word.split_off(room);
-                current.extend(word.iter());
-                flush(&mut current, &mut first);
-                word = rest;
+                current.push_str(word);
+                used += length;
+                continue;
+            }
+            // A word longer than a line: cut into lines, the rest kept for the next word.
+            for c in word.chars() {
+                if used == room {
+                    flush(&mut current, &mut used, &mut first);
+                }
+                current.push(c);
+                used += 1;
             }
         }
-        if !current.is_empty() || first {
-            flush(&mut current, &mut first);
+        if used > 0 || first {
+            flush(&mut current, &mut used, &mut first);
         }
     }
+
+    pub fn into_lines(self) -> Vec<String> {
+        self.0
+    }
+}
+
+/// `text` cut to `limit` characters, the cut marked by `…`.
+pub fn shortened(text: &str, limit: usize) -> String {
+    match text.char_indices().nth(limit) {
+        Some(_) => {
+            let kept: String = text.chars().take(limit.saturating_sub(1)).collect();
+            format!("{kept}…")
+        }
+        None => text.to_string(),
+    }
+}
+
+/// `signorini VERSION — TITLE (SCENE)`, the title shortened to [`TITLE_CHARS`].
+pub fn program_and_scene(title: Option<&str>, scene: &str) -> String {
+    format!(
+        "signorini {} — {} ({})",
+        env!("CARGO_PKG_VERSION"),
+        shortened(title.unwrap_or("untitled scene"), TITLE_CHARS),
+        shortened(scene, TITLE_CHARS)
+    )
+}
+
+/// Values this many times the largest of their group, or less, are round-off: printed as 0.
+const ROUND_OFF: f64 = 1e-13;
+
+/// `x` in `{:.prec$e}`, or `0` when it is round-off next to `scale`.
+fn number(x: f64, scale: f64, prec: usize) -> String {
+    if x.abs() <= ROUND_OFF * scale.abs() || x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:.prec$e}")
+    }
+}
+
+/// A relative residual with 2 digits: below the machine epsilon it is 0 (the residuals are
+/// relative to their problem's scale, so smaller values are round-off of round-off).
+fn relative(x: f64) -> String {
+    number(x, f64::EPSILON / ROUND_OFF, 1)
+}
+
+/// `(x, y)` with 4 significant digits, components below round-off of `scale` as 0.
+fn point_in(p: [f64; 2], scale: f64) -> String {
+    format!("({}, {})", number(p[0], scale, 4), number(p[1], scale, 4))
 }
 
 /// `(x, y)` with 4 significant digits.
 fn point(p: [f64; 2]) -> String {
-    format!("({:.4e}, {:.4e})", p[0], p[1])
+    point_in(p, p[0].abs().max(p[1].abs()))
 }
 
 /// How the linear systems were solved, e.g. `preonly + cholesky (mumps)`: said once.
@@ -77,7 +131,15 @@ pub fn solver_description(r: &Report) -> String {
 /// The summary's lines.
 pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     let mut out = Lines::default();
-    out.add("run", &format!("{} — {} ({})", r.program, r.title.as_deref().unwrap_or("untitled scene"), r.scene));
+    out.add(
+        "run",
+        &format!(
+            "{} — {} ({})",
+            r.program,
+            shortened(r.title.as_deref().unwrap_or("untitled scene"), TITLE_CHARS),
+            shortened(&r.scene, TITLE_CHARS)
+        ),
+    );
     out.add(
         "problem",
         &format!(
@@ -93,10 +155,10 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     out.add(
         "solver",
         &format!(
-            "{}: {iterations}, {}, residual {:.1e}",
+            "{}: {iterations}, {}, residual {}",
             solver_description(r),
             s.converged_reason,
-            s.relative_residual
+            relative(s.relative_residual)
         ),
     );
     let cached = r.mesh_cache.as_ref().is_some_and(|c| c.status == signorini::mesh::cache::CacheStatus::Hit);
@@ -118,39 +180,47 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     if let Some(res) = &r.results {
         out.add(
             "result",
-            &format!("max |u| = {:.4e}, max von Mises = {:.4e}", res.max_displacement, res.max_von_mises),
+            &format!("max |u| = {:.4e} m, max von Mises = {:.4e} Pa", res.max_displacement, res.max_von_mises),
         );
-        let reactions: Vec<String> = res.reactions.iter().map(|(k, v)| format!("{k} {}", point(*v))).collect();
+        // Forces below round-off of the largest force of the balance are 0.
+        let norm = |p: &[f64; 2]| p[0].hypot(p[1]);
+        let scale = res.reactions.values().map(norm).fold(norm(&res.applied_force), f64::max);
+        let reactions: Vec<String> =
+            res.reactions.iter().map(|(k, v)| format!("{k} {}", point_in(*v, scale))).collect();
         out.add(
             "balance",
             &format!(
-                "applied force {}, reactions {}; equilibrium residual {:.1e}",
-                point(res.applied_force),
+                "forces (N/m): applied {}, reactions {}; equilibrium residual {}",
+                point_in(res.applied_force, scale),
                 if reactions.is_empty() { "none".into() } else { reactions.join(", ") },
-                res.equilibrium_residual
+                relative(res.equilibrium_residual)
             ),
         );
     }
     if let Some(c) = &r.contact {
+        let closed = if c.friction.is_frictional() {
+            format!("{} closed ({} stick, {} slip)", c.closed, c.stick, c.slip)
+        } else {
+            format!("{} closed", c.closed)
+        };
+        let scale = c.normal_resultant.abs().max(c.tangential_resultant.abs()).max(norm_of(c.resultant));
         out.add(
             "contact",
             &format!(
-                "part '{}', friction {}: {} points: {} stick, {} slip, {} open; resultant {} (normal {:.4e}, tangential {:.4e})",
+                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} N/m (normal {}, tangential {})",
                 c.part,
                 c.friction,
                 c.points,
-                c.stick,
-                c.slip,
                 c.open,
-                point(c.resultant),
-                c.normal_resultant,
-                c.tangential_resultant
+                point_in(c.resultant, scale),
+                number(c.normal_resultant, scale, 4),
+                number(c.tangential_resultant, scale, 4)
             ),
         );
         match &c.peak_pressure {
             Some(p) => out.add(
                 "",
-                &format!("peak pressure {:.4e} at s = {:.4e}, (x, y) = {}", p.pressure, p.s, point(p.position)),
+                &format!("peak pressure {:.4e} Pa at s = {:.4e} m, (x, y) = {}", p.pressure, p.s, point(p.position)),
             ),
             None => out.add("", "peak pressure: no contact point"),
         }
@@ -161,7 +231,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
             out.add(
                 "",
                 &format!(
-                    "closed zone {}: s in [{:.4e}, {:.4e}], from {} to {}, {} points",
+                    "closed zone {}: s in [{:.4e}, {:.4e}] m, from {} to {}, {} points",
                     k + 1,
                     z.extent[0],
                     z.extent[1],
@@ -183,13 +253,13 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "",
             &format!(
-                "independent check: penetration {:.1e}, pressure sign {:.1e}, cone {:.1e}, complementarity \
-                 {:.1e} / {:.1e} (worst {worst:.1e})",
-                c.residuals.max_penetration,
-                c.residuals.max_wrong_sign_pressure,
-                c.residuals.max_cone_violation,
-                c.residuals.normal_complementarity,
-                c.residuals.tangential_complementarity
+                "independent check: penetration {}, pressure sign {}, cone {}, complementarity {} / {} (worst {})",
+                relative(c.residuals.max_penetration),
+                relative(c.residuals.max_wrong_sign_pressure),
+                relative(c.residuals.max_cone_violation),
+                relative(c.residuals.normal_complementarity),
+                relative(c.residuals.tangential_complementarity),
+                relative(worst)
             ),
         );
         if c.stabilisation_iterations > 0 {
@@ -214,8 +284,10 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "",
             &format!(
-                "independent check: traction {:.1e}, equilibrium {:.1e}, stress jumps {:.1e}",
-                d.check.traction_residual, d.check.interior_equilibrium, d.check.stress_jump
+                "independent check: traction {}, equilibrium {}, stress jumps {}",
+                relative(d.check.traction_residual),
+                relative(d.check.interior_equilibrium),
+                relative(d.check.stress_jump)
             ),
         );
         for note in &d.notes {
@@ -245,19 +317,21 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     out.0
 }
 
-/// Warning lines (for stderr), wrapped like the summary.
+/// Warning lines (for stderr), wrapped like the summary; PETSc options no solver read are
+/// among the report's warnings (kind `unused_option`).
 pub fn warning_lines(r: &Report) -> Vec<String> {
     let mut out = Lines::default();
     for w in &r.warnings {
         out.add("warning", &format!("{}: {}", w.kind, w.message));
     }
-    for u in &r.solver.unused_options {
-        out.add("warning", &format!("PETSc option {u} was never used (a typo?)"));
-    }
     if let Some(problem) = r.mesh_cache.as_ref().and_then(|c| c.problem.as_ref()) {
         out.add("note", &format!("mesh cache: {problem}"));
     }
     out.0
+}
+
+fn norm_of(p: [f64; 2]) -> f64 {
+    p[0].hypot(p[1])
 }
 
 /// The status changes per iteration, the first six and the last four when there are more than
@@ -285,6 +359,46 @@ mod tests {
         assert!(l.0[0].starts_with("label     word"));
         let joined: String = l.0.iter().map(|s| s[INDENT..].to_string()).collect::<Vec<_>>().join(" ");
         assert_eq!(joined.matches('x').count(), 250);
+    }
+
+    #[test]
+    fn a_megabyte_word_is_cut_into_full_lines_once() {
+        let mut l = Lines::default();
+        let word = "é".repeat(1 << 20); // two bytes per character: cuts fall on characters
+        l.add("run", &format!("a {word} b"));
+        let room = WIDTH - INDENT;
+        // "a" alone (the word does not fit after it), then full lines of the word, then its
+        // rest with " b".
+        assert_eq!(l.0.len(), 1 + (1 << 20) / room + 1, "{}", l.0.len());
+        assert_eq!(l.0[0], "run       a");
+        assert!(l.0[1..l.0.len() - 1].iter().all(|s| s.chars().count() == WIDTH));
+        assert!(l.0.last().unwrap().ends_with(" b"));
+        let joined: String = l.0.iter().map(|s| s.chars().skip(INDENT).collect::<String>()).collect();
+        assert_eq!(joined.matches('é').count(), 1 << 20);
+    }
+
+    #[test]
+    fn titles_are_shortened_with_an_ellipsis() {
+        assert_eq!(shortened("short", 10), "short");
+        assert_eq!(shortened("exactly 10", 10), "exactly 10");
+        assert_eq!(shortened("eleven char", 10), "eleven ch…");
+        assert_eq!(shortened("ééééééééééé", 10).chars().count(), 10);
+        let line = program_and_scene(Some(&"x".repeat(1 << 20)), "s.toml");
+        assert!(line.chars().count() < TITLE_CHARS + 50 && line.contains("x…"), "{line}");
+    }
+
+    #[test]
+    fn round_off_prints_as_zero() {
+        // The applied force of a shear-free load: 1e-25 next to 5e4 is round-off.
+        assert_eq!(point_in([1.034e-25, -5.0e4], 5.0e4), "(0, -5.0000e4)");
+        assert_eq!(point([0.0, 2.5e-3]), "(0, 2.5000e-3)");
+        // A genuine small component stays.
+        assert_eq!(point([1.0e-9, 1.0]), "(1.0000e-9, 1.0000e0)");
+        // Relative residuals below the machine epsilon are 0; above, two digits.
+        assert_eq!(relative(5.2e-97), "0");
+        assert_eq!(relative(0.0), "0");
+        assert_eq!(relative(8.5e-16), "8.5e-16");
+        assert_eq!(relative(1.3e-3), "1.3e-3");
     }
 
     #[test]

@@ -103,6 +103,11 @@ impl ContactSetup {
         }
     }
 
+    /// Has point `i` a friction law (else its closed state is `closed`, not stick or slip)?
+    pub fn frictional_points(&self) -> Vec<bool> {
+        (0..self.boundary.points()).map(|i| self.point_friction(i) != FrictionSpec::None).collect()
+    }
+
     /// The friction law of every point, for the contact solvers.
     pub fn friction_law(&self) -> FrictionLaw {
         let m = self.boundary.points();
@@ -124,7 +129,7 @@ impl ContactSetup {
                     .collect(),
             }
         } else if tresca {
-            // The threshold is a traction (N/m); the per-point force threshold is g·w_i.
+            // The threshold is a traction (Pa = N/m²); the per-point force threshold is g·w_i (N/m).
             FrictionLaw::Tresca {
                 threshold: (0..m)
                     .map(|i| match laws[i] {
@@ -145,11 +150,12 @@ impl ContactSetup {
         (100.0 * tolerance.max(1e-10)).min(self.spec.tolerance.unwrap_or(f64::INFINITY))
     }
 
-    pub(crate) fn friction_name(&self) -> String {
-        if let Some(parts) = &self.parts {
-            return parts.friction_name();
+    /// The friction law(s) for the report: the contact's, or every part's.
+    pub(crate) fn friction_report(&self) -> crate::report::contact::FrictionReport {
+        match &self.parts {
+            Some(parts) => parts.friction_report(),
+            None => self.spec.friction.into(),
         }
-        crate::problem::bodies::friction_text(self.spec.friction)
     }
 
     /// The owned load `f + S anchor`: the springs pull towards the previous iterate.
@@ -295,7 +301,6 @@ impl ContactSetup {
     pub fn solve_vi<'s>(
         &self,
         session: &'s Session,
-        mesh: &Mesh,
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
     ) -> Result<(Vec<f64>, ContactOutcome)> {
@@ -397,7 +402,7 @@ impl ContactSetup {
             solver: run.method.clone(),
             notes: vec![format!("{} ({} linear iterations)", run.converged_reason, run.linear_iterations)],
         };
-        let mut report = self.report(mesh, &force, &status, &u, &residuals, history.len().max(1), &solution);
+        let mut report = self.report(&force, &status, &u, &residuals, history.len().max(1), &solution);
         report.iterations = newton_steps;
         report.stabilisation_force = spring;
         report.stabilisation_iterations = history.len();
@@ -408,7 +413,6 @@ impl ContactSetup {
     pub fn solve<'s>(
         &self,
         session: &'s Session,
-        mesh: &Mesh,
         matrix: &Matrix<'s>,
         rhs: &Vector<'s>,
         ksp: &mut LinearSolver<'s>,
@@ -476,7 +480,7 @@ impl ContactSetup {
             // The independent check accepts what the scene's tolerance accepts.
             let check = SolverSettings { tolerance: base_tolerance, ..settings.clone() };
             let (u, mut outcome) =
-                self.recover_and_verify(mesh, matrix, &rk, &mut linear, &problem, solution, &check, solves)?;
+                self.recover_and_verify(matrix, &rk, &mut linear, &problem, solution, &check, solves)?;
             total_iterations += outcome.report.iterations;
             step_iterations.push(outcome.report.iterations);
             all_changes.extend(outcome.report.status_changes.iter().copied());
@@ -643,7 +647,6 @@ impl ContactSetup {
     #[allow(clippy::too_many_arguments)]
     fn recover_and_verify<'s>(
         &self,
-        mesh: &Mesh,
         matrix: &Matrix<'s>,
         rhs: &[f64],
         linear: &mut Factorised<'_, 's>,
@@ -683,14 +686,13 @@ impl ContactSetup {
                 tried: solution.notes.join("; "),
             });
         }
-        let report = self.report(mesh, &solution.force, &status, &u, &residuals, linear_solves, &solution);
+        let report = self.report(&solution.force, &status, &u, &residuals, linear_solves, &solution);
         Ok((u, ContactOutcome { force: solution.force, status, report }))
     }
 
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn report(
         &self,
-        mesh: &Mesh,
         force: &[f64],
         status: &[PointStatus],
         u: &[f64],
@@ -703,8 +705,6 @@ impl ContactSetup {
         let solution_force = force;
         let mut resultant = [0.0f64; 2];
         let (mut normal_resultant, mut tangential_resultant) = (0.0, 0.0);
-        let mut zone: Option<[f64; 2]> = None;
-        let t0 = b.tangent.first().copied().unwrap_or([1.0, 0.0]);
         for i in 0..m {
             let (rn, rt) = (solution_force[2 * i], solution_force[2 * i + 1]);
             for c in 0..2 {
@@ -715,43 +715,24 @@ impl ContactSetup {
         }
         let stabilisation_force = [0.0f64; 2];
         let _ = u;
-        let (mut open, mut stick, mut slip) = (0, 0, 0);
-        for s in status {
-            match s {
-                PointStatus::Open => open += 1,
-                PointStatus::Stick => stick += 1,
-                PointStatus::Slip => slip += 1,
-            }
-        }
-        let closed: Vec<f64> = (0..m)
-            .filter(|&i| status[i] != PointStatus::Open)
-            .map(|i| {
-                let p = mesh.nodes[b.nodes[i]];
-                p[0] * t0[0] + p[1] * t0[1]
-            })
-            .collect();
-        if !closed.is_empty() {
-            zone = Some([
-                closed.iter().cloned().fold(f64::INFINITY, f64::min),
-                closed.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-            ]);
-        }
+        let friction = self.friction_report();
+        let counts = crate::report::contact::StateCounts::of(status.iter().copied().zip(self.frictional_points()));
         ContactReport {
             part: self.spec.part.clone(),
-            friction: self.friction_name(),
+            friction,
             solver: solution.solver.clone(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
             residual_history: solution.history.iter().map(|h| h.residual).collect(),
             notes: solution.notes.clone(),
             points: m,
-            open,
-            stick,
-            slip,
+            open: counts.open,
+            closed: counts.closed,
+            stick: counts.stick,
+            slip: counts.slip,
             resultant,
             normal_resultant,
             tangential_resultant,
-            zone,
             peak_pressure: None,
             zones: Vec::new(),
             residuals: residuals.into(),

@@ -225,28 +225,79 @@ fn install(temporary: &mut TemporaryFile, path: &Path, parent: &Path) -> Result<
     Ok(())
 }
 
-/// The result files of a run in its output directory (the last three for contact runs).
-pub const RUN_FILES: [&str; 5] = ["solution.vtu", "report.json", "contact.csv", "contact.svg", "convergence.svg"];
+/// The result files of a run in its output directory (the last three for contact runs; with
+/// several bodies also `solution.pvd` and the `.vtu` file of each body it lists).
+pub const RUN_FILES: [&str; 6] =
+    ["solution.vtu", "solution.pvd", "report.json", "contact.csv", "contact.svg", "convergence.svg"];
 
-/// Remove the previous run's result files from `dir`, and the temporary files that a writer
-/// killed before its rename left there (`.solution.vtu.PID.N.tmp`, by a signal or a file-size
-/// limit), so that after a failed run nothing stale remains. Returns the paths removed.
+/// The `.vtu` files a previous run's `solution.pvd` in `dir` lists (plain names in `dir` only).
+fn collection_members(dir: &Path) -> Vec<String> {
+    let Ok(text) = fs::read_to_string(dir.join("solution.pvd")) else { return Vec::new() };
+    text.split("file=\"")
+        .skip(1)
+        .filter_map(|rest| rest.split('"').next())
+        .filter(|name| name.ends_with(".vtu") && !name.contains(['/', '\\']) && !name.starts_with('.'))
+        .map(str::to_string)
+        .collect()
+}
+
+/// Is `name` the temporary file of [`write_atomically`] for one of `targets`
+/// (`.TARGET.PID.N.tmp`)?
+fn is_temporary_of(name: &str, targets: &[String]) -> bool {
+    let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else { return false };
+    targets.iter().any(|t| {
+        inner.strip_prefix(t.as_str()).and_then(|r| r.strip_prefix('.')).is_some_and(|r| {
+            let mut parts = r.split('.');
+            let numeric = |p: Option<&str>| p.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+            numeric(parts.next()) && numeric(parts.next()) && parts.next().is_none()
+        })
+    })
+}
+
+/// Remove the previous run's result files from `dir` ([`RUN_FILES`] and the body files its
+/// `solution.pvd` lists), and the temporary files that a writer killed before its rename left
+/// there (`.solution.vtu.PID.N.tmp`, by a signal), so that after a failed run nothing stale
+/// remains. Returns the paths removed. Every file that can be removed is; if one cannot, the
+/// error names each file of the previous run still there (stale), so that nobody takes them
+/// for this run's results.
 pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut removed = Vec::new();
     let Ok(entries) = fs::read_dir(dir) else {
         return Ok(removed); // no directory yet: nothing to clear
     };
+    let mut targets: Vec<String> = RUN_FILES.iter().map(|f| f.to_string()).collect();
+    targets.extend(collection_members(dir));
+    let mut stale: Vec<(PathBuf, String)> = Vec::new();
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().to_string();
-        let result = RUN_FILES.contains(&name.as_str());
-        let temporary = name.ends_with(".tmp") && RUN_FILES.iter().any(|f| name.starts_with(&format!(".{f}.")));
-        if result || temporary {
+        if targets.contains(&name) || is_temporary_of(&name, &targets) {
             let path = entry.path();
-            fs::remove_file(&path).map_err(|e| output_error(&path, "removing the previous run's file", e))?;
-            removed.push(path);
+            match fs::remove_file(&path) {
+                Ok(()) => removed.push(path),
+                Err(e) => stale.push((path, e.to_string())),
+            }
         }
     }
     removed.sort();
+    stale.sort();
+    if let Some((first, reason)) = stale.first() {
+        let names: Vec<String> = stale.iter().map(|(p, _)| p.display().to_string()).collect();
+        return Err(Error::Output {
+            path: first.clone(),
+            message: format!(
+                "removing the previous run's results failed ({reason}): {} {} stale, from an earlier run, not \
+                 results of this one; {} removed; remove or rename the stale {} and run again",
+                names.join(", "),
+                if names.len() == 1 { "is" } else { "are" },
+                if removed.is_empty() {
+                    "nothing else was".to_string()
+                } else {
+                    format!("{} other file(s) were", removed.len())
+                },
+                if names.len() == 1 { "entry" } else { "entries" },
+            ),
+        });
+    }
     Ok(removed)
 }
 

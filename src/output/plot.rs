@@ -51,6 +51,16 @@ const FONT: f64 = 14.0;
 /// the yellow that is unreadable on white.
 const COLOURS: [&str; 7] = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"];
 
+/// The line style of series `i`: solid for the first round of [`COLOURS`], dashed after, so
+/// that no two series of one plot look alike.
+fn dash(i: usize) -> &'static str {
+    if i < COLOURS.len() {
+        ""
+    } else {
+        r#" stroke-dasharray="8 4""#
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 enum Marker {
     Circle,
@@ -267,7 +277,12 @@ fn render(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Strin
         }
         let _ = writeln!(s, r#"<g fill="{colour}" stroke="{colour}">"#);
         if !d.is_empty() {
-            let _ = writeln!(s, r#"<path d="{}" fill="none" stroke-width="2" stroke-linejoin="round"/>"#, d.trim_end());
+            let _ = writeln!(
+                s,
+                r#"<path d="{}" fill="none" stroke-width="2" stroke-linejoin="round"{}/>"#,
+                d.trim_end(),
+                dash(i)
+            );
         }
         for &(x, y) in pts.iter().flatten() {
             draw_marker(&mut s, MARKERS[i % MARKERS.len()], x, y);
@@ -415,9 +430,10 @@ fn draw_legend(s: &mut String, series: &[Series], pixels: &[Vec<Option<(f64, f64
         let _ = writeln!(s, r#"<g fill="{colour}" stroke="{colour}">"#);
         let _ = writeln!(
             s,
-            r#"<line x1="{:.2}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke-width="2"/>"#,
+            r#"<line x1="{:.2}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke-width="2"{}/>"#,
             x0 + 8.0,
-            x0 + 40.0
+            x0 + 40.0,
+            dash(i)
         );
         draw_marker(s, MARKERS[i % MARKERS.len()], x0 + 24.0, y);
         let _ = writeln!(s, "</g>");

@@ -610,6 +610,17 @@ pub fn release_free_memory() {
     unsafe { sys::signorini_release_free_memory() };
 }
 
+/// Ignore the signal SIGXFSZ (a file grew past the file-size limit, `ulimit -f`), whose default
+/// action kills the process in the middle of a write and leaves its temporary file behind:
+/// ignored, the write fails with `EFBIG` ("File too large"), and the writer removes its
+/// temporary and reports an [`Error::Output`]. Process-wide and inherited by child processes
+/// (Gmsh then fails the same way); for programs, not for a library to call on its own. It
+/// needs FFI, hence lives here. Returns false if the disposition could not be changed.
+pub fn ignore_file_size_signal() -> bool {
+    // SAFETY: signal(2) with SIG_IGN installs no handler code; it has no preconditions.
+    unsafe { sys::signorini_ignore_file_size_signal() == 0 }
+}
+
 /// Convert a `usize` index to PETSc's 32-bit `PetscInt`, or explain why not.
 pub(crate) fn to_petsc_int(value: usize, what: &str) -> Result<sys::PetscInt> {
     sys::PetscInt::try_from(value).map_err(|_| {

@@ -103,21 +103,9 @@ impl ContactParts {
         self.part_of.get(i).map_or(FrictionSpec::None, |&p| self.parts[p].friction)
     }
 
-    /// Every part's friction law, for the report.
-    pub fn friction_name(&self) -> String {
-        if let [one] = self.parts.as_slice() {
-            return friction_text(one.friction);
-        }
-        self.parts.iter().map(|p| format!("{}: {}", p.name, friction_text(p.friction))).collect::<Vec<_>>().join("; ")
-    }
-}
-
-/// A friction law as the reports write it.
-pub(crate) fn friction_text(friction: FrictionSpec) -> String {
-    match friction {
-        FrictionSpec::None => "none".into(),
-        FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
-        FrictionSpec::Tresca { threshold } => format!("Tresca, threshold = {threshold} N/m"),
+    /// Every part's friction law, for the report (one law when they all have the same).
+    pub fn friction_report(&self) -> crate::report::contact::FrictionReport {
+        crate::report::contact::FrictionReport::of_parts(self.parts.iter().map(|p| (p.name.as_str(), p.friction)))
     }
 }
 

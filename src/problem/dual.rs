@@ -266,7 +266,8 @@ impl<'s> ElasticityProblem<'s> {
     fn estimate_unobserved(&mut self) -> Result<()> {
         let start = std::time::Instant::now();
         let (Some(u), Some(dual)) = (&self.displacement, &self.dual) else {
-            return Err(Error::PetscUsage("estimate() needs solve() and solve_dual() first".into()));
+            let needs = if self.displacement.is_none() { "solve()" } else { "solve_dual()" };
+            return Err(Error::CallOrder { call: "estimate()", needs });
         };
         // Point supports are dropped by the dual: their primal reactions must vanish, up to the
         // round-off of the reactions, which is relative to the loads (their magnitudes, not their

@@ -184,28 +184,25 @@ impl ElasticityProblem<'_> {
             normal_resultant += rn;
             tangential_resultant += rt;
         }
-        let count = |s: PointStatus| status.iter().filter(|&&x| x == s).count();
+        let frictional = spec.friction != FrictionSpec::None;
+        let counts = crate::report::contact::StateCounts::of(status.iter().map(|&s| (s, frictional)));
         let (peak_pressure, zones) = peak_and_zones(points, force, status);
         ContactReport {
             part: spec.part.clone(),
-            friction: match spec.friction {
-                FrictionSpec::None => "none".into(),
-                FrictionSpec::Coulomb { mu } => format!("Coulomb, mu = {mu}"),
-                FrictionSpec::Tresca { threshold } => format!("Tresca, threshold = {threshold} N/m"),
-            },
+            friction: spec.friction.into(),
             solver: solution.solver.clone(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
             residual_history: solution.history.iter().map(|h| h.residual).collect(),
             notes,
             points: points.len(),
-            open: count(PointStatus::Open),
-            stick: count(PointStatus::Stick),
-            slip: count(PointStatus::Slip),
+            open: counts.open,
+            closed: counts.closed,
+            stick: counts.stick,
+            slip: counts.slip,
             resultant,
             normal_resultant,
             tangential_resultant,
-            zone: None,
             peak_pressure,
             zones,
             residuals: residuals.into(),
@@ -351,6 +348,7 @@ fn arc_lengths(points: &[DualContactPoint]) -> Vec<f64> {
 /// displacement near the edge end) with the gap `g̃ − uN` it closes.
 pub(crate) fn dual_contact_curve(outcome: &DualContactOutcome) -> Vec<super::ContactCurvePoint> {
     let s = arc_lengths(&outcome.points);
+    let frictional = outcome.report.friction.is_frictional();
     outcome
         .points
         .iter()
@@ -366,7 +364,7 @@ pub(crate) fn dual_contact_curve(outcome: &DualContactOutcome) -> Vec<super::Con
                 gap: p.gap - un,
                 normal_displacement: un,
                 tangential_slip: ut,
-                status: outcome.status[i],
+                status: crate::report::contact::ContactState::of(outcome.status[i], frictional),
             }
         })
         .collect()
@@ -427,20 +425,18 @@ pub(super) fn dual_data_with_contact<'a>(
     DualData { contact: Some(crate::dual::ContactSide { group, normal }), ..data }
 }
 
-/// Nodal contact pressure, friction traction and status (0 open, 1 stick, 2 slip) of the dual
-/// solution for `solution.vtu`: the mean of the edge ends at each node (the worst status).
+/// Nodal contact pressure, friction traction and status (0 open, 1 stick, 2 slip, 3 closed
+/// without friction: [`crate::report::contact::ContactState::code`]) of the dual solution for
+/// `solution.vtu`: the mean of the edge ends at each node (the worst status).
 pub(crate) fn nodal_contact_fields(num_nodes: usize, outcome: &DualContactOutcome) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     let (mut pressure, mut friction, mut status, mut count) =
         (vec![0.0; num_nodes], vec![0.0; num_nodes], vec![-1.0f64; num_nodes], vec![0usize; num_nodes]);
+    let frictional = outcome.report.friction.is_frictional();
     for (i, p) in outcome.points.iter().enumerate() {
         pressure[p.node] += -outcome.force[2 * i] / p.weight;
         friction[p.node] += outcome.force[2 * i + 1] / p.weight;
         count[p.node] += 1;
-        let code = match outcome.status[i] {
-            PointStatus::Open => 0.0,
-            PointStatus::Stick => 1.0,
-            PointStatus::Slip => 2.0,
-        };
+        let code = crate::report::contact::ContactState::of(outcome.status[i], frictional).code();
         status[p.node] = status[p.node].max(code);
     }
     for k in 0..num_nodes {

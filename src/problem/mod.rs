@@ -35,8 +35,8 @@ mod progress;
 pub use crate::contact_routes::condensed_route::ContactSetup;
 pub use crate::contact_routes::full_space::{dof_ranges, MixedLayout};
 pub use crate::report::bodies::{BodiesReport, BodyReport, ContactPartReport};
-pub use crate::report::contact::{ContactOutcome, ContactReport, ContactResidualsReport};
-pub use crate::report::contact_curve::{contact_curve, status_name, ContactCurvePoint, CONTACT_CSV_HEADER};
+pub use crate::report::contact::{ContactOutcome, ContactReport, ContactResidualsReport, ContactState, FrictionReport};
+pub use crate::report::contact_curve::{contact_curve, ContactCurvePoint, CONTACT_CSV_HEADER};
 pub use crate::report::contact_zones::{ClosedZone, PeakPressure};
 pub use crate::report::warnings::Warning;
 pub use bodies::{ContactPart, ContactParts, MasterSide};
@@ -495,12 +495,11 @@ impl<'s> ElasticityProblem<'s> {
             self.progress.phase_finished(Phase::Solve, start.elapsed().as_secs_f64());
             return Ok(());
         }
-        let (matrix, rhs) =
-            self.system.as_ref().ok_or_else(|| Error::PetscUsage("solve() called before assemble()".into()))?;
+        let (matrix, rhs) = self.system.as_ref().ok_or(Error::CallOrder { call: "solve()", needs: "assemble()" })?;
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
         ksp.set_operator(matrix)?;
         if let Some(contact) = self.contact.as_ref().filter(|c| c.spec.solver == ContactSolverSpec::SnesVi) {
-            let (u, outcome) = contact.solve_vi(self.session, &self.mesh, matrix, rhs)?;
+            let (u, outcome) = contact.solve_vi(self.session, matrix, rhs)?;
             self.stats = Some(crate::petsc::SolveStats {
                 ksp_type: "snes vinewtonrsls".into(),
                 pc_type: "lu".into(),
@@ -514,8 +513,7 @@ impl<'s> ElasticityProblem<'s> {
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {
-            let (u, outcome, stats) =
-                contact.solve(self.session, &self.mesh, matrix, rhs, &mut ksp, &*self.progress)?;
+            let (u, outcome, stats) = contact.solve(self.session, matrix, rhs, &mut ksp, &*self.progress)?;
             self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
             self.check_contact_equilibrium(&outcome)?;
             self.displacement = Some(u);
@@ -596,7 +594,7 @@ impl<'s> ElasticityProblem<'s> {
                 built = self.to_petsc(&system)?;
                 (&built.0, &built.1)
             }
-            _ => return Err(Error::PetscUsage("linear_solve_seconds() before assemble()".into())),
+            _ => return Err(Error::CallOrder { call: "linear_solve_seconds()", needs: "assemble()" }),
         };
         let start = std::time::Instant::now();
         let mut ksp = LinearSolver::new(self.session, self.session.world(), "")?;
@@ -612,15 +610,23 @@ impl<'s> ElasticityProblem<'s> {
         let stats = match (&self.stats, &self.dual) {
             (Some(s), _) => s.clone(),
             (None, Some(d)) => d.report.solver.clone(),
-            (None, None) => return Err(Error::PetscUsage("report() before solve()".into())),
+            (None, None) => return Err(Error::CallOrder { call: "report()", needs: "solve()" }),
         };
         let results = match &self.results {
             Some(r) => Some(r.report.clone()),
             None if dual_only => None,
-            None => return Err(Error::PetscUsage("report() before postprocess()".into())),
+            None => return Err(Error::CallOrder { call: "report()", needs: "postprocess()" }),
         };
         let peak = resources::peak_memory_bytes();
         let all = self.session.world().sum(&[peak.unwrap_or(0) as f64])?[0];
+        let unused_options = self.session.unused_options()?;
+        let route = crate::report::option_warnings::OptionRoute {
+            contact_solver: self.contact.as_ref().map(|c| c.spec.solver.scene_name()),
+            primal: self.displacement.is_some(),
+            dual: self.dual.is_some(),
+        };
+        let mut warnings = self.warnings.clone();
+        warnings.extend(crate::report::option_warnings::unused_option_warnings(&unused_options, route));
         let parts = self.mesh.groups.iter().map(|g| (g.name.clone(), g.tag)).collect();
         Ok(Report {
             bodies: self.bodies_report.clone(),
@@ -646,11 +652,7 @@ impl<'s> ElasticityProblem<'s> {
             mpi_ranks: self.session.size(),
             timings: self.timings.clone(),
             mesh_cache: self.mesh_cache.clone(),
-            solver: SolverReport {
-                stats,
-                scene_options: self.scene_options.clone(),
-                unused_options: self.session.unused_options()?,
-            },
+            solver: SolverReport { stats, scene_options: self.scene_options.clone(), unused_options },
             memory: MemoryReport { peak_bytes: peak, peak_bytes_all_ranks: peak.map(|_| all as u64) },
             results,
             parts,
@@ -666,7 +668,7 @@ impl<'s> ElasticityProblem<'s> {
                 e.run_seconds = self.timings.total();
                 e
             }),
-            warnings: self.warnings.clone(),
+            warnings,
         })
     }
 }

@@ -10,10 +10,7 @@ impl ElasticityProblem<'_> {
     pub fn postprocess(&mut self) -> Result<()> {
         self.progress.phase_started(Phase::Postprocess);
         let start = std::time::Instant::now();
-        let u = self
-            .displacement
-            .as_ref()
-            .ok_or_else(|| Error::PetscUsage("postprocess() called before solve()".into()))?;
+        let u = self.displacement.as_ref().ok_or(Error::CallOrder { call: "postprocess()", needs: "solve()" })?;
         let (nodal_stress, sigma_zz) =
             mixed_pressure::nodal_stress_cells(&self.mesh, &self.cell_materials, self.scene.element, u);
         let von_mises: Vec<f64> =

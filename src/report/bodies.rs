@@ -74,13 +74,15 @@ pub struct BodyReport {
 pub struct ContactPartReport {
     /// `slave.part / master.part` for a pair, `body.part` for a rigid obstacle.
     pub name: String,
-    /// The friction law, e.g. `"Coulomb, mu = 0.3"`.
-    pub friction: String,
+    /// The friction law (an object: `{"law": "coulomb", "mu": 0.3}`).
+    pub friction: super::contact::FrictionReport,
     /// Contact points of the part.
     pub points: usize,
     /// Points without contact force.
     pub open: usize,
-    /// Points in contact, sticking.
+    /// Closed points (stick + slip under friction; `stick` and `slip` are 0 without).
+    pub closed: usize,
+    /// Points in contact, sticking (0 without friction).
     pub stick: usize,
     /// Points in contact, slipping.
     pub slip: usize,
@@ -269,9 +271,10 @@ fn out_of_range_pairs(
         let node_penetration = node_penetration(model, &HashSet::new(), &part, master, u, scale)?;
         out.push(ContactPartReport {
             name: part.name,
-            friction: crate::problem::bodies::friction_text(part.friction),
+            friction: part.friction.into(),
             points: 0,
             open: 0,
+            closed: 0,
             stick: 0,
             slip: 0,
             slave_resultant: [0.0; 2],
@@ -317,7 +320,8 @@ fn part_reports(
         let gap: Vec<f64> = points.iter().map(|&i| b.gap[i]).collect();
         let threshold = |k: usize, rn: f64| law.threshold(points[k], rn);
         let residuals = contact::evaluate_residuals(&r, &d, &gap, &threshold, scale);
-        let count = |s: PointStatus| points.iter().filter(|&&i| status[i] == s).count();
+        let frictional = part.friction != crate::scene::FrictionSpec::None;
+        let counts = super::contact::StateCounts::of(points.iter().map(|&i| (status[i], frictional)));
         let s = slave_force[p];
         let (master_resultant, action_reaction_residual) = match part.master {
             Some(_) => {
@@ -330,11 +334,12 @@ fn part_reports(
         };
         out.push(ContactPartReport {
             name: part.name.clone(),
-            friction: crate::problem::bodies::friction_text(part.friction),
+            friction: part.friction.into(),
             points: points.len(),
-            open: count(PointStatus::Open),
-            stick: count(PointStatus::Stick),
-            slip: count(PointStatus::Slip),
+            open: counts.open,
+            closed: counts.closed,
+            stick: counts.stick,
+            slip: counts.slip,
             slave_resultant: s,
             master_resultant,
             action_reaction_residual,

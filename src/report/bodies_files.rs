@@ -70,11 +70,8 @@ impl ElasticityProblem<'_> {
                 pressure[k] = -(f[0] * n[0] + f[1] * n[1]) / w;
                 friction[k] = (f[0] * t[0] + f[1] * t[1]) / w;
                 if let Some(&(_, i)) = strongest.get(&k) {
-                    status[k] = match outcome.status[i] {
-                        crate::contact::PointStatus::Open => 0.0,
-                        crate::contact::PointStatus::Stick => 1.0,
-                        crate::contact::PointStatus::Slip => 2.0,
-                    };
+                    let frictional = part.friction != crate::scene::FrictionSpec::None;
+                    status[k] = super::contact::ContactState::of(outcome.status[i], frictional).code();
                 }
             }
         }

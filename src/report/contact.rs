@@ -1,6 +1,170 @@
 //! What the primal contact route reports (`report.json` → `contact`): the solver's history,
 //! the point counts and resultants, the closed zones, and the independent check's residuals.
+//!
+//! A point's state as reported ([`ContactState`]): `open`, or closed; closed points are
+//! `stick` or `slip` under a friction law, and `closed` without friction (where sticking and
+//! slipping are not told apart: the solvers' internal "slip" of a frictionless point means no
+//! more than closed).
+use std::collections::BTreeMap;
+use std::fmt;
+
 use crate::contact::PointStatus;
+use crate::scene::FrictionSpec;
+
+/// A friction law as `report.json` writes it: `{"law": "none"}`, `{"law": "coulomb", "mu":
+/// 0.3}`, `{"law": "tresca", "threshold": 5e7}` (the slip threshold on the tangential traction,
+/// Pa = N/m², as in the scene), or with contact parts of different laws or coefficients
+/// `{"law": "per_part", "parts": {"NAME": {...}, ...}}`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
+pub enum FrictionReport {
+    /// Frictionless contact.
+    None,
+    /// Coulomb friction.
+    Coulomb {
+        /// The friction coefficient μ.
+        mu: f64,
+    },
+    /// Tresca friction.
+    Tresca {
+        /// The slip threshold on the tangential traction (Pa).
+        threshold: f64,
+    },
+    /// Contact parts with different laws or coefficients.
+    PerPart {
+        /// Each part's law, by part name.
+        parts: BTreeMap<String, FrictionReport>,
+    },
+}
+
+impl From<FrictionSpec> for FrictionReport {
+    fn from(f: FrictionSpec) -> Self {
+        match f {
+            FrictionSpec::None => FrictionReport::None,
+            FrictionSpec::Coulomb { mu } => FrictionReport::Coulomb { mu },
+            FrictionSpec::Tresca { threshold } => FrictionReport::Tresca { threshold },
+        }
+    }
+}
+
+impl FrictionReport {
+    /// The law of several named parts: theirs when they all have the same, else per part.
+    pub fn of_parts<'a>(parts: impl IntoIterator<Item = (&'a str, FrictionSpec)>) -> Self {
+        let parts: Vec<(&str, FrictionSpec)> = parts.into_iter().collect();
+        match parts.first() {
+            Some((_, first)) if parts.iter().all(|(_, f)| f == first) => (*first).into(),
+            None => FrictionReport::None,
+            Some(_) => FrictionReport::PerPart {
+                parts: parts.into_iter().map(|(name, f)| (name.to_string(), f.into())).collect(),
+            },
+        }
+    }
+
+    /// Is there friction (on some part)?
+    pub fn is_frictional(&self) -> bool {
+        match self {
+            FrictionReport::None => false,
+            FrictionReport::PerPart { parts } => parts.values().any(FrictionReport::is_frictional),
+            _ => true,
+        }
+    }
+}
+
+/// As the terminal and the plot titles write it: `Coulomb, mu = 0.3`, `Tresca, threshold =
+/// 5e7 Pa`, `none`.
+impl fmt::Display for FrictionReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FrictionReport::None => write!(f, "none"),
+            FrictionReport::Coulomb { mu } => write!(f, "Coulomb, mu = {mu}"),
+            FrictionReport::Tresca { threshold } => write!(f, "Tresca, threshold = {threshold:e} Pa"),
+            FrictionReport::PerPart { parts } => {
+                let each: Vec<String> = parts.iter().map(|(name, law)| format!("{name}: {law}")).collect();
+                write!(f, "{}", each.join("; "))
+            }
+        }
+    }
+}
+
+/// A contact point's state as the outputs write it (`contact.csv`, the `.vtu` field
+/// `contact_status`, the counts of the report).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactState {
+    /// No contact force.
+    Open,
+    /// Closed, sticking (with friction).
+    Stick,
+    /// Closed, slipping (with friction).
+    Slip,
+    /// Closed without friction.
+    Closed,
+}
+
+impl ContactState {
+    /// The reported state of a solver's status, with or without friction at the point.
+    pub fn of(status: PointStatus, frictional: bool) -> Self {
+        match (status, frictional) {
+            (PointStatus::Open, _) => ContactState::Open,
+            (_, false) => ContactState::Closed,
+            (PointStatus::Stick, true) => ContactState::Stick,
+            (PointStatus::Slip, true) => ContactState::Slip,
+        }
+    }
+
+    /// Its name in `contact.csv`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactState::Open => "open",
+            ContactState::Stick => "stick",
+            ContactState::Slip => "slip",
+            ContactState::Closed => "closed",
+        }
+    }
+
+    /// Its value in the `.vtu` point field `contact_status` (-1 where no contact point is).
+    pub fn code(self) -> f64 {
+        match self {
+            ContactState::Open => 0.0,
+            ContactState::Stick => 1.0,
+            ContactState::Slip => 2.0,
+            ContactState::Closed => 3.0,
+        }
+    }
+}
+
+/// The points per reported state: `closed` counts every closed point (stick + slip under
+/// friction); `stick` and `slip` are 0 without friction.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StateCounts {
+    /// Points without contact force.
+    pub open: usize,
+    /// Closed points (stick + slip under friction).
+    pub closed: usize,
+    /// Sticking points (0 without friction).
+    pub stick: usize,
+    /// Slipping points (0 without friction).
+    pub slip: usize,
+}
+
+impl StateCounts {
+    /// The counts of `(status, frictional)` per point.
+    pub fn of(points: impl IntoIterator<Item = (PointStatus, bool)>) -> Self {
+        let mut c = StateCounts::default();
+        for (s, frictional) in points {
+            match ContactState::of(s, frictional) {
+                ContactState::Open => c.open += 1,
+                ContactState::Stick => c.stick += 1,
+                ContactState::Slip => c.slip += 1,
+                ContactState::Closed => {}
+            }
+            if s != PointStatus::Open {
+                c.closed += 1;
+            }
+        }
+        c
+    }
+}
 
 #[derive(Debug, Clone, serde::Serialize)]
 /// The independent check of a contact solution: the five relative residuals of
@@ -44,8 +208,8 @@ impl From<&crate::contact::ContactResiduals> for ContactResidualsReport {
 pub struct ContactReport {
     /// The contact part (with several bodies, the contact parts' names).
     pub part: String,
-    /// The friction law, e.g. `"Coulomb, mu = 0.3"`.
-    pub friction: String,
+    /// The friction law (an object: `{"law": "coulomb", "mu": 0.3}`).
+    pub friction: FrictionReport,
     /// The contact solver as run, with its linear solver (and a fallback, if one was taken).
     pub solver: String,
     /// Iterations of the contact solver.
@@ -61,9 +225,11 @@ pub struct ContactReport {
     pub points: usize,
     /// Points without contact force.
     pub open: usize,
-    /// Points in contact, sticking.
+    /// Closed points (stick + slip under friction).
+    pub closed: usize,
+    /// Sticking and slipping points (0 without friction: its closed points are `closed`).
     pub stick: usize,
-    /// Points in contact, slipping (every closed point of frictionless contact).
+    /// Points in contact, slipping (0 without friction).
     pub slip: usize,
     /// Resultant of the contact forces on the body in x and y (N per unit thickness).
     pub resultant: [f64; 2],
@@ -71,9 +237,6 @@ pub struct ContactReport {
     pub normal_resultant: f64,
     /// Sum of the tangential contact forces in the points' local frames (N per unit thickness).
     pub tangential_resultant: f64,
-    /// Extent of the closed contact zone along the first point's tangent: [min, max] of x·t.
-    /// Kept for compatibility; `zones` is right for every obstacle.
-    pub zone: Option<[f64; 2]>,
     /// The largest nodal contact pressure and where it is.
     pub peak_pressure: Option<super::contact_zones::PeakPressure>,
     /// Each connected run of closed points, as an interval of arc length along the part.

@@ -5,6 +5,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
+use super::contact::ContactState;
 use crate::contact::boundary::ContactBoundary;
 use crate::contact::PointStatus;
 use crate::error::Result;
@@ -21,10 +22,11 @@ pub struct ContactCurvePoint {
     pub s: f64,
     /// The point's position in the undeformed configuration.
     pub position: [f64; 2],
-    /// Normal contact pressure `−rN / w` (force per unit length, ≥ 0 in contact); the
-    /// `peak_pressure` of the report is the largest of these.
+    /// Normal contact pressure `−rN / w` (Pa: the nodal force per unit thickness, N/m, over the
+    /// point's boundary length w, m; ≥ 0 in contact); the `peak_pressure` of the report is the
+    /// largest of these.
     pub pressure: f64,
-    /// Tangential traction `rT / w` along the point's tangent `t` (the domain on the left).
+    /// Tangential traction `rT / w` (Pa) along the point's tangent `t` (the domain on the left).
     pub tangential_traction: f64,
     /// Gap to the obstacle after deformation, `g0 − uN` (0 where closed, > 0 where open).
     pub gap: f64,
@@ -33,18 +35,20 @@ pub struct ContactCurvePoint {
     /// Tangential displacement `uT = t·u` against the (fixed) obstacle: the slip of a
     /// slipping point.
     pub tangential_slip: f64,
-    /// Open, stick or slip.
-    pub status: PointStatus,
+    /// Open, stick or slip; closed without friction.
+    pub status: ContactState,
 }
 
 /// The points of the contact part in order of arc length. `force` holds `(rN, rT)` per point
-/// and `u` the whole displacement vector.
+/// and `u` the whole displacement vector; `frictional[i]`: has point `i` friction (else a closed
+/// point is `closed`, not stick or slip).
 pub fn contact_curve(
     mesh: &Mesh,
     b: &ContactBoundary,
     force: &[f64],
     status: &[PointStatus],
     u: &[f64],
+    frictional: &[bool],
 ) -> Vec<ContactCurvePoint> {
     let (pressure, traction) = b.tractions(force);
     let bu = b.gather(u);
@@ -59,18 +63,9 @@ pub fn contact_curve(
             gap: b.gap[i] - bu[2 * i],
             normal_displacement: bu[2 * i],
             tangential_slip: bu[2 * i + 1],
-            status: status[i],
+            status: ContactState::of(status[i], frictional[i]),
         })
         .collect()
-}
-
-/// The name of a status in `contact.csv`.
-pub fn status_name(status: PointStatus) -> &'static str {
-    match status {
-        PointStatus::Open => "open",
-        PointStatus::Stick => "stick",
-        PointStatus::Slip => "slip",
-    }
 }
 
 /// Write `contact.csv` (comma-separated, a header line, full precision), atomically.
@@ -92,7 +87,7 @@ fn write_rows(w: &mut dyn Write, points: &[ContactCurvePoint]) -> io::Result<()>
             p.gap,
             p.normal_displacement,
             p.tangential_slip,
-            status_name(p.status)
+            p.status.name()
         )?;
     }
     Ok(())

@@ -4,6 +4,7 @@
 //! making is collective: a failed write stops every rank.
 use std::path::{Path, PathBuf};
 
+use super::contact::ContactState;
 use super::contact_curve::ContactCurvePoint;
 use crate::error::Result;
 use crate::output::{self, vtu};
@@ -57,14 +58,11 @@ impl ElasticityProblem<'_> {
             if let (Some(c), Some(o)) = (&self.contact, &self.contact_outcome) {
                 let (mut pressure, mut friction, mut status) = (vec![0.0; n], vec![0.0; n], vec![-1.0; n]);
                 let (p, t) = c.boundary.tractions(&o.force);
+                let frictional = c.frictional_points();
                 for (i, &node) in c.boundary.nodes.iter().enumerate() {
                     pressure[node] = p[i];
                     friction[node] = t[i];
-                    status[node] = match o.status[i] {
-                        crate::contact::PointStatus::Open => 0.0,
-                        crate::contact::PointStatus::Stick => 1.0,
-                        crate::contact::PointStatus::Slip => 2.0,
-                    };
+                    status[node] = ContactState::of(o.status[i], frictional[i]).code();
                 }
                 self.add_master_contact_fields(&mut pressure, &mut friction, &mut status);
                 point.push(("contact_pressure".into(), 1, pressure));
@@ -130,7 +128,14 @@ impl ElasticityProblem<'_> {
     /// [`ElasticityProblem::solve`]); `None` without contact.
     pub fn contact_curve(&self) -> Option<Vec<ContactCurvePoint>> {
         let (c, o, u) = (self.contact.as_ref()?, self.contact_outcome.as_ref()?, self.displacement.as_ref()?);
-        Some(super::contact_curve::contact_curve(&self.mesh, &c.boundary, &o.force, &o.status, u))
+        Some(super::contact_curve::contact_curve(
+            &self.mesh,
+            &c.boundary,
+            &o.force,
+            &o.status,
+            u,
+            &c.frictional_points(),
+        ))
     }
 
     /// `contact.csv`, `contact.svg` and `convergence.svg` of a contact run into `dir`: the

@@ -9,6 +9,7 @@
 //! contact_zones  arc length, closed zones and the peak pressure
 //! bodies         each body's equilibrium and each contact part's checks (several bodies)
 //! warnings       doubts about the model (large displacement or rotation, locking, ...)
+//! option_warnings PETSc options no solver of the run read, with the route and prefix
 //! files          the result files of a run, written atomically, all or none
 //! bodies_files   one .vtu per body and the ParaView collection
 //! ```
@@ -18,4 +19,5 @@ pub mod contact;
 pub mod contact_curve;
 pub mod contact_zones;
 pub(crate) mod files;
+pub(crate) mod option_warnings;
 pub mod warnings;

@@ -129,6 +129,27 @@ fn bench_dual_writes_its_table_and_plot() {
     assert!(std::fs::read_to_string(dir.join("bench_dual.svg")).unwrap().contains("<svg"));
 }
 
+/// `--solvers` runs only the solvers it names (an exact name alone, else every name containing
+/// it): one MUMPS row at 1e3 dofs, none of the others, no failed case.
+#[test]
+fn bench_solvers_runs_only_the_named_solvers() {
+    let dir = scratch("bench-solvers");
+    let out = run_ok(
+        bin().args(["bench", "dual", "--max-dofs", "2000", "--solvers", "mumps cholesky (DEFAULT)", "--out"]).arg(&dir),
+    );
+    let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
+    let rows = table_rows(&table);
+    assert_eq!(rows.len(), 1, "{table}");
+    assert!(rows[0].contains("| MUMPS Cholesky (default) |"), "{table}");
+    assert!(failed_rows(&table).is_empty(), "{table}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("[1/1]"), "one case ran");
+    let out = run_ok(bin().args(["bench", "dual", "--max-dofs", "2000", "--solvers", "mumps", "--out"]).arg(&dir));
+    let table = std::fs::read_to_string(dir.join("bench_dual.md")).unwrap();
+    let names: Vec<&str> = table_rows(&table).iter().map(|r| r.split('|').nth(3).unwrap().trim()).collect();
+    assert_eq!(names, ["MUMPS Cholesky (default)", "saddle point, MUMPS LDLᵀ"], "{table}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("[2/2]"));
+}
+
 /// `bench held`: both drives of the half disc at 1e4 dofs, the force-driven row with its ratio
 /// to the displacement-driven one, no failed case (the force-driven disc has no supports).
 #[test]

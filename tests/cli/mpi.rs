@@ -61,7 +61,8 @@ fn mpirun_two_ranks_failure_on_rank_0_stops_every_rank() {
     std::fs::create_dir_all(blocked.join("solution.vtu")).unwrap();
     let file = scratch("mpi-write-fails").join("a-file");
     std::fs::write(&file, "not a directory").unwrap();
-    for (out_dir, expected) in [(&blocked, "removing the previous run's file"), (&file, "creating directory")] {
+    for (out_dir, expected) in [(&blocked, "removing the previous run's results failed"), (&file, "creating directory")]
+    {
         let mut timed = Command::new("timeout");
         let mpirun = mpirun_two();
         timed.arg("120").arg(mpirun.get_program()).args(mpirun.get_args());

@@ -192,11 +192,12 @@ fn the_summary_fits_100_columns_and_says_each_thing_once() {
             let n = stdout.lines().filter(|l| l.starts_with(&format!("{label:<10}"))).count();
             assert_eq!(n, 1, "{name}: one '{label}' line: {stdout}");
         }
-        for what in
-            ["peak pressure", "closed zone 1: s in [", "stick", "slip", "open", "resultant", "independent check"]
-        {
+        for what in ["peak pressure", "closed zone 1: s in [", "closed", "open", "resultant", "independent check"] {
             assert!(flat.contains(what), "{name}: no '{what}': {stdout}");
         }
+        // Stick and slip with friction (the default scene); Hertz is frictionless: closed only.
+        let frictional = scene_file.is_none();
+        assert_eq!(flat.contains(" stick, ") && flat.contains(" slip)"), frictional, "{name}: {stdout}");
         for phase in ["mesh", "assemble", "solve", "output", "total"] {
             assert!(flat.contains(&format!("{phase} ")), "{name}: time of {phase}: {stdout}");
         }
@@ -353,4 +354,88 @@ fn gmsh_meshes_come_from_the_mesh_cache_the_second_time() {
     assert!(solution("damaged") == solution("first"));
     let (_, _, r6) = run("again", &[], None);
     assert_eq!(r6["mesh_cache"]["status"], "hit", "{r6}");
+}
+
+/// The default scene with its `[contact]` friction lines replaced by `friction`.
+fn default_scene_with(dir: &Path, friction: &str) -> PathBuf {
+    let text = std::fs::read_to_string(scene("examples/scenes/default.toml")).unwrap();
+    let text = text.replace("friction = \"coulomb\"\nmu = 1.0", friction);
+    assert!(text.contains(friction), "the default scene's friction lines moved");
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// report.json writes the friction law as an object (law and coefficient, no string to parse),
+/// and the terminal the Tresca threshold in Pa as the scene gives it (N/m²).
+#[test]
+fn friction_is_an_object_in_the_report() {
+    let dir = scratch("friction-object");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    assert_eq!(report(&dir)["contact"]["friction"], serde_json::json!({"law": "coulomb", "mu": 1.0}));
+    assert!(report(&dir)["contact"].get("zone").is_none(), "the projected zone is gone: zones is right");
+    let tresca = default_scene_with(&dir, "friction = \"tresca\"\nthreshold = 5e7");
+    let out = run_ok(bin().arg("run").arg(&tresca).arg("--out").arg(dir.join("tresca")));
+    assert_eq!(
+        report(&dir.join("tresca"))["contact"]["friction"],
+        serde_json::json!({"law": "tresca", "threshold": 5e7})
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("Tresca, threshold = 5e7 Pa"), "{stdout}");
+}
+
+/// Without friction a closed point is "closed" (not "slip") in report.json, on the terminal, in
+/// contact.csv and in solution.vtu (contact_status 3); the counts agree with the rows, and the
+/// closed rows are exactly those with a pressure.
+#[test]
+fn frictionless_closed_points_are_closed() {
+    let dir = scratch("frictionless");
+    let path = default_scene_with(&dir, "friction = \"none\"");
+    let out = run_ok(bin().arg("run").arg(&path).arg("--out").arg(&dir));
+    let r = report(&dir);
+    let c = &r["contact"];
+    assert_eq!(c["friction"], serde_json::json!({"law": "none"}));
+    let (points, open, closed) =
+        (c["points"].as_u64().unwrap(), c["open"].as_u64().unwrap(), c["closed"].as_u64().unwrap());
+    assert!(closed > 0 && open + closed == points, "{c}");
+    assert_eq!((c["stick"].as_u64(), c["slip"].as_u64()), (Some(0), Some(0)), "{c}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(&format!("{closed} closed, {open} open")) && !stdout.contains("slip"), "{stdout}");
+    let csv = std::fs::read_to_string(dir.join("contact.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.iter().filter(|r| r[8] == "closed").count() as u64, closed, "{csv}");
+    assert!(rows.iter().all(|r| r[8] == "closed" || r[8] == "open"), "{csv}");
+    let peak = c["peak_pressure"]["pressure"].as_f64().unwrap();
+    for row in &rows {
+        let pressure: f64 = row[3].parse().unwrap();
+        assert_eq!(row[8] == "closed", pressure > 1e-12 * peak, "{row:?}");
+    }
+    let out = python(&format!(
+        "m = meshio.read(r'{}')\ns = m.point_data['contact_status']\nprint(int((s == 3).sum()), int((s == 0).sum()), int(((s == 1) | (s == 2)).sum()))",
+        dir.join("solution.vtu").display()
+    ));
+    assert_eq!(out.split_whitespace().collect::<Vec<_>>(), [closed.to_string(), open.to_string(), "0".into()], "{out}");
+}
+
+/// A 1 MB scene title: the summary shortens it (an ellipsis), stays within 100 columns and
+/// short; report.json keeps it whole. (The wrapping is linear by construction: each character
+/// is copied once; no timing is asserted.)
+#[test]
+fn a_huge_title_is_shortened_in_the_summary() {
+    let dir = scratch("huge-title");
+    let title = "T".repeat(1 << 20);
+    let text = std::fs::read_to_string(scene("examples/scenes/block.toml")).unwrap();
+    let start = text.find("title = ").unwrap();
+    let end = start + text[start..].find('\n').unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, format!("{}title = \"{title}\"{}", &text[..start], &text[end..])).unwrap();
+    let out = run_ok(bin().arg("run").arg(&path).arg("--out").arg(dir.join("out")));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.len() < 4000, "{} bytes of summary", stdout.len());
+    assert!(stdout.lines().all(|l| l.chars().count() <= 100), "{stdout}");
+    assert!(stdout.contains("T…"), "{stdout}");
+    // The title (one word longer than a line: cut over lines) is 199 characters and the ellipsis.
+    let joined: String = stdout.lines().map(|l| l.chars().skip(10).collect::<String>()).collect();
+    assert!(joined.contains(&format!("{}…", "T".repeat(199))) && !joined.contains(&"T".repeat(200)), "{stdout}");
+    assert_eq!(report(&dir.join("out"))["title"].as_str().map(str::len), Some(1 << 20));
 }

@@ -61,10 +61,10 @@ fn contact_solver_option_reaches_every_contact_of_several_bodies() {
     // snes_vi cannot take a pair, tao only Tresca: usage errors, nothing written.
     let out = scratch("bodies-contact-solver-bad");
     let stderr =
-        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "snes_vi", "--out"]).arg(&out), 1);
+        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "snes_vi", "--out"]).arg(&out), 2);
     assert!(stderr.contains("snes_vi"), "{stderr}");
     let stderr =
-        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "tao", "--out"]).arg(&out), 1);
+        run_err(bin().arg("run").arg(&path).args(["--quiet", "--contact-solver", "tao", "--out"]).arg(&out), 2);
     assert!(stderr.contains("Tresca"), "{stderr}");
     assert!(!out.join("report.json").exists());
 }

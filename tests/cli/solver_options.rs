@@ -54,7 +54,7 @@ fn own_flags_and_petsc_options_in_any_order() {
 
 #[test]
 fn missing_petsc_option_value_is_refused() {
-    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels"]), 1);
+    let msg = run_err(bin().args(["run", "--quiet", "-ksp_type", "cg", "-pc_type", "icc", "-pc_factor_levels"]), 2);
     assert!(msg.contains("-pc_factor_levels") && msg.contains("needs a value"), "{msg}");
 }
 
@@ -78,9 +78,56 @@ fn unused_petsc_option_is_reported_as_a_warning() {
     let dir = scratch("unused");
     let out = run_ok(bin().args(["run", "--out"]).arg(&dir).args(["-ksp_tyep", "cg"]));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("-ksp_tyep") && stderr.contains("never used"), "{stderr}");
+    assert!(stderr.contains("-ksp_tyep") && stderr.contains("a typo"), "{stderr}");
     let r = report(&dir);
     assert!(r["solver"]["unused_options"].to_string().contains("ksp_tyep"), "{r}");
+    let warnings = r["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w["kind"] == "unused_option" && w["message"].as_str().unwrap().contains("-ksp_tyep cg")),
+        "{r}"
+    );
+}
+
+/// `-ksp_type cg -pc_type icc` on the default contact route (newton_full): the warning (on the
+/// terminal and in report.json) names the route that ignored them and the prefix that reaches
+/// its linear solver; with that prefix nothing is unused, and with --contact-solver newton the
+/// options reach the main linear solver (CG + ICC in the report).
+#[test]
+fn options_the_contact_route_does_not_read_name_the_route_and_the_prefix() {
+    let dir = scratch("route-options");
+    let out = run_ok(bin().args(["run", "--out"]).arg(&dir).args(["-ksp_type", "cg", "-pc_type", "icc"]));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("newton_full") && stderr.contains("-contact_ksp_type cg"), "{stderr}");
+    let r = report(&dir);
+    let messages: Vec<&str> = r["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["kind"] == "unused_option")
+        .map(|w| w["message"].as_str().unwrap())
+        .collect();
+    assert_eq!(messages.len(), 2, "{r}");
+    assert!(messages[0].contains("-contact_ksp_type cg") || messages[1].contains("-contact_ksp_type cg"), "{r}");
+    assert!(messages.iter().any(|m| m.contains("-contact_pc_type icc")), "{r}");
+    // The prefixed options are read (the full-space system is indefinite: GMRES + ILU may fail
+    // over to the condensed route, which the report says; either way the options are used).
+    let dir = scratch("route-options-prefixed");
+    run_ok(bin().args(["run", "--out"]).arg(&dir).args(["-contact_ksp_type", "gmres", "-contact_pc_type", "lu"]));
+    let r = report(&dir);
+    assert_eq!(r["solver"]["unused_options"].as_array().unwrap().len(), 0, "{r}");
+    // The condensed route reads the main solver's options.
+    let dir = scratch("route-options-condensed");
+    run_ok(bin().args(["run", "--contact-solver", "newton", "--out"]).arg(&dir).args([
+        "-ksp_type",
+        "cg",
+        "-pc_type",
+        "icc",
+    ]));
+    let r = report(&dir);
+    assert_eq!(r["solver"]["unused_options"].as_array().unwrap().len(), 0, "{r}");
+    assert_eq!((r["solver"]["ksp_type"].as_str(), r["solver"]["pc_type"].as_str()), (Some("cg"), Some("icc")), "{r}");
 }
 
 #[test]
@@ -161,7 +208,7 @@ fn contact_solver_from_the_command_line() {
     assert!(r["contact"]["solver"].as_str().unwrap().contains("relaxation"), "{r}");
     let d = relative_difference(&reference.join("solution.vtu"), &dir.join("solution.vtu"));
     assert!(d < 1e-6, "relaxation differs from Newton by {d:e}");
-    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 1);
+    let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "snes_vi"]), 2);
     assert!(msg.contains("frictionless"), "{msg}");
     // An unknown name is a usage error that lists the names.
     let msg = run_err(bin().args(["run", "--quiet", "--contact-solver", "magic"]), 2);

@@ -51,6 +51,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("driver_reports_unconstrained_rigid_motion", driver_reports_unconstrained_rigid_motion),
     ("driver_reports_unknown_boundary_part_with_line", driver_reports_unknown_boundary_part),
     ("driver_elastic_block_equilibrium", driver_default_scene_equilibrium),
+    ("driver_pipeline_out_of_order_is_a_call_order_error", driver_pipeline_out_of_order),
     ("mumps_schur_complement_is_the_inverse_block", mumps_schur_complement_is_the_inverse_block),
     ("dense_lu_solves_and_reports_zero_pivots", dense_lu_solves_and_reports_zero_pivots),
     ("dual_patch_test_all_tractions_exact", dual::dual_patch_test_all_tractions_exact),
@@ -549,6 +550,31 @@ fn driver_default_scene_equilibrium(s: &Session) -> Result<(), String> {
     let left = r.reactions.get("left").ok_or("no reaction on left")?;
     ensure((left[1] - 2e5).abs() < 1e-8 * 2e5 && left[0].abs() < 1e-8 * 2e5, || format!("reaction {left:?}"))?;
     ensure(r.equilibrium_residual < 1e-10, || format!("equilibrium {}", r.equilibrium_residual))
+}
+
+/// Each step of the pipeline called before the one it needs: `Error::CallOrder` naming both (not
+/// a PETSc-layer error); after the right order the same calls work.
+fn driver_pipeline_out_of_order(s: &Session) -> Result<(), String> {
+    let scene = Scene::from_file(&manifest("examples/scenes/block.toml")).map_err(|e| e.to_string())?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    let expect = |result: Result<(), Error>, call: &str, needs: &str| match result {
+        Err(e @ Error::CallOrder { .. }) => {
+            let text = e.to_string();
+            ensure(text.starts_with(&format!("{call} called before {needs}")), || text.clone())
+        }
+        Err(e) => Err(format!("{call}: wrong error {e:?}")),
+        Ok(()) => Err(format!("{call} before {needs} accepted")),
+    };
+    expect(p.report().map(|_| ()), "report()", "solve()")?;
+    expect(p.solve(), "solve()", "assemble()")?;
+    expect(p.postprocess(), "postprocess()", "solve()")?;
+    expect(p.estimate(), "estimate()", "solve()")?;
+    p.assemble().map_err(|e| e.to_string())?;
+    p.solve().map_err(|e| e.to_string())?;
+    expect(p.report().map(|_| ()), "report()", "postprocess()")?;
+    p.postprocess().map_err(|e| e.to_string())?;
+    expect(p.estimate(), "estimate()", "solve_dual()")?;
+    p.report().map(|_| ()).map_err(|e| e.to_string())
 }
 
 // ---------------------------------------------------------------- SNES wrapper

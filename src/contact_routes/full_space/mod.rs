@@ -585,7 +585,7 @@ impl ContactSetup {
             solver: format!("full-space semi-smooth Newton (Alart–Curnier), {}", run.method),
             notes,
         };
-        let report = self.report(mesh, &force, &status, &u, &residuals, run.iterations, &solution);
+        let report = self.report(&force, &status, &u, &residuals, run.iterations, &solution);
         let mut stats = stats_of(&run, equilibrium, start.elapsed().as_secs_f64());
         if mixed.elimination.is_some() {
             stats.factor_package = Some("mumps (Cholesky of K, Schur complement on the contact dofs)".into());
@@ -611,7 +611,7 @@ impl ContactSetup {
                 floating.imbalance[0],
                 floating.imbalance[1],
                 floating.closed,
-                self.friction_name()
+                self.friction_report()
             ))
         }
     }
@@ -642,7 +642,7 @@ impl ContactSetup {
         let mut ksp = LinearSolver::new(session, session.world(), "")?;
         ksp.set_operator(&matrix)?;
         let (u, mut outcome, condensed_stats) =
-            self.solve(session, mesh, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
+            self.solve(session, &matrix, &rhs, &mut ksp, progress).map_err(|e| match e {
                 Error::SolverDiverged { solver, reason, iterations, residual, tried } => Error::SolverDiverged {
                     solver: format!("{solver} (fallback from the full-space semi-smooth Newton)"),
                     reason,
