@@ -214,7 +214,7 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
         Some(e) => {
             // Results were written: the failure note must not say otherwise.
             *REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()) = None;
-            Err(e)
+            Err(Failure::Run(e))
         }
         None => Ok(()),
     }
