@@ -700,8 +700,11 @@ impl ContactSetup {
         let t0 = b.tangent.first().copied().unwrap_or([1.0, 0.0]);
         for i in 0..m {
             let (rn, rt) = (solution_force[2 * i], solution_force[2 * i + 1]);
+            // Along the obstacle's whole frame: at a point with a prescribed component the
+            // support takes the rest of the node's force (`ContactBoundary::point_force`).
+            let whole = b.point_force(i, solution_force);
             for c in 0..2 {
-                resultant[c] += rn * b.normal[i][c] + rt * b.tangent[i][c];
+                resultant[c] += whole[c];
             }
             normal_resultant += rn;
             tangential_resultant += rt;

@@ -33,8 +33,9 @@ impl ElasticityProblem<'_> {
         // Σ of the magnitudes of the forces involved: the scale of the equilibrium residual.
         let mut magnitude = applied_force[0].hypot(applied_force[1]);
         let mut counted = vec![false; f.len()];
-        // Between two bodies, a contact row's share on a supported dof goes to the support:
-        // it is taken out of that dof's reaction and counted with the contact forces below.
+        // A contact point's share on a prescribed dof of its node (a pin on the contact part,
+        // against an obstacle or another body) goes to the support: it is taken out of that
+        // dof's reaction and counted with the contact forces below (`point_force`).
         let mut on_supports = vec![0.0; f.len()];
         if let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) {
             c.boundary.add_forces_on_supports(&outcome.force, &mut on_supports);
