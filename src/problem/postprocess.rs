@@ -134,6 +134,8 @@ impl ElasticityProblem<'_> {
         let bodies_report = self.check_bodies(u, &f, &ku, &on_supports)?;
         self.bodies_report = bodies_report;
         self.warnings.extend(warnings::after_solving(&self.mesh, u));
+        let open = self.contact_open_warnings();
+        self.warnings.extend(open);
         self.results = Some(Results {
             nodal_stress,
             sigma_zz,
@@ -143,5 +145,42 @@ impl ElasticityProblem<'_> {
         self.timings.add("postprocess", start.elapsed().as_secs_f64());
         self.progress.phase_finished(Phase::Postprocess, start.elapsed().as_secs_f64());
         Ok(())
+    }
+
+    /// A `contact_open` warning for each contact part whose points all stayed open.
+    fn contact_open_warnings(&self) -> Vec<Warning> {
+        let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) else { return Vec::new() };
+        let status = &outcome.status;
+        let all_open = |points: &[usize]| {
+            !points.is_empty() && points.iter().all(|&i| status[i] == crate::contact::PointStatus::Open)
+        };
+        let mut out = Vec::new();
+        match (&c.parts, &self.bodies) {
+            (Some(parts), Some(model)) => {
+                for (p, part) in parts.parts.iter().enumerate() {
+                    let points: Vec<usize> = (0..status.len()).filter(|&i| parts.part_of[i] == p).collect();
+                    if !all_open(&points) {
+                        continue;
+                    }
+                    let spec =
+                        if part.master.is_none() { model.bodies[part.slave_body].contact.as_ref() } else { None };
+                    let nodes = &self.mesh.nodes[model.layout.bodies[part.slave_body].nodes.clone()];
+                    let wrong =
+                        spec.and_then(|s| contact::wrong_side(&s.obstacle, nodes)).map(|(w, h)| format!("{w}; {h}"));
+                    let obstacle = spec.map(|s| contact::obstacle_text(&s.obstacle));
+                    out.push(warnings::contact_open(&part.name, points.len(), obstacle.as_deref(), wrong.as_deref()));
+                }
+            }
+            _ => {
+                let points: Vec<usize> = (0..status.len()).collect();
+                if all_open(&points) {
+                    let wrong =
+                        contact::wrong_side(&c.spec.obstacle, &self.mesh.nodes).map(|(w, h)| format!("{w}; {h}"));
+                    let obstacle = contact::obstacle_text(&c.spec.obstacle);
+                    out.push(warnings::contact_open(&c.spec.part, points.len(), Some(&obstacle), wrong.as_deref()));
+                }
+            }
+        }
+        out
     }
 }

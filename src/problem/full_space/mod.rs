@@ -474,7 +474,7 @@ impl ContactSetup {
                 // condensed route's proximal iterations handle that, and say so if the body is
                 // not held at all.
                 if let (true, Some(floating), false) = (mixed.regularized, mixed.floating, coupled) {
-                    return Err(self.not_held(floating, iterations));
+                    return Err(self.not_held(mesh, floating, iterations));
                 }
                 let failure = format!(
                     "{method} stopped after {iterations} Newton steps: {reason} (residual {residual:.3e}; {tried})"
@@ -622,14 +622,10 @@ impl ContactSetup {
     }
 
     /// The error for a body that the contact does not hold (see the module documentation).
-    fn not_held(&self, floating: Floating, iterations: usize) -> Error {
+    fn not_held(&self, mesh: &Mesh, floating: Floating, iterations: usize) -> Error {
         let free = self.free_motions.clone().unwrap_or_default();
         if floating.closed == 0 {
-            Error::Unconstrained(format!(
-                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free}; \
-                 add a Dirichlet condition or change the loads",
-                self.spec.part
-            ))
+            self.lift_off(mesh, &free)
         } else {
             Error::NoEquilibrium(format!(
                 "no static equilibrium: the loads are not balanced by the contact forces on '{}' and the supports \
