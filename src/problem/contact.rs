@@ -812,9 +812,8 @@ impl ContactSetup {
             let (rn, rt) = (solution_force[2 * i], solution_force[2 * i + 1]);
             // Along the obstacle's whole frame: at a point with a prescribed component the
             // support takes the rest of the node's force (`ContactBoundary::point_force`).
-            let whole = b.point_force(i, solution_force);
-            for c in 0..2 {
-                resultant[c] += whole[c];
+            for (r, w) in resultant.iter_mut().zip(b.point_force(i, solution_force)) {
+                *r += w;
             }
             normal_resultant += rn;
             tangential_resultant += rt;

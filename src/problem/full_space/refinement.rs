@@ -146,7 +146,8 @@ impl MixedSystem<'_, '_> {
             let trial_u: Vec<f64> = u.iter().zip(&du).map(|(a, b)| a - b).collect();
             let trial_force: Vec<f64> = force.iter().zip(&change).map(|(a, b)| a - b).collect();
             let (trial_r, trial_size) = equations.residual(&trial_u, &trial_force);
-            if !(trial_size <= 0.5 * size) {
+            // (Sizes are never NaN: `residual` maps NaN to +∞.)
+            if trial_size > 0.5 * size {
                 break;
             }
             (*u, *force, r, size) = (trial_u, trial_force, trial_r, trial_size);
