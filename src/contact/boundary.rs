@@ -455,21 +455,29 @@ impl ContactBoundary {
     }
 
     /// The force of contact point `i` (forces `r`) on its node before any support takes a
-    /// share: between two bodies along the unreduced [`ContactBoundary::frame`], so that each
-    /// master node `j` receives `−transfer_j` times it ([`CoupledNode::transfer`]); against a
-    /// rigid obstacle through `B`'s rows (there a prescribed component restricts the constraint
-    /// itself: module documentation).
+    /// share: along the unreduced [`ContactBoundary::frame`] (the obstacle's or the master's
+    /// normal and tangent), so that between two bodies each master node `j` receives
+    /// `−transfer_j` times it ([`CoupledNode::transfer`]).
+    ///
+    /// At a point with a prescribed component `k` the node's force splits in the obstacle's
+    /// frame: the contact carries `rN n + rT t` (along the whole normal: `rN` is what the free
+    /// axis `d` sees, `(n·d) rN`, divided by `n·d`), the support the rest of the node's force
+    /// along `e_k`. On the rotated patch test that support's reaction is zero, as it must be.
     pub fn point_force(&self, i: usize, r: &[f64]) -> [f64; 2] {
         let (rn, rt) = (r[2 * i], r[2 * i + 1]);
-        let [n, t] = if self.coupled_to(i).is_empty() { [self.normal[i], self.tangent[i]] } else { self.frame[i] };
+        let [n, t] = self.frame[i];
         [n[0] * rn + t[0] * rt, n[1] * rn + t[1] * rt]
     }
 
-    /// Between two bodies, the forces that prescribed components took out of `B` (`f += B̄ᵀ r −
-    /// Bᵀ r`, `B̄` the rows of [`ContactBoundary::point_force`] and its master shares): nonzero
-    /// only on prescribed dofs of pair points, where the support, not the body, receives them.
+    /// The forces that prescribed components took out of `B` (`f += B̄ᵀ r − Bᵀ r`, `B̄` the rows
+    /// of [`ContactBoundary::point_force`] and its master shares): nonzero only on prescribed
+    /// dofs of contact points (against a rigid obstacle or between two bodies), where the
+    /// support, not the body, receives them.
     pub fn add_forces_on_supports(&self, r: &[f64], f: &mut [f64]) {
-        for i in (0..self.points()).filter(|&i| !self.coupled_to(i).is_empty()) {
+        for i in 0..self.points() {
+            if self.coupled_to(i).is_empty() && self.prescribed[i].is_none() {
+                continue;
+            }
             let (rn, rt) = (r[2 * i], r[2 * i + 1]);
             let whole = self.point_force(i, r);
             for comp in 0..2 {

@@ -78,6 +78,82 @@ pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
     })
 }
 
+/// The obstacle in words, for messages: the line's point and normal, the disc, the polyline.
+pub fn obstacle_text(spec: &ObstacleSpec) -> String {
+    match spec {
+        ObstacleSpec::Line { point, normal } => format!(
+            "the line through ({}, {}) with normal ({}, {})",
+            number(point[0]),
+            number(point[1]),
+            number(normal[0]),
+            number(normal[1])
+        ),
+        ObstacleSpec::Circle { center, radius } => {
+            format!(
+                "the rigid disc of centre ({}, {}) and radius {}",
+                number(center[0]),
+                number(center[1]),
+                number(*radius)
+            )
+        }
+        ObstacleSpec::Polyline { points } => {
+            format!("the polyline of {} points from ({}, {})", points.len(), number(points[0][0]), number(points[0][1]))
+        }
+    }
+}
+
+/// A number for a message: shortest form, no negative zero.
+fn number(x: f64) -> String {
+    format!("{}", x + 0.0)
+}
+
+/// Does the body (its node positions `nodes`) lie inside the obstacle's rigid region? When
+/// more than half of its nodes are inside it by more than 1e-6 of the body's size: what is
+/// wrong and what to do (a normal pointing the wrong way puts the body there while its contact
+/// part still touches the line).
+pub fn wrong_side(spec: &ObstacleSpec, nodes: &[[f64; 2]]) -> Option<(String, String)> {
+    let obstacle = obstacle_of(spec).ok()?;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in nodes {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let size = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let depths: Vec<f64> =
+        nodes.iter().map(|&p| -obstacle.project(p).signed_distance).filter(|&d| d > 1e-6 * size).collect();
+    if nodes.is_empty() || 2 * depths.len() <= nodes.len() {
+        return None;
+    }
+    let deepest = depths.iter().cloned().fold(0.0, f64::max);
+    let (where_, hint) = match spec {
+        ObstacleSpec::Line { normal, .. } => (
+            "behind the line, in the obstacle's half-plane",
+            format!(
+                "the normal points from the obstacle towards the body: reverse it (normal = [{}, {}])",
+                number(-normal[0]),
+                number(-normal[1])
+            ),
+        ),
+        ObstacleSpec::Circle { .. } => (
+            "inside the rigid disc",
+            "a circle obstacle is a rigid disc with the body outside it: move the disc or the body".to_string(),
+        ),
+        ObstacleSpec::Polyline { .. } => (
+            "on the right of the polyline, in the obstacle",
+            "the body must lie on the left of the polyline's direction of travel: reverse the order of its points"
+                .to_string(),
+        ),
+    };
+    let what = format!(
+        "the body lies {where_} ({} of its {} nodes are inside it, up to {deepest:.3e} deep)",
+        depths.len(),
+        nodes.len()
+    );
+    Some((what, hint))
+}
+
 impl ContactSetup {
     /// The contact points of `spec` on `mesh`; `prescribed(node)` gives the Dirichlet values of a
     /// node (a node with both prescribed is left out); `free_motions` are the rigid motions
@@ -93,6 +169,40 @@ impl ContactSetup {
         let boundary = ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, prescribed)?;
         let spring_dofs = spring_dofs(&boundary, prescribed);
         Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions, spring_dofs, parts: None })
+    }
+
+    /// Why a body that the contact should hold has no closed point, when its position says
+    /// why: it lies inside the obstacle ([`wrong_side`]). Only for one body on one obstacle
+    /// (`mesh` is then the body's).
+    pub(super) fn wrong_side_of(&self, mesh: &Mesh) -> Option<(String, String)> {
+        let one_obstacle = match &self.parts {
+            None => true,
+            Some(parts) => parts.parts.len() == 1 && parts.parts[0].master.is_none(),
+        };
+        if !one_obstacle {
+            return None;
+        }
+        wrong_side(&self.spec.obstacle, &mesh.nodes)
+    }
+
+    /// The error of a body that lifts off with nothing else to hold it (`free`: the rigid
+    /// motions the Dirichlet conditions leave free); when the body lies inside the obstacle,
+    /// that is what the error says (a scene whose geometry contradicts it).
+    pub(crate) fn lift_off(&self, mesh: &Mesh, free: &str) -> Error {
+        let part = &self.spec.part;
+        match self.wrong_side_of(mesh) {
+            Some((what, hint)) => Error::Formulation {
+                message: format!(
+                    "no contact point of '{part}' closes and nothing else holds the body: {what}, against {}",
+                    obstacle_text(&self.spec.obstacle)
+                ),
+                hint,
+            },
+            None => Error::Unconstrained(format!(
+                "the body lifts off the obstacle (no contact point of '{part}' is closed) and nothing else holds it: \
+                 {free}; add a Dirichlet condition or change the loads"
+            )),
+        }
     }
 
     /// The friction law of point `i`.
@@ -707,8 +817,10 @@ impl ContactSetup {
         let (mut normal_resultant, mut tangential_resultant) = (0.0, 0.0);
         for i in 0..m {
             let (rn, rt) = (solution_force[2 * i], solution_force[2 * i + 1]);
-            for c in 0..2 {
-                resultant[c] += rn * b.normal[i][c] + rt * b.tangent[i][c];
+            // Along the obstacle's whole frame: at a point with a prescribed component the
+            // support takes the rest of the node's force (`ContactBoundary::point_force`).
+            for (r, w) in resultant.iter_mut().zip(b.point_force(i, solution_force)) {
+                *r += w;
             }
             normal_resultant += rn;
             tangential_resultant += rt;

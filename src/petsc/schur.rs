@@ -56,6 +56,28 @@ pub struct SchurFactor<'s> {
     _session: PhantomData<&'s Session>,
 }
 
+/// The error of a MUMPS factorisation that failed with `INFOG(1) = infog < 0`: out of memory
+/// (-9, -11, -13, -14, -15, -17, -19, -20), a zero pivot (-10), or another MUMPS error.
+fn factor_failure(infog: i64) -> Error {
+    let method = "MUMPS Cholesky with the Schur complement on the contact dofs";
+    let message = match infog {
+        -9 | -11 | -13 | -14 | -15 | -17 | -19 | -20 => format!(
+            "the factorisation ran out of memory (MUMPS INFOG(1) = {infog}); give MUMPS more workspace \
+             (-mat_mumps_icntl_14 100, or -mat_mumps_icntl_23 <MB per process>), use fewer dofs (a larger \
+             cell_size), or solve without this factorisation: --contact-solver newton -ksp_type cg -pc_type hypre \
+             (the condensed route with iterative solves)"
+        ),
+        -10 => "the factorisation met a zero pivot (MUMPS INFOG(1) = -10): the stiffness is singular; check that \
+                the supports, with the contact, remove every rigid motion of every body"
+            .to_string(),
+        _ => format!(
+            "MUMPS failed (INFOG(1) = {infog}, see the MUMPS users' guide, \"Error diagnostics\"); run with \
+             -mat_mumps_icntl_4 2 to see its messages"
+        ),
+    };
+    Error::Factorization { method, message }
+}
+
 impl<'s> SchurFactor<'s> {
     /// Factorise `matrix` (SPD) with MUMPS and compute the Schur complement on `rows` (global
     /// indices; the complement's rows and columns follow this order).
@@ -109,6 +131,13 @@ impl<'s> SchurFactor<'s> {
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
         petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
+        // MUMPS reports a failed factorisation in INFOG(1) (MUMPS users' guide, "Error
+        // diagnostics"), not as a PETSc error: without this check its factor gives NaN.
+        let mut infog = 0 as sys::PetscInt;
+        petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
+        if infog < 0 {
+            return Err(factor_failure(infog as i64));
+        }
         let m = rows.len();
         if keep_complement {
             let (complement, status) = read_schur(f, m)?;

@@ -538,10 +538,7 @@ impl<'s> ElasticityProblem<'s> {
         };
         let free = contact.free_motions.clone().unwrap_or_default();
         if outcome.report.open == outcome.report.points {
-            return Err(Error::Unconstrained(format!(
-                "the body lifts off the obstacle (no contact point of '{}' is closed) and nothing else holds it: {free}; add a Dirichlet condition or change the loads",
-                contact.spec.part
-            )));
+            return Err(contact.lift_off(&self.mesh, &free));
         }
         let f = self.with_loads(|loads| assembly::load_vector(&self.mesh, loads))?;
         let applied = [f.iter().step_by(2).sum::<f64>(), f.iter().skip(1).step_by(2).sum::<f64>()];

@@ -30,8 +30,9 @@ impl ElasticityProblem<'_> {
         // Σ of the magnitudes of the forces involved: the scale of the equilibrium residual.
         let mut magnitude = applied_force[0].hypot(applied_force[1]);
         let mut counted = vec![false; f.len()];
-        // Between two bodies, a contact row's share on a supported dof goes to the support:
-        // it is taken out of that dof's reaction and counted with the contact forces below.
+        // A contact point's share on a prescribed dof of its node (a pin on the contact part,
+        // against an obstacle or another body) goes to the support: it is taken out of that
+        // dof's reaction and counted with the contact forces below (`point_force`).
         let mut on_supports = vec![0.0; f.len()];
         if let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) {
             c.boundary.add_forces_on_supports(&outcome.force, &mut on_supports);
@@ -131,6 +132,8 @@ impl ElasticityProblem<'_> {
         let bodies_report = self.check_bodies(u, &f, &ku, &on_supports)?;
         self.bodies_report = bodies_report;
         self.warnings.extend(crate::report::warnings::after_solving(&self.mesh, u));
+        let open = self.contact_open_warnings();
+        self.warnings.extend(open);
         self.results = Some(Results {
             nodal_stress,
             sigma_zz,
@@ -140,5 +143,53 @@ impl ElasticityProblem<'_> {
         self.timings.add("postprocess", start.elapsed().as_secs_f64());
         self.progress.phase_finished(Phase::Postprocess, start.elapsed().as_secs_f64());
         Ok(())
+    }
+
+    /// A `contact_open` warning for each contact part whose points all stayed open.
+    fn contact_open_warnings(&self) -> Vec<Warning> {
+        let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) else { return Vec::new() };
+        let status = &outcome.status;
+        let all_open = |points: &[usize]| {
+            !points.is_empty() && points.iter().all(|&i| status[i] == crate::contact::PointStatus::Open)
+        };
+        let mut out = Vec::new();
+        match (&c.parts, &self.bodies) {
+            (Some(parts), Some(model)) => {
+                for (p, part) in parts.parts.iter().enumerate() {
+                    let points: Vec<usize> = (0..status.len()).filter(|&i| parts.part_of[i] == p).collect();
+                    if !all_open(&points) {
+                        continue;
+                    }
+                    let spec =
+                        if part.master.is_none() { model.bodies[part.slave_body].contact.as_ref() } else { None };
+                    let nodes = &self.mesh.nodes[model.layout.bodies[part.slave_body].nodes.clone()];
+                    let wrong = spec
+                        .and_then(|s| crate::contact_routes::condensed_route::wrong_side(&s.obstacle, nodes))
+                        .map(|(w, h)| format!("{w}; {h}"));
+                    let obstacle = spec.map(|s| crate::contact_routes::condensed_route::obstacle_text(&s.obstacle));
+                    out.push(crate::report::warnings::contact_open(
+                        &part.name,
+                        points.len(),
+                        obstacle.as_deref(),
+                        wrong.as_deref(),
+                    ));
+                }
+            }
+            _ => {
+                let points: Vec<usize> = (0..status.len()).collect();
+                if all_open(&points) {
+                    let wrong = crate::contact_routes::condensed_route::wrong_side(&c.spec.obstacle, &self.mesh.nodes)
+                        .map(|(w, h)| format!("{w}; {h}"));
+                    let obstacle = crate::contact_routes::condensed_route::obstacle_text(&c.spec.obstacle);
+                    out.push(crate::report::warnings::contact_open(
+                        &c.spec.part,
+                        points.len(),
+                        Some(&obstacle),
+                        wrong.as_deref(),
+                    ));
+                }
+            }
+        }
+        out
     }
 }

@@ -6,6 +6,9 @@
 //! - `large_rotation`: a rigid rotation above 1e-2 rad, from the least-squares fit of a rigid
 //!   motion to the nodal displacements, `ω = Σ (x − x̄) × u / Σ |x − x̄|²`;
 //! - `locking`: ν ≥ 0.49 with a displacement element that locks (P1, P2 Lagrange);
+//! - `contact_open`: every point of a contact part stays open: the contact carries nothing
+//!   (a normal pointing the wrong way, a gap too large, loads that pull the body away); the
+//!   warning names the part and the obstacle, and says when the body lies inside the obstacle;
 //! - `polygonal_boundary`: a P1 mesh file read with `order = 2` (the mid nodes are put on the
 //!   chords: curved boundaries stay polygonal).
 use crate::fem::material::PlaneModel;
@@ -57,6 +60,25 @@ pub fn before_solving(
         });
     }
     out
+}
+
+/// A contact part none of whose `points` closed: `obstacle` describes a rigid obstacle (`None`
+/// for a pair between two bodies), `wrong_side` says when the body lies inside it.
+pub fn contact_open(part: &str, points: usize, obstacle: Option<&str>, wrong_side: Option<&str>) -> Warning {
+    let message = match (obstacle, wrong_side) {
+        (Some(obstacle), Some(why)) => {
+            format!("no point of contact part '{part}' touches {obstacle} (all {points} points open): {why}")
+        }
+        (Some(obstacle), None) => format!(
+            "no point of contact part '{part}' touches {obstacle} (all {points} points open): the contact carries \
+             nothing; if the body should press on the obstacle, check the normal's sign, the gap and the loads"
+        ),
+        (None, _) => format!(
+            "no point of contact pair '{part}' is closed (all {points} points open): the bodies do not touch under \
+             these loads; check the gap between them and the loads"
+        ),
+    };
+    Warning { kind: "contact_open", message }
 }
 
 /// Warnings about the answer `u` (`u[2 node + c]`).

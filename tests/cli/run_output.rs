@@ -439,3 +439,64 @@ fn a_huge_title_is_shortened_in_the_summary() {
     assert!(joined.contains(&format!("{}…", "T".repeat(199))) && !joined.contains(&"T".repeat(200)), "{stdout}");
     assert_eq!(report(&dir.join("out"))["title"].as_str().map(str::len), Some(1 << 20));
 }
+
+/// Issue 23, 1c: a contact part that never closes is named in a `contact_open` warning (the
+/// run is right for the model, the model is doubtful), with the obstacle; when the body lies
+/// inside the obstacle (a reversed normal) the warning, or for a body that only the contact
+/// holds the error, says so and how to fix it instead of "lifts off".
+#[test]
+fn a_contact_that_never_closes_is_named() {
+    let base = std::fs::read_to_string(scene("examples/scenes/default.toml")).unwrap();
+    let contact_open = |dir: &Path| -> Vec<String> {
+        report(dir)["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["kind"] == "contact_open")
+            .map(|w| w["message"].as_str().unwrap().to_string())
+            .collect()
+    };
+    // The normal reversed: the block lies in the obstacle's half-plane, every point open.
+    let reversed = base.replacen("normal = [0.0, 1.0]", "normal = [0.0, -1.0]", 1);
+    assert_ne!(reversed, base);
+    let dir = scratch("open-reversed");
+    std::fs::write(dir.join("s.toml"), &reversed).unwrap();
+    let out = run_ok(bin().arg("run").arg(dir.join("s.toml")).arg("--out").arg(dir.join("out")));
+    let messages = contact_open(&dir.join("out"));
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    let m = &messages[0];
+    assert!(m.contains("'bottom'") && m.contains("half-plane") && m.contains("reverse it (normal = [0, 1])"), "{m}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("warning   contact_open"));
+    // A gap the loads never close: the part and the obstacle, no word of a reversed normal.
+    let far = base.replacen("normal = [0.0, 1.0]", "normal = [0.0, 1.0]\ngap = 1e-3", 1);
+    let dir = scratch("open-gap");
+    std::fs::write(dir.join("s.toml"), &far).unwrap();
+    run_ok(bin().arg("run").arg(dir.join("s.toml")).arg("--out").arg(dir.join("out")));
+    let messages = contact_open(&dir.join("out"));
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    assert!(messages[0].contains("'bottom'") && messages[0].contains("the gap") && !messages[0].contains("reverse"));
+    // The default scene closes: no such warning.
+    let dir = scratch("closed");
+    run_ok(bin().args(["run", "--quiet", "--out"]).arg(&dir));
+    assert!(contact_open(&dir).is_empty());
+    // A body held by the contact alone, normal reversed: the error says why, not "lifts off".
+    let patch = std::fs::read_to_string(scene("examples/scenes/contact_patch.toml")).unwrap();
+    let dir = scratch("patch-reversed");
+    let text = patch.replacen("normal = [0.0, 1.0]", "normal = [0.0, -1.0]", 1);
+    assert_ne!(text, patch);
+    std::fs::write(dir.join("s.toml"), text).unwrap();
+    for route in [None, Some("newton")] {
+        let mut cmd = bin();
+        cmd.arg("run").arg(dir.join("s.toml")).arg("--out").arg(dir.join("out"));
+        if let Some(r) = route {
+            cmd.args(["--contact-solver", r]);
+        }
+        let msg = run_err(&mut cmd, 1);
+        assert!(
+            msg.contains("lies behind the line")
+                && msg.contains("hint: the normal points")
+                && !msg.contains("lifts off"),
+            "{route:?}: {msg}"
+        );
+    }
+}

@@ -153,6 +153,23 @@ fn a_factorisation_out_of_memory_is_named_and_the_advice_works() {
     assert!(d < 1e-6, "CG + hypre differs from MUMPS by {d:e}");
 }
 
+/// Issue 23, 6: MUMPS out of memory in the contact route's factorisation (the Schur
+/// complement of the block elimination) is named, with advice; the advice (the condensed
+/// route with CG) runs.
+#[test]
+fn the_contact_factorisation_out_of_memory_is_named() {
+    let msg = run_err(bin().args(["run", "--quiet", "-mat_mumps_icntl_23", "1"]), 1);
+    assert!(msg.contains("out of memory") && msg.contains("INFOG(1)") && msg.contains("Schur complement"), "{msg}");
+    assert!(msg.contains("-mat_mumps_icntl_14") && msg.contains("--contact-solver newton -ksp_type cg"), "{msg}");
+    assert!(!msg.contains("NaN") && !msg.contains("not finite"), "{msg}");
+    let dir = scratch("contact-oom-advice");
+    run_ok(
+        bin()
+            .args(["run", "--quiet", "--contact-solver", "newton", "-ksp_type", "cg", "-pc_type", "hypre", "--out"])
+            .arg(&dir),
+    );
+}
+
 #[test]
 fn ict_preconditioner_from_the_command_line() {
     let cantilever = scene("examples/scenes/cantilever.toml");

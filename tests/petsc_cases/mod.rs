@@ -81,6 +81,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("dual_saddle_point_agrees_with_elimination", dual::dual_saddle_point_agrees_with_elimination),
     ("contact_patch_frictionless_exact", contact::contact_patch_frictionless_exact),
     ("hertz_pinned_at_a_contact_node", contact::hertz_pinned_at_a_contact_node),
+    ("rotated_contact_patches_exact", contact::rotated_contact_patches_exact),
+    ("slender_strip_held_by_contact_exact", contact::slender_strip_held_by_contact_exact),
     ("condensation_by_schur_complement_agrees", contact::condensation_by_schur_complement_agrees),
     ("contact_stick_patch_exact_held_by_friction", contact::contact_stick_patch_exact_held_by_friction),
     ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
