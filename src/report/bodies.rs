@@ -17,7 +17,7 @@
 //! nodes that are not contact points of the pair — is measured pointwise against the other
 //! side (`contact/mortar/interpenetration.rs`): its penetration beyond the reference overlap,
 //! relative to the displacement scale, is `node_penetration` and an error above
-//! [`NODE_PENETRATION_CHECK`] = 10⁻³. That bound is a discretisation allowance: master nodes
+//! `NODE_PENETRATION_CHECK` = 10⁻³. That bound is a discretisation allowance: master nodes
 //! between slave nodes sit on chords of the deformed slave side, `O(h² |u''|)` off; measured
 //! 2e-6 to 7e-5 on the Hertz and Cattaneo cases (cells down to a/5), 2e-16 on the patch test,
 //! while a node left out of the pairing goes in by a good part of the displacements (4 % to
