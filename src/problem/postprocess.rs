@@ -147,49 +147,41 @@ impl ElasticityProblem<'_> {
 
     /// A `contact_open` warning for each contact part whose points all stayed open.
     fn contact_open_warnings(&self) -> Vec<Warning> {
+        use crate::contact_routes::condensed_route::{obstacle_text, wrong_side};
         let (Some(c), Some(outcome)) = (&self.contact, &self.contact_outcome) else { return Vec::new() };
         let status = &outcome.status;
-        let all_open = |points: &[usize]| {
-            !points.is_empty() && points.iter().all(|&i| status[i] == crate::contact::PointStatus::Open)
-        };
-        let mut out = Vec::new();
-        match (&c.parts, &self.bodies) {
-            (Some(parts), Some(model)) => {
-                for (p, part) in parts.parts.iter().enumerate() {
-                    let points: Vec<usize> = (0..status.len()).filter(|&i| parts.part_of[i] == p).collect();
-                    if !all_open(&points) {
-                        continue;
-                    }
+        // Each part: its name, its points and, against a rigid obstacle, the obstacle and the
+        // nodes of the body that touches it.
+        let parts: Vec<(&str, Vec<usize>, Option<(&scene::ObstacleSpec, &[[f64; 2]])>)> = match (&c.parts, &self.bodies)
+        {
+            (Some(parts), Some(model)) => parts
+                .parts
+                .iter()
+                .enumerate()
+                .map(|(p, part)| {
+                    let points = (0..status.len()).filter(|&i| parts.part_of[i] == p).collect();
                     let spec =
                         if part.master.is_none() { model.bodies[part.slave_body].contact.as_ref() } else { None };
                     let nodes = &self.mesh.nodes[model.layout.bodies[part.slave_body].nodes.clone()];
-                    let wrong = spec
-                        .and_then(|s| crate::contact_routes::condensed_route::wrong_side(&s.obstacle, nodes))
-                        .map(|(w, h)| format!("{w}; {h}"));
-                    let obstacle = spec.map(|s| crate::contact_routes::condensed_route::obstacle_text(&s.obstacle));
-                    out.push(crate::report::warnings::contact_open(
-                        &part.name,
-                        points.len(),
-                        obstacle.as_deref(),
-                        wrong.as_deref(),
-                    ));
-                }
-            }
-            _ => {
-                let points: Vec<usize> = (0..status.len()).collect();
-                if all_open(&points) {
-                    let wrong = crate::contact_routes::condensed_route::wrong_side(&c.spec.obstacle, &self.mesh.nodes)
-                        .map(|(w, h)| format!("{w}; {h}"));
-                    let obstacle = crate::contact_routes::condensed_route::obstacle_text(&c.spec.obstacle);
-                    out.push(crate::report::warnings::contact_open(
-                        &c.spec.part,
-                        points.len(),
-                        Some(&obstacle),
-                        wrong.as_deref(),
-                    ));
-                }
-            }
-        }
-        out
+                    (part.name.as_str(), points, spec.map(|s| (&s.obstacle, nodes)))
+                })
+                .collect(),
+            _ => vec![(
+                c.spec.part.as_str(),
+                (0..status.len()).collect(),
+                Some((&c.spec.obstacle, &self.mesh.nodes[..])),
+            )],
+        };
+        parts
+            .into_iter()
+            .filter(|(_, points, _)| {
+                !points.is_empty() && points.iter().all(|&i| status[i] == crate::contact::PointStatus::Open)
+            })
+            .map(|(name, points, obstacle)| {
+                let wrong = obstacle.and_then(|(o, nodes)| wrong_side(o, nodes)).map(|(w, h)| format!("{w}; {h}"));
+                let text = obstacle.map(|(o, _)| obstacle_text(o));
+                crate::report::warnings::contact_open(name, points.len(), text.as_deref(), wrong.as_deref())
+            })
+            .collect()
     }
 }

@@ -121,14 +121,19 @@ impl MixedSystem<'_, '_> {
         let mut steps = 0;
         while steps < MAX_STEPS && size > ROUND_OFF {
             let mut d = vec![0.0; r.len()];
-            let mut change = vec![0.0; force.len()];
-            let du = if let Some(elimination) = &mut self.elimination {
-                // (dv, dλ), then du = dv + K⁻¹ Bᵀ dλ (one solve).
-                elimination.solve(&r, &mut d, 0.0)?;
+            // The step's force change, from its contact rows (a frictionless point has one).
+            let force_change = |d: &[f64]| {
+                let mut change = vec![0.0; force.len()];
                 for (i, c) in change.chunks_mut(2).enumerate() {
                     c[..per_point].copy_from_slice(&d[n + per_point * i..n + per_point * (i + 1)]);
                 }
-                elimination.displacement(&d[..n], &change)?
+                change
+            };
+            let (du, change) = if let Some(elimination) = &mut self.elimination {
+                // (dv, dλ), then du = dv + K⁻¹ Bᵀ dλ (one solve).
+                elimination.solve(&r, &mut d, 0.0)?;
+                let change = force_change(&d);
+                (elimination.displacement(&d[..n], &change)?, change)
             } else if let Some(floating) = &mut self.held_by_contact {
                 // The (u, λ) form of the step: du by a solve with the factor.
                 let in_v = floating.in_v;
@@ -136,10 +141,7 @@ impl MixedSystem<'_, '_> {
                 let solved = floating.solve(&r, &mut d, 0.0);
                 floating.in_v = in_v;
                 solved?;
-                for (i, c) in change.chunks_mut(2).enumerate() {
-                    c[..per_point].copy_from_slice(&d[n + per_point * i..n + per_point * (i + 1)]);
-                }
-                d[..n].to_vec()
+                (d[..n].to_vec(), force_change(&d))
             } else {
                 return Err(Error::PetscUsage("refinement without an elimination".into()));
             };
