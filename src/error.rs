@@ -136,6 +136,23 @@ pub enum Error {
         tried: String,
     },
 
+    /// A contact route asked for by name would need more memory than the machine has (refused
+    /// before any work; the cost model avoids it when the route is not named).
+    #[error(
+        "the contact route {route} needs about {needed_mb:.0} MB and {available_mb:.0} MB are available: use \
+         -contact_route {instead} (or auto, which picks the cheaper route)"
+    )]
+    RouteMemory {
+        /// The route named (`dense_schur`).
+        route: String,
+        /// Its predicted memory, MB.
+        needed_mb: f64,
+        /// What the machine has available (or `-contact_memory_limit`), MB.
+        available_mb: f64,
+        /// A route that needs less.
+        instead: String,
+    },
+
     /// The loads cannot be balanced: e.g. a tangential load above what friction can hold
     /// (the body slides), or a body pushed away from the only obstacle holding it.
     #[error("{0}")]

@@ -30,6 +30,13 @@ pub fn current_memory_bytes() -> Option<u64> {
     status_field_bytes("VmRSS")
 }
 
+/// The memory the system can give new work without swapping (`MemAvailable` in
+/// `/proc/meminfo`), in bytes.
+pub fn available_memory_bytes() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    parse_status_field(&info, "MemAvailable")
+}
+
 /// Reads a line such as `VmHWM:    12345 kB` from `/proc/self/status`.
 fn status_field_bytes(field: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;

@@ -161,6 +161,9 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
             relative(s.relative_residual)
         ),
     );
+    if let Some(c) = &r.contact {
+        out.add("route", &format!("{}: {}", c.route, c.route_reason));
+    }
     let cached = r.mesh_cache.as_ref().is_some_and(|c| c.status == signorini::mesh::cache::CacheStatus::Hit);
     let phases: Vec<String> = r
         .timings

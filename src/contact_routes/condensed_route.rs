@@ -833,6 +833,11 @@ impl ContactSetup {
             part: self.spec.part.clone(),
             friction,
             solver: solution.solver.clone(),
+            route: "condensed".into(),
+            route_reason: format!(
+                "solver = \"{}\" (the condensed route: the contact problem on W = B K⁻¹ Bᵀ)",
+                self.spec.solver.scene_name()
+            ),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
             residual_history: solution.history.iter().map(|h| h.residual).collect(),

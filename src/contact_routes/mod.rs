@@ -8,7 +8,8 @@
 //!                            (a body held by its Dirichlet conditions)
 //!   floating_elimination ... the same with springs at pinned dofs removed in every step
 //!                            (a body held only by the contact)
-//!                        or by MUMPS LU of the mixed Jacobian (MPI, `-contact_full_space_lu`)
+//!                        or by MUMPS LU of the mixed Jacobian, kept across steps (sparse_lu)
+//! route_choice           which of the two (`-contact_route`, or a cost model over m, dofs, ranks)
 //! condensed_route        the contact points of a scene (ContactSetup) and the condensed route:
 //!                        W = B K⁻¹ Bᵀ, the scene's condensed solver, SNESVI, TAO; the fallback
 //!                        of the full-space Newton
@@ -23,3 +24,4 @@ pub(crate) mod condensation;
 pub(crate) mod condensed_route;
 pub(crate) mod floating_elimination;
 pub(crate) mod full_space;
+pub(crate) mod route_choice;

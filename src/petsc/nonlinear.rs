@@ -60,6 +60,14 @@ use signorini_sys as sys;
 
 /// PETSc error code returned by a callback that failed or panicked (PETSC_ERR_LIB).
 const CALLBACK_FAILED: sys::PetscErrorCode = 76;
+/// MUMPS's workspace margin (percent) for the LU of a mixed system (see
+/// [`Session::prefer_mumps_workspace`]).
+const MIXED_LU_WORKSPACE: i32 = 100;
+/// GMRES iterations allowed beyond [`FactorisationReuse::max_changed_rows`] (round-off).
+const REUSE_EXTRA_ITERATIONS: usize = 10;
+/// GMRES relative tolerance on the weighted residual when the factorisation is kept: each
+/// Newton step is exact to this fraction of the residual it starts from.
+const REUSE_RTOL: f64 = 1e-12;
 
 /// The verdict of [`NonlinearSystem::converged`].
 #[derive(Debug, Clone, PartialEq)]
@@ -101,6 +109,25 @@ pub trait NonlinearSystem {
         let _ = (r, d);
         Err(Error::PetscUsage("this nonlinear system does not solve its Jacobians".into()))
     }
+    /// Whether the default inner solver (LU) may keep its factorisation from one Newton step to
+    /// the next (asked once, before the solve; see "Keeping the factorisation" in the module
+    /// documentation). Ignored when the system solves its own Jacobians or the options choose
+    /// the inner solver.
+    fn factorisation_reuse(&self) -> Option<FactorisationReuse> {
+        None
+    }
+}
+
+/// How the default LU inner solver keeps its factorisation across Newton steps (see the
+/// module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FactorisationReuse {
+    /// Refactorise when more Jacobian rows than this (over all ranks) differ from the
+    /// factorised ones; GMRES then converges in at most that many iterations plus one.
+    pub max_changed_rows: usize,
+    /// A weight per owned row (powers of two: scaling and unscaling are exact), so that the
+    /// rows' residuals are comparable in GMRES's norm (forces and displacements, say).
+    pub row_weights: Vec<f64>,
 }
 
 /// What a nonlinear solve did.
@@ -120,6 +147,9 @@ pub struct NonlinearSolve {
     pub linear_iterations: usize,
     /// Evaluations of the residual function.
     pub residual_evaluations: usize,
+    /// With [`FactorisationReuse`]: the numeric factorisations of the Jacobian (at most one per
+    /// Newton step); `None` otherwise.
+    pub factorisations: Option<usize>,
     /// SNES's converged reason, or ours.
     pub converged_reason: String,
 }
@@ -279,6 +309,7 @@ impl<'s> NonlinearSolver<'s> {
             error: None,
             verdict: None,
             own_solver: false,
+            reuse: None,
             comm: self.comm,
             ranks: self.comm.size()?,
         });
@@ -314,10 +345,43 @@ impl<'s> NonlinearSolver<'s> {
         } else if !user_inner {
             let mut pc: sys::PC = std::ptr::null_mut();
             petsc!(KSPGetPC(ksp, &mut pc))?;
-            petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
             petsc!(PCSetType(pc, c"lu".as_ptr()))?;
             petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
             self.session.prefer_amf_ordering(&self.prefix)?;
+            self.session.prefer_mumps_workspace(&self.prefix, MIXED_LU_WORKSPACE)?;
+            match context.system.factorisation_reuse() {
+                Some(policy) if policy.row_weights.len() == owned.len() => {
+                    // GMRES on the (row-weighted) Jacobian, preconditioned on the right by the
+                    // last factorisation: its residual is the true one.
+                    let limit = to_petsc_int(policy.max_changed_rows + REUSE_EXTRA_ITERATIONS, "GMRES iterations")?;
+                    petsc!(KSPSetType(ksp, c"gmres".as_ptr()))?;
+                    petsc!(KSPGMRESSetRestart(ksp, limit))?;
+                    petsc!(KSPSetPCSide(ksp, sys::PCSide::PC_RIGHT))?;
+                    petsc!(KSPSetTolerances(ksp, REUSE_RTOL, 0.0, 1e8, limit))?;
+                    // A step whose GMRES stopped at its limit is still a descent step of the
+                    // system's own globalization; the next Jacobian is then factorised afresh.
+                    petsc!(SNESSetMaxLinearSolveFailures(snes, to_petsc_int(max_iterations.max(1), "failures")?))?;
+                    let mut weights = xv.duplicate()?;
+                    weights.set_owned(&policy.row_weights)?;
+                    petsc!(KSPSetPreSolve(ksp, Some(weigh_rhs_callback), ctx))?;
+                    petsc!(KSPSetPostSolve(ksp, Some(unweigh_rhs_callback), ctx))?;
+                    context.reuse = Some(ReuseState {
+                        max_changed_rows: policy.max_changed_rows,
+                        weights: policy.row_weights,
+                        weight_vector: weights,
+                        factored: None,
+                        factorisations: 0,
+                    });
+                }
+                Some(policy) => {
+                    return Err(Error::PetscUsage(format!(
+                        "factorisation reuse: {} row weights for {} owned rows",
+                        policy.row_weights.len(),
+                        owned.len()
+                    )))
+                }
+                None => petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?,
+            }
         } else {
             // Iterative inner solves: tight by default, so that Newton keeps its speed.
             petsc!(KSPSetTolerances(ksp, 1e-12, 1e-50, 1e8, 10_000))?;
@@ -366,6 +430,7 @@ impl<'s> NonlinearSolver<'s> {
             factor_package.as_ref().map(|p| format!(" ({p})")).unwrap_or_default()
         );
         let verdict = context.verdict.take();
+        let factorisations = context.reuse.as_ref().map(|r| r.factorisations);
         drop(guard);
         drop(context);
         let petsc_reason = from_c(reason_str);
@@ -377,6 +442,7 @@ impl<'s> NonlinearSolver<'s> {
             iterations: its.max(0) as usize,
             linear_iterations: lits.max(0) as usize,
             residual_evaluations: fevals.max(0) as usize,
+            factorisations,
             converged_reason: match &verdict {
                 Some(Convergence::Converged(why)) => why.clone(),
                 _ => petsc_reason.clone(),
@@ -462,9 +528,23 @@ struct Context<'a> {
     verdict: Option<Convergence>,
     /// The system solves its own Jacobians (shell preconditioner, KSP preonly).
     own_solver: bool,
+    /// The default LU keeps its factorisation across steps ([`FactorisationReuse`]).
+    reuse: Option<ReuseState<'a>>,
     /// The solver's communicator and its size: every callback's outcome is agreed over it.
     comm: Comm,
     ranks: usize,
+}
+
+/// The factorisation kept by the default LU (see [`FactorisationReuse`]).
+struct ReuseState<'s> {
+    max_changed_rows: usize,
+    /// The row weights, and the same as a PETSc vector (the right-hand side is weighted in
+    /// KSP's pre-solve hook and restored in its post-solve hook).
+    weights: Vec<f64>,
+    weight_vector: Vector<'s>,
+    /// The Jacobian values (owned rows, pattern order) of the last factorisation.
+    factored: Option<Vec<f64>>,
+    factorisations: usize,
 }
 
 impl Context<'_> {
@@ -559,7 +639,7 @@ unsafe extern "C" fn residual_callback(
 }
 
 unsafe extern "C" fn jacobian_callback(
-    _snes: sys::SNES,
+    snes: sys::SNES,
     x: sys::Vec,
     jac: sys::Mat,
     pre: sys::Mat,
@@ -569,16 +649,25 @@ unsafe extern "C" fn jacobian_callback(
         let mut values = std::mem::take(&mut c.values);
         let result = c.with_ghosted(x, |c, xl| c.system.jacobian(xl, &mut values));
         let fill = |m: sys::Mat, c: &Context| -> Result<()> {
+            let mut weighted = Vec::new();
             for r in 0..c.indptr.len() - 1 {
                 let (a, b) = (c.indptr[r], c.indptr[r + 1]);
                 let row = (c.first_row + r) as sys::PetscInt;
+                let row_values = match &c.reuse {
+                    Some(reuse) => {
+                        weighted.clear();
+                        weighted.extend(values[a..b].iter().map(|v| v * reuse.weights[r]));
+                        &weighted[..]
+                    }
+                    None => &values[a..b],
+                };
                 petsc!(MatSetValues(
                     m,
                     1,
                     &row,
                     (b - a) as sys::PetscInt,
                     c.columns[a..b].as_ptr(),
-                    values[a..b].as_ptr(),
+                    row_values.as_ptr(),
                     sys::InsertMode::INSERT_VALUES
                 ))?;
             }
@@ -595,10 +684,70 @@ unsafe extern "C" fn jacobian_callback(
             if jac != pre {
                 fill(jac, c)?;
             }
+            if c.reuse.is_some() {
+                keep_or_refactorise(snes, c, &values)?;
+            }
             Ok(())
         });
         c.values = values;
         outcome
+    })
+}
+
+/// Keep the last factorisation for this Jacobian, or let the next solve factorise it: kept
+/// while at most `max_changed_rows` rows (over all ranks) differ from the factorised ones and
+/// the last GMRES converged within its limit.
+fn keep_or_refactorise(snes: sys::SNES, c: &mut Context, values: &[f64]) -> Result<()> {
+    let mut ksp: sys::KSP = std::ptr::null_mut();
+    petsc!(SNESGetKSP(snes, &mut ksp))?;
+    let mut reason = sys::KSPConvergedReason(0);
+    petsc!(KSPGetConvergedReason(ksp, &mut reason))?;
+    let Some(reuse) = c.reuse.as_mut() else { return Ok(()) };
+    let changed = match &reuse.factored {
+        Some(factored) => (0..c.indptr.len() - 1)
+            .filter(|&r| {
+                let (a, b) = (c.indptr[r], c.indptr[r + 1]);
+                values[a..b] != factored[a..b]
+            })
+            .count(),
+        None => usize::MAX,
+    };
+    let changed = if c.ranks > 1 { c.comm.sum(&[changed.min(1 << 50) as f64])?[0] as usize } else { changed };
+    let keep = reuse.factored.is_some() && changed <= reuse.max_changed_rows && reason.0 >= 0;
+    if !keep {
+        reuse.factored = Some(values.to_vec());
+        reuse.factorisations += 1;
+    }
+    // SNES sets KSP's reuse flag after this callback from its preconditioner lag: −1 keeps
+    // the factors, −2 rebuilds them once (then −1).
+    petsc!(SNESSetLagPreconditioner(snes, if keep { -1 } else { -2 }))
+}
+
+/// KSP's pre-solve hook with a kept factorisation: weigh the right-hand side's rows (the
+/// Jacobian's rows were weighed when filled).
+unsafe extern "C" fn weigh_rhs_callback(
+    _ksp: sys::KSP,
+    b: sys::Vec,
+    _x: sys::Vec,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| match &c.reuse {
+        Some(reuse) => petsc!(VecPointwiseMult(b, b, reuse.weight_vector.raw)),
+        None => Ok(()),
+    })
+}
+
+/// KSP's post-solve hook: the right-hand side (SNES's residual vector) restored exactly (the
+/// weights are powers of two).
+unsafe extern "C" fn unweigh_rhs_callback(
+    _ksp: sys::KSP,
+    b: sys::Vec,
+    _x: sys::Vec,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    guarded(ctx, |c| match &c.reuse {
+        Some(reuse) => petsc!(VecPointwiseDivide(b, b, reuse.weight_vector.raw)),
+        None => Ok(()),
     })
 }
 

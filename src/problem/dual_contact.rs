@@ -191,6 +191,8 @@ impl ElasticityProblem<'_> {
             part: spec.part.clone(),
             friction: spec.friction.into(),
             solver: solution.solver.clone(),
+            route: "dual".into(),
+            route_reason: "the dual formulation: the Airy stress problem condensed onto the contact forces".into(),
             iterations: solution.iterations,
             status_changes: solution.history.iter().map(|h| h.status_changes).collect(),
             residual_history: solution.history.iter().map(|h| h.residual).collect(),

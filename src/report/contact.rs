@@ -212,6 +212,13 @@ pub struct ContactReport {
     pub friction: FrictionReport,
     /// The contact solver as run, with its linear solver (and a fallback, if one was taken).
     pub solver: String,
+    /// How the contact solve's linear algebra was organised: `dense_schur` or `sparse_lu` (the
+    /// full-space Newton's routes), `options` (its inner solver named by the options),
+    /// `condensed` (the condensed route, `W = B K⁻¹ Bᵀ`) or `dual` (the dual formulation's
+    /// condensation onto the contact forces).
+    pub route: String,
+    /// Why that route: the cost model's predictions, or the option or scene setting that chose it.
+    pub route_reason: String,
     /// Iterations of the contact solver.
     pub iterations: usize,
     /// Status changes (open/stick/slip) per iteration of the contact solver.

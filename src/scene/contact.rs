@@ -126,7 +126,7 @@ pub enum ContactSolverSpec {
     /// `W = B K⁻¹ Bᵀ` from `2m` solves), `solver = "newton"`.
     Newton,
     /// Semi-smooth Newton on the whole mixed (displacement, contact force) system through PETSc
-    /// SNES, one sparse LU per step, `solver = "newton_full"` (the default).
+    /// SNES, `solver = "newton_full"` (the default); its linear algebra: `-contact_route`.
     FullSpaceNewton,
     /// Projected block Gauss–Seidel / SOR, over-relaxation factor `omega` in (0, 2).
     Relaxation {

@@ -48,17 +48,24 @@ fn patch_kilometres() {
 #[test]
 fn patch_aspect_ratio_1000() {
     let b = Block { w: 1000.0, h: 1.0, cell: 1.0, mesher: "structured", ..Default::default() };
+    // 1001 contact points on 4004 dofs: the cost model takes the sparse LU of the mixed
+    // Jacobian (its MUMPS workspace margin raised: at 20 % it stopped with INFOG(1) = −9).
     patch("slender", &b, &[]);
+    let (_, r) = answer("slender-route", &b.toml(), &[]);
+    assert_eq!(r["contact"]["route"], "sparse_lu", "slender: {}", r["contact"]["route_reason"]);
+    assert!(r["contact"]["solver"].to_string().starts_with("\"full-space"), "slender: {}", r["contact"]["solver"]);
     // The pinned stiffness of a slab 1000 long is too ill-conditioned for the floating
     // elimination's (v, λ) iteration alone (its residual 4.7e-4 on (u, λ)): the answer is
     // refined against K, and passes the independent check without iterating again.
-    let (_, r) = answer("slender-notes", &b.toml(), &[]);
+    let dense = ["-contact_route", "dense_schur"];
+    patch("slender-dense", &b, &dense);
+    let (_, r) = answer("slender-notes", &b.toml(), &dense);
     let notes = r["contact"]["notes"].to_string();
     assert!(notes.contains("iterative refinement against K"), "slender: notes {notes}");
     assert!(!notes.contains("iterated again in (u, λ)"), "slender: notes {notes}");
     // Without the refinement the (v, λ) answer fails the independent check, and the run
     // iterates again in (u, λ), says so, and gives the same exact answer.
-    let unrefined = ["-contact_full_space_refine", "false"];
+    let unrefined = ["-contact_route", "dense_schur", "-contact_full_space_refine", "false"];
     patch("slender-unrefined", &b, &unrefined);
     let (_, r) = answer("slender-unrefined-notes", &b.toml(), &unrefined);
     let notes = r["contact"]["notes"].to_string();

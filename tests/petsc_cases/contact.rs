@@ -438,8 +438,13 @@ pub fn rotated_contact_patches_exact(s: &Session) -> Result<(), String> {
 /// rollers (`uy = 0`) and pinned `ux = 0` at its bottom-left corner. The exact field is uniform
 /// stress `σyy = −p` in each strip (`ux = ν(1 + ν) p x / E`, `uy = −(1 − ν²) p y / E` from the
 /// contact face), the pressure is `p` everywhere and the pins carry nothing.
-fn slender_strip(s: &Session, two_bodies: bool, refine: bool) -> Result<ElasticityProblem<'_>, String> {
-    let what = format!("250 x 1 strip, two bodies {two_bodies}, refinement {refine}");
+fn slender_strip<'s>(
+    s: &'s Session,
+    two_bodies: bool,
+    refine: bool,
+    route: &str,
+) -> Result<ElasticityProblem<'s>, String> {
+    let what = format!("250 x 1 strip, two bodies {two_bodies}, refinement {refine}, route {route}");
     let body = |name: &str, y0: f64| {
         format!(
             "[[body]]\nname = \"{name}\"\nmesh = {{ shape = \"rectangle\", origin = [0.0, {y0:?}], size = [250.0, 1.0], \
@@ -466,7 +471,9 @@ fn slender_strip(s: &Session, two_bodies: bool, refine: bool) -> Result<Elastici
     if !refine {
         s.set_option("-contact_full_space_refine", Some("false")).unwrap();
     }
+    s.set_option("-contact_route", Some(route)).unwrap();
     let solved = solve_text(s, &text, &manifest("examples/scenes/strip.toml"));
+    s.clear_option("-contact_route").unwrap();
     if !refine {
         s.clear_option("-contact_full_space_refine").unwrap();
     }
@@ -506,14 +513,18 @@ fn slender_strip(s: &Session, two_bodies: bool, refine: bool) -> Result<Elastici
     Ok(p)
 }
 
-/// Issue 23, 1d: a slender strip held by the contact, one body and two. The default route
-/// (floating elimination, refined against K) gives the exact pressure to 1e-10 (3e-6 before
+/// Issue 23, 1d: a slender strip held by the contact, one body and two. The cost model's
+/// route (sparse LU) is exact; the dense route (floating elimination, refined against K) gives the exact pressure to 1e-10 (3e-6 before
 /// the refinement); without the refinement (`-contact_full_space_refine false`) the (v, λ)
 /// answer, penetrating by 3e-8 of the displacement scale, is refused by the independent check
 /// (which accepted it at 100 × the tolerance) and the run iterates again in (u, λ).
 pub fn slender_strip_held_by_contact_exact(s: &Session) -> Result<(), String> {
     for two_bodies in [false, true] {
-        let p = slender_strip(s, two_bodies, true)?;
+        // The cost model's route for 501 points (the sparse LU of the mixed Jacobian): exact too.
+        let p = slender_strip(s, two_bodies, true, "auto")?;
+        let report = &p.contact_outcome.as_ref().unwrap().report;
+        ensure(report.route == "sparse_lu", || format!("two bodies {two_bodies}: route {}", report.route))?;
+        let p = slender_strip(s, two_bodies, true, "dense_schur")?;
         let notes = &p.contact_outcome.as_ref().unwrap().report.notes;
         ensure(notes.iter().any(|n| n.contains("iterative refinement against K")), || {
             format!("two bodies {two_bodies}: no refinement step: {notes:?}")
@@ -521,7 +532,7 @@ pub fn slender_strip_held_by_contact_exact(s: &Session) -> Result<(), String> {
         ensure(!notes.iter().any(|n| n.contains("fails the independent check")), || {
             format!("two bodies {two_bodies}: the refined answer was refused: {notes:?}")
         })?;
-        let p = slender_strip(s, two_bodies, false)?;
+        let p = slender_strip(s, two_bodies, false, "dense_schur")?;
         let notes = &p.contact_outcome.as_ref().unwrap().report.notes;
         ensure(notes.iter().any(|n| n.contains("fails the independent check")), || {
             format!("two bodies {two_bodies}: the unrefined (v, λ) answer passed the check: {notes:?}")

@@ -20,6 +20,7 @@ mod bodies_full_space;
 mod bodies_hertz;
 mod bodies_sides;
 mod contact;
+mod contact_routes;
 mod dual;
 mod dual_contact;
 mod dual_implicit;
@@ -96,6 +97,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("full_space_stick_patch_exact_held_by_friction", contact::full_space_stick_patch_exact_held_by_friction),
     ("full_space_agrees_with_condensed", contact::full_space_agrees_with_condensed),
     ("full_space_block_elimination_matches_lu", contact::full_space_block_elimination_matches_lu),
+    ("contact_routes_agree", contact_routes::contact_routes_agree),
+    ("contact_route_out_of_memory_is_named", contact_routes::contact_route_out_of_memory_is_named),
     ("held_by_contact_elimination_matches_lu", contact::held_by_contact_elimination_matches_lu),
     ("full_space_square_block_raous", contact::full_space_square_block_raous),
     ("full_space_iterations_mesh_independent", contact::full_space_iterations_mesh_independent),

@@ -254,6 +254,8 @@ pub(crate) struct MixedSystem<'s, 'p> {
     pub(crate) elimination: Option<BlockElimination<'s>>,
     /// The same for a body its Dirichlet conditions do not hold (iterating in `(u, λ)`).
     pub(crate) held_by_contact: Option<FloatingElimination<'s>>,
+    /// How SNES's LU keeps its factorisation across steps (the sparse LU route).
+    pub(crate) reuse: Option<FactorisationReuse>,
     pub(crate) law: Law,
     pub(crate) per_point: usize,
     /// Owned displacement rows (they come first in the owned block) and their first dof.
@@ -676,6 +678,10 @@ impl NonlinearSystem for MixedSystem<'_, '_> {
         }
         self.previous_equilibrium = equilibrium;
         Ok(Convergence::Iterating)
+    }
+
+    fn factorisation_reuse(&self) -> Option<FactorisationReuse> {
+        self.reuse.clone()
     }
 
     fn jacobian_solver(&self) -> Option<String> {

@@ -200,11 +200,13 @@ use super::block_elimination::BlockElimination;
 use super::condensation::schur_dofs;
 use super::condensed_route::{ContactOutcome, ContactSetup};
 use super::floating_elimination::FloatingElimination;
+use super::route_choice::{self, Route, RouteInputs, MAX_CHANGED_ROWS};
 use crate::contact::{self, ContactSolution, FrictionLaw, IterationRecord, PointState, PointStatus, TangentialState};
 use crate::error::{Error, Result};
 use crate::fem::assembly::{Constraints, LinearSystem};
 use crate::fem::material::CellMaterials;
 use crate::mesh::Mesh;
+use crate::petsc::nonlinear::FactorisationReuse;
 use crate::petsc::nonlinear::{Convergence, NonlinearSolve, NonlinearSolver, NonlinearSystem};
 use crate::petsc::{Comm, LinearSolver, Matrix, Session, SolveStats, Vector};
 pub use layout::{dof_ranges, MixedLayout};
@@ -230,6 +232,9 @@ const FLOATING_ELIMINATION_NAME: &str =
     "block elimination, MUMPS Cholesky of K + springs at pinned contact dofs (removed in each step)";
 /// Option turning the block elimination off (MUMPS LU of the whole mixed Jacobian instead).
 pub const FULL_SPACE_LU_OPTION: &str = "-contact_full_space_lu";
+/// Option turning the sparse LU route's reuse of its factorisation off (`false`: one LU per
+/// Newton step).
+pub const LU_REUSE_OPTION: &str = "-contact_lu_reuse";
 /// Option turning the eliminations' iterative refinement against K off (`refinement.rs`; to
 /// see what it corrects: the independent check then refuses a slender body's answer).
 pub const REFINE_OPTION: &str = "-contact_full_space_refine";
@@ -344,12 +349,19 @@ impl ContactSetup {
         // (block_elimination.rs); otherwise SNES's KSP solves the mixed Jacobian. A body the
         // Dirichlet conditions do not hold: the same with springs at a few pinned contact dofs,
         // removed in every step (floating_elimination.rs).
-        let user_inner = session.has_option(&format!("-{OPTIONS_PREFIX}ksp_type"))?
-            || session.has_option(&format!("-{OPTIONS_PREFIX}pc_type"))?
-            || session.has_option(FULL_SPACE_LU_OPTION)?;
-        let eliminations_apply = session.size() == 1 && !user_inner && m > 0;
-        let block_elimination = eliminations_apply && self.free_motions.is_none();
         let candidates = schur_dofs(b);
+        let inputs = RouteInputs {
+            dofs: n,
+            points: m,
+            per_point,
+            schur_size: candidates.len(),
+            ranks: session.size(),
+            memory_limit: route_choice::memory_limit(session)?,
+        };
+        let choice = session.agree(route_choice::choose(session, &inputs), "the contact route")?;
+        progress.note(&format!("contact: route {} ({})", choice.route.name(), choice.reason));
+        let eliminations_apply = choice.route == Route::DenseSchur && m > 0;
+        let block_elimination = eliminations_apply && self.free_motions.is_none();
         let pins = match (&rigid, eliminations_apply && !block_elimination) {
             (Some(check), true) => {
                 let fixed = |dof: usize| constraints.is_fixed(dof);
@@ -413,11 +425,21 @@ impl ContactSetup {
             }
             None => None,
         };
+        // The sparse LU route keeps its factorisation while few rows change; GMRES weighs the
+        // contact rows (displacements) by the force rows' scale (a power of two).
+        let reuse = (choice.route == Route::SparseLu && reuse_allowed(session)?).then(|| {
+            let weight = 2f64.powi(force_scale.log2().round() as i32);
+            FactorisationReuse {
+                max_changed_rows: MAX_CHANGED_ROWS,
+                row_weights: (0..block.len()).map(|r| if r < num_u { 1.0 } else { weight }).collect(),
+            }
+        });
         let mut mixed = MixedSystem {
             progress,
             comm,
             elimination,
             held_by_contact,
+            reuse,
             law: law.clone(),
             per_point,
             num_u,
@@ -602,6 +624,13 @@ impl ContactSetup {
         if let Some(first) = &retry {
             notes.push(format!("{first}; iterated again in (u, λ), one solve per step"));
         }
+        if let Some(f) = run.factorisations {
+            notes.push(format!(
+                "{f} LU factorisation(s) of the mixed Jacobian for {} Newton steps (kept while at most \
+                 {MAX_CHANGED_ROWS} rows changed; {} GMRES iterations in all)",
+                run.iterations, run.linear_iterations
+            ));
+        }
         notes.extend(mixed.notes.iter().cloned());
         let solution = ContactSolution {
             force: force.clone(),
@@ -613,7 +642,9 @@ impl ContactSetup {
             solver: format!("full-space semi-smooth Newton (Alart–Curnier), {}", run.method),
             notes,
         };
-        let report = self.report(&force, &status, &u, &residuals, run.iterations, &solution);
+        let mut report = self.report(&force, &status, &u, &residuals, run.iterations, &solution);
+        report.route = choice.route.name().into();
+        report.route_reason = choice.reason.clone();
         let mut stats = stats_of(&run, equilibrium, start.elapsed().as_secs_f64());
         if mixed.elimination.is_some() {
             stats.factor_package = Some("mumps (Cholesky of K, Schur complement on the contact dofs)".into());
@@ -681,6 +712,8 @@ impl ContactSetup {
         all.append(&mut outcome.report.notes);
         outcome.report.notes = all;
         outcome.report.solver = format!("condensed {} (fallback from the full-space Newton)", outcome.report.solver);
+        outcome.report.route_reason =
+            format!("fallback: the full-space Newton failed ({failure}); {}", outcome.report.route_reason);
         // The condensed solve reports its own linear solves (the Schur factorisation on one
         // process); the KSP's are the per-column route's.
         let mut stats = condensed_stats
@@ -688,6 +721,15 @@ impl ContactSetup {
             .ok_or_else(|| Error::PetscUsage("the condensed fallback recorded no linear solve".into()))?;
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
+    }
+}
+
+/// Whether `-contact_lu_reuse` leaves the sparse LU route its factorisation reuse (default yes).
+fn reuse_allowed(session: &Session) -> Result<bool> {
+    match session.option(LU_REUSE_OPTION)?.as_deref() {
+        None | Some("" | "1" | "true" | "yes") => Ok(true),
+        Some("0" | "false" | "no") => Ok(false),
+        Some(other) => Err(Error::Usage(format!("{LU_REUSE_OPTION} takes true or false (got \"{other}\")"))),
     }
 }
 
