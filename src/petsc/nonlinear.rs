@@ -353,11 +353,11 @@ impl<'s> NonlinearSolver<'s> {
                 Some(policy) if policy.row_weights.len() == owned.len() => {
                     // GMRES on the (row-weighted) Jacobian, preconditioned on the right by the
                     // last factorisation: its residual is the true one.
+                    // A fresh factorisation solves exactly (preonly); kept factors switch the
+                    // KSP to GMRES for that step (keep_or_refactorise).
                     let limit = to_petsc_int(policy.max_changed_rows + REUSE_EXTRA_ITERATIONS, "GMRES iterations")?;
-                    petsc!(KSPSetType(ksp, c"gmres".as_ptr()))?;
-                    petsc!(KSPGMRESSetRestart(ksp, limit))?;
+                    petsc!(KSPSetType(ksp, c"preonly".as_ptr()))?;
                     petsc!(KSPSetPCSide(ksp, sys::PCSide::PC_RIGHT))?;
-                    petsc!(KSPSetTolerances(ksp, REUSE_RTOL, 0.0, 1e8, limit))?;
                     // A step whose GMRES stopped at its limit is still a descent step of the
                     // system's own globalization; the next Jacobian is then factorised afresh.
                     petsc!(SNESSetMaxLinearSolveFailures(snes, to_petsc_int(max_iterations.max(1), "failures")?))?;
@@ -370,6 +370,8 @@ impl<'s> NonlinearSolver<'s> {
                         weights: policy.row_weights,
                         weight_vector: weights,
                         factored: None,
+                        filled: None,
+                        limit,
                         factorisations: 0,
                     });
                 }
@@ -544,6 +546,10 @@ struct ReuseState<'s> {
     weight_vector: Vector<'s>,
     /// The Jacobian values (owned rows, pattern order) of the last factorisation.
     factored: Option<Vec<f64>>,
+    /// The values last filled into the matrix (rows that did not change are not set again).
+    filled: Option<Vec<f64>>,
+    /// The GMRES iteration limit of a step with kept factors.
+    limit: sys::PetscInt,
     factorisations: usize,
 }
 
@@ -650,8 +656,15 @@ unsafe extern "C" fn jacobian_callback(
         let result = c.with_ghosted(x, |c, xl| c.system.jacobian(xl, &mut values));
         let fill = |m: sys::Mat, c: &Context| -> Result<()> {
             let mut weighted = Vec::new();
+            // With the default LU kept by this wrapper (never factorised in place), the matrix
+            // holds the last values filled: only rows that changed are set again (the force
+            // rows of a contact problem never do).
+            let filled = c.reuse.as_ref().and_then(|r| r.filled.as_ref());
             for r in 0..c.indptr.len() - 1 {
                 let (a, b) = (c.indptr[r], c.indptr[r + 1]);
+                if filled.is_some_and(|f| f[a..b] == values[a..b]) {
+                    continue;
+                }
                 let row = (c.first_row + r) as sys::PetscInt;
                 let row_values = match &c.reuse {
                     Some(reuse) => {
@@ -687,6 +700,12 @@ unsafe extern "C" fn jacobian_callback(
             if c.reuse.is_some() {
                 keep_or_refactorise(snes, c, &values)?;
             }
+            if let Some(reuse) = c.reuse.as_mut() {
+                match &mut reuse.filled {
+                    Some(filled) => filled.copy_from_slice(&values),
+                    None => reuse.filled = Some(values.clone()),
+                }
+            }
             Ok(())
         });
         c.values = values;
@@ -720,7 +739,15 @@ fn keep_or_refactorise(snes: sys::SNES, c: &mut Context, values: &[f64]) -> Resu
     }
     // SNES sets KSP's reuse flag after this callback from its preconditioner lag: −1 keeps
     // the factors, −2 rebuilds them once (then −1).
-    petsc!(SNESSetLagPreconditioner(snes, if keep { -1 } else { -2 }))
+    petsc!(SNESSetLagPreconditioner(snes, if keep { -1 } else { -2 }))?;
+    if keep {
+        petsc!(KSPSetType(ksp, c"gmres".as_ptr()))?;
+        petsc!(KSPGMRESSetRestart(ksp, reuse.limit))?;
+        petsc!(KSPSetPCSide(ksp, sys::PCSide::PC_RIGHT))?;
+        petsc!(KSPSetTolerances(ksp, REUSE_RTOL, 0.0, 1e8, reuse.limit))
+    } else {
+        petsc!(KSPSetType(ksp, c"preonly".as_ptr()))
+    }
 }
 
 /// KSP's pre-solve hook with a kept factorisation: weigh the right-hand side's rows (the
