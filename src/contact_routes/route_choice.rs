@@ -122,7 +122,23 @@ pub fn dense_prediction(inputs: &RouteInputs) -> (f64, f64) {
     let n = inputs.dofs as f64;
     let steps = expected_steps(inputs);
     let seconds = 0.5 * LU_SECONDS * n.powf(1.5) + DENSE_SECONDS * (s.powi(3) + steps * cm.powi(3) / 3.0);
-    (seconds, DENSE_COPIES * s * s)
+    (seconds, dense_bytes(inputs.schur_size))
+}
+
+/// Bytes of the dense matrices an `s × s` dense Schur complement or flexibility needs (the
+/// matrix, its inverse or factors, the per-step system).
+pub fn dense_bytes(s: usize) -> f64 {
+    DENSE_COPIES * (s as f64).powi(2)
+}
+
+/// `bytes` in megabytes, with the digits a small amount needs (`0.027 MB`, `15 MB`).
+pub fn megabytes(bytes: f64) -> String {
+    let mb = bytes / 1e6;
+    if mb >= 10.0 {
+        format!("{mb:.0} MB")
+    } else {
+        format!("{mb:.2} MB")
+    }
 }
 
 /// Predicted seconds of the sparse LU route.
@@ -156,10 +172,10 @@ pub fn choose_among(
     let fits = inputs.memory_limit.is_none_or(|limit| dense_bytes <= limit);
     let memory_words = |limit: f64| {
         format!(
-            "the dense Schur complement on {} dofs needs about {:.0} MB and {:.0} MB are available",
+            "the dense Schur complement on {} dofs needs about {} and {} are available",
             inputs.schur_size,
-            dense_bytes / 1e6,
-            limit / 1e6
+            megabytes(dense_bytes),
+            megabytes(limit)
         )
     };
     if user_inner {

@@ -134,6 +134,18 @@ pub fn contact_route_out_of_memory_is_named(s: &Session) -> Result<(), String> {
     ensure(avoided.route == "sparse_lu" && avoided.reason.contains("MB are available"), || {
         format!("with 0.01 MB: {} ({})", avoided.route, avoided.reason)
     })?;
+    // A full-space failure with no memory for the condensed fallback's dense W: the failure
+    // is the answer, and it says why there was no fallback.
+    let failed = run(s, &block, &block_path, &[("-contact_memory_limit", "0.01"), ("-contact_snes_max_it", "1")]);
+    ensure(
+        failed.as_ref().is_err_and(|m| {
+            m.contains("DIVERGED_MAX_IT")
+                && m.contains(
+                    "no fallback: the condensed route's dense W on 32 contact unknowns needs about 0.02 MB and 0.01 MB",
+                )
+        }),
+        || format!("{:?}", failed.as_ref().err()),
+    )?;
     let bad = run(s, &block, &block_path, &[("-contact_route", "fastest")]);
     ensure(bad.as_ref().is_err_and(|m| m.contains("auto, dense_schur or sparse_lu")), || format!("{:?}", bad.err()))?;
     Ok(())

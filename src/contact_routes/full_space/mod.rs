@@ -683,6 +683,25 @@ impl ContactSetup {
         start: std::time::Instant,
         progress: &dyn crate::problem::Progress,
     ) -> Result<Solved> {
+        // The condensed route holds W = B K⁻¹ Bᵀ dense (2m × 2m, and copies): with thousands of
+        // points it may not fit, and then the full-space failure is the answer.
+        let schur = 2 * self.boundary.points();
+        let needed = route_choice::dense_bytes(schur);
+        if let Some(limit) = route_choice::memory_limit(session)?.filter(|&limit| needed > limit) {
+            return Err(Error::SolverDiverged {
+                solver: "full-space semi-smooth Newton".into(),
+                reason: failure,
+                iterations: 0,
+                residual: f64::NAN,
+                tried: format!(
+                    "no fallback: the condensed route's dense W on {schur} contact unknowns needs about {} and {} \
+                     are available; try -contact_route dense_schur or sparse_lu, or more Newton steps \
+                     (-contact_snes_max_it)",
+                    route_choice::megabytes(needed),
+                    route_choice::megabytes(limit)
+                ),
+            });
+        }
         progress.note(&format!("contact: {failure}; falling back to the condensed semi-smooth Newton"));
         let k = &system.matrix;
         let mut values = k.values.clone();
