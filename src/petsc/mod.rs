@@ -179,6 +179,30 @@ impl Comm {
         self.allreduce(values, 2)
     }
 
+    /// Rank 0's `bytes` on every rank (collective: every rank calls it at the same point; the
+    /// other ranks' `bytes` are not read). The length goes first, then the bytes in pieces of
+    /// at most `i32::MAX` (MPI counts are `int`). Nothing on a single rank.
+    pub fn broadcast_from_rank_0(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        if self.size()? == 1 {
+            return Ok(bytes);
+        }
+        let root = self.rank()? == 0;
+        let mut length = (bytes.len() as u64).to_le_bytes();
+        // SAFETY: the buffer holds the 8 bytes broadcast.
+        mpi_check(unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, 0) }, "MPI_Bcast")?;
+        let length = usize::try_from(u64::from_le_bytes(length))
+            .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
+        let mut buffer = if root { bytes } else { vec![0u8; length] };
+        for piece in buffer.chunks_mut(i32::MAX as usize) {
+            // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
+            mpi_check(
+                unsafe { sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, 0) },
+                "MPI_Bcast",
+            )?;
+        }
+        Ok(buffer)
+    }
+
     /// The lowest rank on which `failed` is true, the same on every rank (one reduction;
     /// collective); `None` when no rank failed.
     pub fn first_failure(self, failed: bool) -> Result<Option<usize>> {

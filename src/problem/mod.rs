@@ -237,16 +237,26 @@ impl<'s> ElasticityProblem<'s> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
         let mut timings = Timings::default();
-        // Every rank builds the mesh itself (Gmsh, the mesh cache, a file): agreed, so that a
-        // rank that failed alone does not leave the others waiting in the next collective.
+        // With several bodies every rank builds the meshes itself (Gmsh, the mesh cache, a
+        // file): agreed, so that a rank that failed alone does not leave the others waiting in
+        // the next collective.
         if scene.has_body_tables() {
             let model = progress::in_phase(&*progress, Phase::Mesh, || {
                 timings.time("mesh", || session.agree(scene::BodiesModel::build(&scene), "building the meshes"))
             })?;
             return Self::setup_on_bodies(session, scene, model, timings, progress);
         }
-        let (mesh, file_order, mesh_cache) = progress::in_phase(&*progress, Phase::Mesh, || {
-            timings.time("mesh", || session.agree(build_mesh(&scene), "building the mesh"))
+        // Rank 0 alone builds the mesh (Gmsh, the mesh cache, a file) and sends it to the
+        // other ranks (agreed: a failure there stops every rank); its cache report is rank 0's.
+        let mut mesh_cache = None;
+        let (mesh, file_order) = progress::in_phase(&*progress, Phase::Mesh, || {
+            timings.time("mesh", || {
+                mesh::shared::from_rank_0(session, "building the mesh", || {
+                    let (mesh, file_order, cache) = build_mesh(&scene)?;
+                    mesh_cache = cache;
+                    Ok((mesh, file_order))
+                })
+            })
         })?;
         let mut problem = Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)?;
         problem.mesh_cache = mesh_cache;
@@ -747,8 +757,9 @@ pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheRep
     mesh::build::build(&scene.mesh, scene.order)
 }
 
-/// Every rank builds the mesh itself; make sure they all got the same one (Gmsh is
-/// deterministic, but a mismatch would give silently wrong answers).
+/// Make sure every rank holds the same mesh (rank 0's, sent by [`mesh::shared::from_rank_0`];
+/// with several bodies, each rank's own, and Gmsh is deterministic, but a mismatch would give
+/// silently wrong answers).
 fn consistent_across_ranks(session: &Session, mesh: Mesh) -> Result<Mesh> {
     if session.size() == 1 {
         return Ok(mesh);
