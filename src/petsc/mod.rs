@@ -453,6 +453,55 @@ impl Session {
         Ok(())
     }
 
+    /// On more than one process: refuse, before any work, a main linear solver (no prefix) that
+    /// PETSc 3.18 runs on one process only, as [`Error::SingleProcess`] naming the option. PETSc
+    /// would refuse it in the first solve, after the mesh and the assembly ("Could not locate a
+    /// solver type for factorization type ICC and matrix type mpiaij"). Such solvers are
+    /// `-pc_type icc`, `ilu` and our `ict`, and the factorisation packages of one process
+    /// (`-pc_factor_mat_solver_type petsc`, `superlu`, `umfpack`, `cholmod`, `klu`,
+    /// `mkl_pardiso`) when the preconditioner factorises (`lu`, `cholesky`, or unset: the
+    /// default MUMPS Cholesky). The command line's options come first, then `scene_defaults`
+    /// (a scene's `[solver] petsc_options`, which the command line overrides).
+    pub fn refuse_one_process_solver(&self, scene_defaults: &[String]) -> Result<()> {
+        if self.size == 1 {
+            return Ok(());
+        }
+        let value = |name: &str| -> Result<Option<String>> {
+            if let Some(v) = self.option(name)? {
+                return Ok(Some(v));
+            }
+            Ok(scene_defaults.windows(2).rev().find(|w| w[0] == name).map(|w| w[1].clone()))
+        };
+        let pc = value("-pc_type")?;
+        let (option, reason) = match pc.as_deref() {
+            Some(p @ ("icc" | "ilu" | ict::NAME)) => (
+                format!("-pc_type {p}"),
+                format!(
+                    "{} factorisation of the whole matrix; in parallel use -pc_type bjacobi -sub_pc_type {}, or -pc_type \
+                     hypre",
+                    if p == "ilu" { "an incomplete LU" } else { "an incomplete Cholesky" },
+                    if p == "ilu" { "ilu" } else { "icc" }
+                ),
+            ),
+            None | Some("lu" | "cholesky") => {
+                let package = value("-pc_factor_mat_solver_type")?;
+                match package.as_deref() {
+                    Some(s @ ("petsc" | "superlu" | "umfpack" | "cholmod" | "klu" | "mkl_pardiso")) => (
+                        format!("-pc_factor_mat_solver_type {s}"),
+                        "a direct solver package of one process; in parallel use mumps (the default) or superlu_dist"
+                            .to_string(),
+                    ),
+                    _ => return Ok(()),
+                }
+            }
+            Some(_) => return Ok(()),
+        };
+        Err(Error::SingleProcess {
+            feature: option,
+            reason: format!("started on {} MPI processes: {reason}", self.size),
+        })
+    }
+
     /// The value of `-name`: `None` if absent, `Some("")` if present without a value.
     pub fn option(&self, name: &str) -> Result<Option<String>> {
         let n = cstring(name)?;

@@ -237,6 +237,8 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
+        // Under MPI, a linear solver of one process is refused before the mesh is made.
+        session.refuse_one_process_solver(&scene.petsc_options)?;
         let mut timings = Timings::default();
         // Rank 0 alone builds each mesh (Gmsh, the mesh cache, a file) and sends it to the
         // other ranks (agreed: a failure there stops every rank); with several bodies every
@@ -281,6 +283,7 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
         let scene = scene.validated()?;
         refuse_several_bodies(&scene)?;
+        session.refuse_one_process_solver(&scene.petsc_options)?;
         Self::setup_on_mesh(session, scene, mesh, None, Timings::default(), Box::new(NoProgress))
     }
 

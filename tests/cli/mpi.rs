@@ -423,3 +423,51 @@ fn mpirun_two_ranks_bench_is_refused_by_name() {
     assert!(stderr.contains("hint: run it without mpirun"), "{stderr}");
     assert!(!out_dir.exists(), "the benchmark started: {} exists", out_dir.display());
 }
+
+/// A main linear solver of one process (PETSc 3.18's ICC, ILU, our ICT, the factorisation
+/// packages of one process) under `mpirun -n 2` is refused by name before the mesh is read:
+/// the scene's mesh file is not a mesh, and the error is the solver's, said once. From the
+/// command line and from the scene's [solver] petsc_options alike; on one process the same
+/// runs go on to read the mesh (and fail there). Without the check PETSc refused them in the
+/// first solve ("Could not locate a solver type for factorization type ICC and matrix type
+/// mpiaij"), after the mesh and the assembly.
+#[test]
+fn mpirun_two_ranks_one_process_solver_is_refused_by_name() {
+    let dir = scratch("mpi-one-process-solver");
+    std::fs::write(dir.join("not_a_mesh.msh"), "not a mesh\n").unwrap();
+    let scene_text = |solver: &str| {
+        format!(
+            "[mesh]\nshape = \"file\"\nfile = \"not_a_mesh.msh\"\n\n[material]\nyoung = 1e9\npoisson = 0.3\n\n\
+             [[dirichlet]]\npart = \"left\"\nux = 0.0\nuy = 0.0\n{solver}"
+        )
+    };
+    let plain = dir.join("plain.toml");
+    std::fs::write(&plain, scene_text("")).unwrap();
+    let with_ilu = dir.join("ilu.toml");
+    std::fs::write(&with_ilu, scene_text("\n[solver]\npetsc_options = \"-ksp_type cg -pc_type ilu\"\n")).unwrap();
+    for (path, options, named) in [
+        (&plain, &["-ksp_type", "cg", "-pc_type", "icc"][..], "-pc_type icc"),
+        (&plain, &["-ksp_type", "cg", "-pc_type", "ict"][..], "-pc_type ict"),
+        (&plain, &["-pc_factor_mat_solver_type", "petsc"][..], "-pc_factor_mat_solver_type petsc"),
+        (&with_ilu, &[][..], "-pc_type ilu"),
+    ] {
+        let out = mpirun_two()
+            .arg("run")
+            .arg(path)
+            .args(["--quiet", "--out"])
+            .arg(dir.join("out"))
+            .args(options)
+            .output()
+            .expect("mpirun");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{named}: {stderr}");
+        let message = format!("error: {named} runs on one process only (started on 2 MPI processes");
+        assert_eq!(stderr.matches(&message).count(), 1, "{named}: {stderr}");
+        assert!(stderr.contains("hint: run it without mpirun"), "{named}: {stderr}");
+        assert!(!stderr.contains("not a Gmsh MSH file"), "{named}: the mesh was read first: {stderr}");
+        // One process: no refusal, the mesh is read (and is not one).
+        let serial = bin().arg("run").arg(path).args(["--quiet", "--out"]).arg(dir.join("out")).args(options).output();
+        let stderr = String::from_utf8_lossy(&serial.unwrap().stderr).to_string();
+        assert!(stderr.contains("not a Gmsh MSH file") && !stderr.contains("one process"), "{named}: {stderr}");
+    }
+}
