@@ -471,3 +471,36 @@ fn mpirun_two_ranks_one_process_solver_is_refused_by_name() {
         assert!(stderr.contains("not a Gmsh MSH file") && !stderr.contains("one process"), "{named}: {stderr}");
     }
 }
+
+/// `signorini export --solve` on two ranks writes the serial FCLIB problem: W, q and mu, and
+/// our solution (u, r), to 1e-10 of each array's largest entry, read back with h5py; the
+/// sparsity of W identical.
+#[test]
+fn mpirun_two_ranks_export_equals_serial() {
+    let scene = scene("examples/scenes/square_block.toml");
+    let (serial, parallel) = (scratch("mpi-export-serial"), scratch("mpi-export-two-ranks"));
+    let (a, b) = (serial.join("problem.hdf5"), parallel.join("problem.hdf5"));
+    run_ok(bin().arg("export").arg(&scene).arg("--solve").arg("--out").arg(&a));
+    let out = mpirun_two().arg("export").arg(&scene).arg("--solve").arg("--out").arg(&b).output().expect("mpirun");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // One line on stdout, from rank 0 alone.
+    assert_eq!(String::from_utf8_lossy(&out.stdout).matches("wrote ").count(), 1);
+    let script = format!(
+        r#"import sys, h5py, numpy as np
+a, b = h5py.File(r'{}', 'r'), h5py.File(r'{}', 'r')
+worst = 0.0
+for name in ['fclib_local/W/x', 'fclib_local/vectors/q', 'fclib_local/vectors/mu', 'solution/u', 'solution/r']:
+    x, y = np.array(a[name]), np.array(b[name])
+    assert x.shape == y.shape and x.size > 0, name
+    worst = max(worst, np.abs(x - y).max() / np.abs(x).max())
+for name in ['fclib_local/W/i', 'fclib_local/W/p', 'fclib_local/W/m', 'fclib_local/W/n']:
+    assert np.array_equal(np.array(a[name]), np.array(b[name])), name
+print(worst)"#,
+        a.display(),
+        b.display()
+    );
+    let run = Command::new("python3").arg("-c").arg(&script).output().expect("python3 (run ./setup.sh)");
+    assert!(run.status.success(), "h5py: {}", String::from_utf8_lossy(&run.stderr));
+    let worst: f64 = String::from_utf8_lossy(&run.stdout).trim().parse().unwrap();
+    assert!(worst <= 1e-10, "the exported problem differs by {worst:e}");
+}
