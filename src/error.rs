@@ -260,6 +260,16 @@ pub enum Error {
         /// Its number of `[[contact_pair]]` tables.
         pairs: usize,
     },
+
+    /// A feature that runs on one process, started on several (`mpirun -n N`, N > 1): refused
+    /// by name before any work (meshing, assembly, a child process, a file).
+    #[error("{feature} runs on one process only ({reason})\n  hint: run it without mpirun")]
+    SingleProcess {
+        /// The feature, as the user names it (e.g. "signorini bench elasticity").
+        feature: String,
+        /// Why it cannot be distributed.
+        reason: String,
+    },
 }
 
 /// The library's result type.

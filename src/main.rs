@@ -71,21 +71,27 @@ fn main() -> ExitCode {
         Command::Adapt(a) => session(&|s| error_control::adapt_command(s, &a)),
         Command::Study(a) => session(&|s| error_control::study_command(s, &a)),
         Command::Export(e) => session(&|s| export_command(s, &e)),
-        Command::Bench { which } => match which {
-            Bench::Elasticity(o) => bench_runner::bench_elasticity(&o, &petsc),
-            Bench::Contact(o) => bench_runner::bench_contact(&o, &petsc),
-            Bench::Dual(o) => bench_runner::bench_dual(&o, &petsc),
-            Bench::DualContact(o) => bench_runner::bench_dual_contact(&o, &petsc),
-            Bench::Held(o) => bench_runner::bench_held(&o, &petsc),
-            Bench::Accuracy(o) => bench_runner::bench_accuracy(&o, &petsc),
-            Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
-            Bench::ElasticityCase(c) => session(&|s| bench_elasticity_case(s, &c)),
-            Bench::ContactCase(c) => session(&|s| bench_contact_case(s, &c)),
-            Bench::AccuracyCase(c) => session(&|s| bench_accuracy_case(s, &c)),
-            Bench::DualCase(c) => session(&|s| bench_dual_case(s, &c)),
-            Bench::DualContactCase(c) => session(&|s| bench_dual_contact_case(s, &c)),
-            Bench::HeldCase(c) => session(&|s| bench_held_case(s, &c)),
-        },
+        Command::Bench { which } => {
+            // A benchmark's driver runs on one process: refused under mpirun -n N (N > 1).
+            if let Some(Err(code)) = which.driver_name().map(bench_runner::refuse_several_processes) {
+                return code;
+            }
+            match which {
+                Bench::Elasticity(o) => bench_runner::bench_elasticity(&o, &petsc),
+                Bench::Contact(o) => bench_runner::bench_contact(&o, &petsc),
+                Bench::Dual(o) => bench_runner::bench_dual(&o, &petsc),
+                Bench::DualContact(o) => bench_runner::bench_dual_contact(&o, &petsc),
+                Bench::Held(o) => bench_runner::bench_held(&o, &petsc),
+                Bench::Accuracy(o) => bench_runner::bench_accuracy(&o, &petsc),
+                Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
+                Bench::ElasticityCase(c) => session(&|s| bench_elasticity_case(s, &c)),
+                Bench::ContactCase(c) => session(&|s| bench_contact_case(s, &c)),
+                Bench::AccuracyCase(c) => session(&|s| bench_accuracy_case(s, &c)),
+                Bench::DualCase(c) => session(&|s| bench_dual_case(s, &c)),
+                Bench::DualContactCase(c) => session(&|s| bench_dual_contact_case(s, &c)),
+                Bench::HeldCase(c) => session(&|s| bench_held_case(s, &c)),
+            }
+        }
     }
 }
 

@@ -17,6 +17,11 @@ int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, 
   return MPI_Allreduce(in, out, n, MPI_LONG_LONG, op_of(op), comm);
 }
 
+int signorini_bcast_bytes(MPI_Comm comm, void *buf, int n, int root)
+{
+  return MPI_Bcast(buf, n, MPI_BYTE, root, comm);
+}
+
 PetscReal signorini_petsc_infinity(void) { return PETSC_INFINITY; }
 
 PetscBool signorini_mpi_initialized(void)

@@ -10,6 +10,8 @@ int signorini_comm_size(MPI_Comm comm, int *size);
 /* op: 0 = sum, 1 = max, 2 = min. Returns an MPI error code. */
 int signorini_allreduce_f64(MPI_Comm comm, const double *in, double *out, int n, int op);
 int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, int n, int op);
+/* MPI_Bcast of n bytes from root. Returns an MPI error code. */
+int signorini_bcast_bytes(MPI_Comm comm, void *buf, int n, int root);
 PetscReal signorini_petsc_infinity(void);
 PetscBool signorini_mpi_initialized(void);
 int signorini_release_free_memory(void);

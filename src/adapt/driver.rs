@@ -516,10 +516,13 @@ pub fn adapt_inspecting(
         let mut remesh_failure = None;
         if !reached && !last && !too_many {
             let start = Instant::now();
-            // Every rank remeshes (Gmsh): agreed, so that a failure on one rank ends every
-            // rank's loop here instead of leaving the others in the next step's setup.
-            match session.agree(remesh(&problem.mesh, &request, &targets), "remeshing") {
-                Ok(mesh) => next = Some(mesh),
+            // Rank 0 alone remeshes (Gmsh) and sends the mesh to the other ranks: agreed, so
+            // that its failure ends every rank's loop here (status Failed on every rank).
+            let remeshed = crate::mesh::shared::from_rank_0(session, "remeshing", || {
+                remesh(&problem.mesh, &request, &targets).map(|mesh| (mesh, None))
+            });
+            match remeshed {
+                Ok((mesh, _)) => next = Some(mesh),
                 Err(e) => remesh_failure = Some(e),
             }
             seconds.remesh = map_seconds + start.elapsed().as_secs_f64();

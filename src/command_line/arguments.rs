@@ -223,6 +223,28 @@ pub enum Bench {
     HeldCase(CaseArgs),
 }
 
+impl Bench {
+    /// The name of a benchmark that runs its cases in child processes of its own (`None` for
+    /// a case, which is such a child): it runs on one process.
+    pub fn driver_name(&self) -> Option<&'static str> {
+        match self {
+            Bench::Elasticity(_) => Some("elasticity"),
+            Bench::Contact(_) => Some("contact"),
+            Bench::Dual(_) => Some("dual"),
+            Bench::DualContact(_) => Some("dual-contact"),
+            Bench::Held(_) => Some("held"),
+            Bench::Startup(_) => Some("startup"),
+            Bench::Accuracy(_) => Some("accuracy"),
+            Bench::ElasticityCase(_)
+            | Bench::AccuracyCase(_)
+            | Bench::ContactCase(_)
+            | Bench::DualCase(_)
+            | Bench::DualContactCase(_)
+            | Bench::HeldCase(_) => None,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// Largest problem size, in degrees of freedom.

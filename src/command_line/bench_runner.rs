@@ -11,6 +11,38 @@ use signorini::Error;
 use super::arguments::{AccuracyArgs, BenchArgs};
 use super::terminal_progress::{self, Spinner};
 
+/// How many processes the MPI launcher started this one among (`mpirun -n N`), and this one's
+/// rank, read from the launcher's environment before MPI starts (Open MPI's
+/// `OMPI_COMM_WORLD_SIZE` and `OMPI_COMM_WORLD_RANK`, MPICH's and Slurm's `PMI_SIZE` and
+/// `PMI_RANK`); `(1, 0)` when no launcher started it.
+fn launched_processes() -> (usize, usize) {
+    let read = |names: [&str; 2]| names.iter().find_map(|n| std::env::var(n).ok()?.trim().parse::<usize>().ok());
+    let size = read(["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]).unwrap_or(1);
+    let rank = read(["OMPI_COMM_WORLD_RANK", "PMI_RANK"]).unwrap_or(0);
+    (size, rank)
+}
+
+/// `signorini bench NAME` under `mpirun -n N` (N > 1): refused before any case runs, said once
+/// (by rank 0), exit status 2. Every process would run every case in child processes of its
+/// own (which inherit the launcher's environment) and write the same files.
+pub fn refuse_several_processes(name: &str) -> Result<(), ExitCode> {
+    let (size, rank) = launched_processes();
+    if size <= 1 {
+        return Ok(());
+    }
+    let e = Error::SingleProcess {
+        feature: format!("signorini bench {name}"),
+        reason: format!(
+            "it was started on {size} MPI processes; it runs each case in a child process of its own and measures \
+             it there, and every process would run every case and write the same files"
+        ),
+    };
+    if rank == 0 {
+        eprintln!("error: {e}");
+    }
+    Err(ExitCode::from(2))
+}
+
 /// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row; else the reason.
 fn run_case<T: serde::de::DeserializeOwned>(
     exe: &Path,

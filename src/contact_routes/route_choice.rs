@@ -203,11 +203,14 @@ pub fn choose_among(
         }
         Some("dense_schur") => {
             if inputs.ranks > 1 {
-                return Err(Error::Usage(format!(
-                    "-contact_route dense_schur runs on one process ({} ranks here): use -contact_route sparse_lu \
-                     (or auto) under mpirun",
-                    inputs.ranks
-                )));
+                return Err(Error::SingleProcess {
+                    feature: "-contact_route dense_schur".into(),
+                    reason: format!(
+                        "started on {} MPI processes: the Schur complement of MUMPS is computed on one process; \
+                         use -contact_route sparse_lu (or auto) under mpirun",
+                        inputs.ranks
+                    ),
+                });
             }
             if let (false, Some(limit)) = (fits, inputs.memory_limit) {
                 return Err(Error::RouteMemory {
@@ -310,7 +313,7 @@ mod tests {
         assert_eq!(choice.route, Route::SparseLu);
         assert!(choice.reason.contains("2 MPI ranks"), "{}", choice.reason);
         let e = choose_among(Some("dense_schur"), false, false, &s).unwrap_err();
-        assert!(matches!(&e, Error::Usage(m) if m.contains("one process")), "{e}");
+        assert!(matches!(&e, Error::SingleProcess { feature, .. } if feature == "-contact_route dense_schur"), "{e}");
     }
 
     #[test]

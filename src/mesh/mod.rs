@@ -22,6 +22,7 @@ pub mod cache;
 pub mod gmsh;
 pub mod msh;
 pub mod pieces;
+pub mod shared;
 pub mod structured;
 pub mod union;
 mod validate;

@@ -179,6 +179,30 @@ impl Comm {
         self.allreduce(values, 2)
     }
 
+    /// Rank 0's `bytes` on every rank (collective: every rank calls it at the same point; the
+    /// other ranks' `bytes` are not read). The length goes first, then the bytes in pieces of
+    /// at most `i32::MAX` (MPI counts are `int`). Nothing on a single rank.
+    pub fn broadcast_from_rank_0(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        if self.size()? == 1 {
+            return Ok(bytes);
+        }
+        let root = self.rank()? == 0;
+        let mut length = (bytes.len() as u64).to_le_bytes();
+        // SAFETY: the buffer holds the 8 bytes broadcast.
+        mpi_check(unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, 0) }, "MPI_Bcast")?;
+        let length = usize::try_from(u64::from_le_bytes(length))
+            .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
+        let mut buffer = if root { bytes } else { vec![0u8; length] };
+        for piece in buffer.chunks_mut(i32::MAX as usize) {
+            // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
+            mpi_check(
+                unsafe { sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, 0) },
+                "MPI_Bcast",
+            )?;
+        }
+        Ok(buffer)
+    }
+
     /// The lowest rank on which `failed` is true, the same on every rank (one reduction;
     /// collective); `None` when no rank failed.
     pub fn first_failure(self, failed: bool) -> Result<Option<usize>> {
@@ -441,6 +465,55 @@ impl Session {
             self.program_options.borrow_mut().insert(name);
         }
         Ok(())
+    }
+
+    /// On more than one process: refuse, before any work, a main linear solver (no prefix) that
+    /// PETSc 3.18 runs on one process only, as [`Error::SingleProcess`] naming the option. PETSc
+    /// would refuse it in the first solve, after the mesh and the assembly ("Could not locate a
+    /// solver type for factorization type ICC and matrix type mpiaij"). Such solvers are
+    /// `-pc_type icc`, `ilu` and our `ict`, and the factorisation packages of one process
+    /// (`-pc_factor_mat_solver_type petsc`, `superlu`, `umfpack`, `cholmod`, `klu`,
+    /// `mkl_pardiso`) when the preconditioner factorises (`lu`, `cholesky`, or unset: the
+    /// default MUMPS Cholesky). The command line's options come first, then `scene_defaults`
+    /// (a scene's `[solver] petsc_options`, which the command line overrides).
+    pub fn refuse_one_process_solver(&self, scene_defaults: &[String]) -> Result<()> {
+        if self.size == 1 {
+            return Ok(());
+        }
+        let value = |name: &str| -> Result<Option<String>> {
+            if let Some(v) = self.option(name)? {
+                return Ok(Some(v));
+            }
+            Ok(scene_defaults.windows(2).rev().find(|w| w[0] == name).map(|w| w[1].clone()))
+        };
+        let pc = value("-pc_type")?;
+        let (option, reason) = match pc.as_deref() {
+            Some(p @ ("icc" | "ilu" | ict::NAME)) => (
+                format!("-pc_type {p}"),
+                format!(
+                    "{} factorisation of the whole matrix; in parallel use -pc_type bjacobi -sub_pc_type {}, or -pc_type \
+                     hypre",
+                    if p == "ilu" { "an incomplete LU" } else { "an incomplete Cholesky" },
+                    if p == "ilu" { "ilu" } else { "icc" }
+                ),
+            ),
+            None | Some("lu" | "cholesky") => {
+                let package = value("-pc_factor_mat_solver_type")?;
+                match package.as_deref() {
+                    Some(s @ ("petsc" | "superlu" | "umfpack" | "cholmod" | "klu" | "mkl_pardiso")) => (
+                        format!("-pc_factor_mat_solver_type {s}"),
+                        "a direct solver package of one process; in parallel use mumps (the default) or superlu_dist"
+                            .to_string(),
+                    ),
+                    _ => return Ok(()),
+                }
+            }
+            Some(_) => return Ok(()),
+        };
+        Err(Error::SingleProcess {
+            feature: option,
+            reason: format!("started on {} MPI processes: {reason}", self.size),
+        })
     }
 
     /// The value of `-name`: `None` if absent, `Some("")` if present without a value.

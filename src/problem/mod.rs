@@ -18,7 +18,8 @@
 //! ```
 //!
 //! Parallel runs (`mpirun -n N`): every rank holds the whole mesh (2D meshes are small next to
-//! their matrices) and assembles only the rows of the nodes it owns — a contiguous block of
+//! their matrices; rank 0 alone makes it, with Gmsh, the mesh cache or a file, and sends it to
+//! the others: [`crate::mesh::shared`]) and assembles only the rows of the nodes it owns — a contiguous block of
 //! node numbers, so PETSc's row layout is our node layout. The solution is gathered on every
 //! rank for post-processing; rank 0 writes the files. A step that can fail on one rank alone
 //! (building the mesh, checks of the owned rows, rank 0's files) is agreed over the ranks
@@ -236,17 +237,40 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
         let scene = scene.validated()?;
+        // Under MPI, a linear solver of one process is refused before the mesh is made.
+        session.refuse_one_process_solver(&scene.petsc_options)?;
         let mut timings = Timings::default();
-        // Every rank builds the mesh itself (Gmsh, the mesh cache, a file): agreed, so that a
-        // rank that failed alone does not leave the others waiting in the next collective.
+        // Rank 0 alone builds each mesh (Gmsh, the mesh cache, a file) and sends it to the
+        // other ranks (agreed: a failure there stops every rank); with several bodies every
+        // rank then places and unites the bodies' meshes (agreed too).
         if scene.has_body_tables() {
             let model = progress::in_phase(&*progress, Phase::Mesh, || {
-                timings.time("mesh", || session.agree(scene::BodiesModel::build(&scene), "building the meshes"))
+                timings.time("mesh", || {
+                    let meshes = scene
+                        .bodies()
+                        .iter()
+                        .map(|body| {
+                            mesh::shared::from_rank_0(session, "building the meshes", || {
+                                mesh::build::build(&body.mesh, body.order).map(|(mesh, order, _)| (mesh, order))
+                            })
+                            .map(|(mesh, _)| mesh)
+                        })
+                        .collect::<Result<Vec<_>>>()?;
+                    session.agree(scene::BodiesModel::on_meshes(&scene, meshes), "building the meshes")
+                })
             })?;
             return Self::setup_on_bodies(session, scene, model, timings, progress);
         }
-        let (mesh, file_order, mesh_cache) = progress::in_phase(&*progress, Phase::Mesh, || {
-            timings.time("mesh", || session.agree(build_mesh(&scene), "building the mesh"))
+        // Its cache report is rank 0's.
+        let mut mesh_cache = None;
+        let (mesh, file_order) = progress::in_phase(&*progress, Phase::Mesh, || {
+            timings.time("mesh", || {
+                mesh::shared::from_rank_0(session, "building the mesh", || {
+                    let (mesh, file_order, cache) = build_mesh(&scene)?;
+                    mesh_cache = cache;
+                    Ok((mesh, file_order))
+                })
+            })
         })?;
         let mut problem = Self::setup_on_mesh(session, scene, mesh, file_order, timings, progress)?;
         problem.mesh_cache = mesh_cache;
@@ -259,6 +283,7 @@ impl<'s> ElasticityProblem<'s> {
     pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
         let scene = scene.validated()?;
         refuse_several_bodies(&scene)?;
+        session.refuse_one_process_solver(&scene.petsc_options)?;
         Self::setup_on_mesh(session, scene, mesh, None, Timings::default(), Box::new(NoProgress))
     }
 
@@ -747,8 +772,9 @@ pub fn build_mesh(scene: &Scene) -> Result<(Mesh, Option<Order>, Option<CacheRep
     mesh::build::build(&scene.mesh, scene.order)
 }
 
-/// Every rank builds the mesh itself; make sure they all got the same one (Gmsh is
-/// deterministic, but a mismatch would give silently wrong answers).
+/// Make sure every rank holds the same mesh (rank 0's, sent by [`mesh::shared::from_rank_0`];
+/// with several bodies, the union each rank made of those: a mismatch would give silently
+/// wrong answers).
 fn consistent_across_ranks(session: &Session, mesh: Mesh) -> Result<Mesh> {
     if session.size() == 1 {
         return Ok(mesh);

@@ -109,6 +109,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("nonlinear_solver_newton_and_callback_errors", nonlinear_solver_newton_and_callback_errors),
     ("nonlinear_callback_error_on_one_rank", mpi_callbacks::nonlinear_callback_error_on_one_rank),
     ("setup_error_on_one_rank", mpi_callbacks::setup_error_on_one_rank),
+    ("mesh_from_rank_0_on_two_ranks", mpi_callbacks::mesh_from_rank_0_on_two_ranks),
     ("adapt_coarsens_where_the_error_is_small", adapt::adapt_coarsens_where_the_error_is_small),
     ("adapt_error_decreases_at_corner_singularities", adapt::adapt_error_decreases_at_corner_singularities),
     ("adapt_target_not_reached_is_reported", adapt::adapt_target_not_reached_is_reported),

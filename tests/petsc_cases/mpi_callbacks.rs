@@ -136,3 +136,45 @@ pub fn setup_error_on_one_rank(s: &Session) -> Result<(), String> {
     let expected: Vec<f64> = (0..size).flat_map(|r| [r as f64; 2]).collect();
     ensure(all == expected, || format!("rank {rank}: gathered {all:?}"))
 }
+
+/// On two ranks: [`signorini::mesh::shared::from_rank_0`] runs its maker on rank 0 alone (rank
+/// 1's maker fails if called) and every rank gets rank 0's mesh bit for bit (nodes, cells,
+/// edges, groups, order) and the order of a mesh file's triangles; when rank 0's maker fails, rank 0 returns that error and rank 1
+/// `Error::OtherRank` naming rank 0 and the step, and the ranks still work together afterwards.
+pub fn mesh_from_rank_0_on_two_ranks(s: &Session) -> Result<(), String> {
+    use signorini::mesh::{shared, structured, Order};
+    const NAME: &str = "mesh_from_rank_0_on_two_ranks";
+    if s.size() == 1 {
+        return on_two_ranks(NAME);
+    }
+    let rank = s.rank();
+    let own = |shift: f64| structured::rectangle([shift, 0.0], [1.0, 0.5], 6, 3, Order::P2).unwrap();
+    let made = shared::from_rank_0(s, "building the mesh", || {
+        if rank == 0 {
+            Ok((own(1.0 / 18.0), Some(Order::P1)))
+        } else {
+            Err(Error::Usage("the maker ran on rank 1".into()))
+        }
+    });
+    let (mesh, file_order) = made.map_err(|e| format!("rank {rank}: {e}"))?;
+    let expected = own(1.0 / 18.0);
+    ensure(mesh.nodes == expected.nodes && mesh.cells == expected.cells && mesh.edges == expected.edges, || {
+        format!("rank {rank}: the mesh received differs from rank 0's")
+    })?;
+    ensure(mesh.order == Order::P2 && file_order == Some(Order::P1), || {
+        format!("rank {rank}: order {:?}, file order {file_order:?}", mesh.order)
+    })?;
+    ensure(mesh.groups == expected.groups && mesh.edge_group == expected.edge_group, || {
+        format!("rank {rank}: groups")
+    })?;
+    // Rank 0's maker fails: every rank returns an error, none waits.
+    let failed = shared::from_rank_0(s, "remeshing", || Err(Error::Usage(format!("rank {rank}'s maker fails"))));
+    match failed {
+        Err(Error::Usage(m)) if rank == 0 => ensure(m == "rank 0's maker fails", || m.clone())?,
+        Err(Error::OtherRank { rank: 0, during: "remeshing" }) if rank == 1 => {}
+        other => return Err(format!("rank {rank}: expected an agreed error, got {:?}", other.map(|_| ()))),
+    }
+    // Still in step: a collective reduction works.
+    let sum = s.world().sum(&[1.0]).map_err(|e| e.to_string())?;
+    ensure(sum == [2.0], || format!("rank {rank}: sum {sum:?}"))
+}
