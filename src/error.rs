@@ -243,6 +243,19 @@ pub enum Error {
         /// Its number of `[[contact_pair]]` tables.
         pairs: usize,
     },
+
+    /// A route that runs on one process only, asked for in a run on several MPI ranks: refused
+    /// by name before any solve starts (rather than a hang or a wrong answer), with the
+    /// distributed route to use instead.
+    #[error("{what} runs on one process, and this run has {ranks} MPI ranks\n  hint: {hint}")]
+    NotDistributed {
+        /// The route or option that cannot be distributed, and why.
+        what: String,
+        /// The number of MPI ranks of the run.
+        ranks: usize,
+        /// What to do instead.
+        hint: String,
+    },
 }
 
 /// The library's result type.

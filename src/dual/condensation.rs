@@ -142,6 +142,7 @@ impl Condensation {
     /// PETSc options prefix. With implicit storage the interior is solved by the three-step
     /// condensation's solver (`columns`, without forming `W`); `schur` is refused.
     pub fn from_options(session: &Session, prefix: &str, storage: Storage) -> Result<Self> {
+        refuse_undistributable(session)?;
         let configured =
             session.has_option(&format!("-{prefix}ksp_type"))? || session.has_option(&format!("-{prefix}pc_type"))?;
         let asked = session.option(CONDENSATION_OPTION)?;
@@ -159,7 +160,9 @@ impl Condensation {
             };
         }
         match asked.as_deref() {
-            None => Ok(if configured { Condensation::Columns } else { Condensation::Schur }),
+            // Under MPI the Schur complement is not available (PETSc 3.18's MUMPS interface
+            // computes it on one process): the three-step condensation, distributed.
+            None => Ok(if configured || session.size() > 1 { Condensation::Columns } else { Condensation::Schur }),
             Some("schur") if configured => Err(Error::Usage(format!(
                 "{CONDENSATION_OPTION} schur factorises with MUMPS and the Schur complement: drop -{prefix}ksp_type and \
                  -{prefix}pc_type, or use {CONDENSATION_OPTION} columns to condense with that solver"
@@ -169,6 +172,26 @@ impl Condensation {
             Some(other) => Err(Error::Usage(format!("{CONDENSATION_OPTION} takes schur or columns (got \"{other}\")"))),
         }
     }
+}
+
+/// Refuse, before any work, what of the dual contact cannot run on several MPI ranks:
+/// `-dual_contact_condensation schur` (PETSc 3.18 computes MUMPS Schur complements on one
+/// process). On one process, or without that option, nothing is refused.
+pub fn refuse_undistributable(session: &Session) -> Result<()> {
+    if session.size() > 1 && session.option(CONDENSATION_OPTION)?.as_deref() == Some("schur") {
+        return Err(Error::NotDistributed {
+            what: format!(
+                "{CONDENSATION_OPTION} schur (the dual contact's Schur complement on the contact forces: PETSc 3.18 \
+                 computes MUMPS Schur complements on one process)"
+            ),
+            ranks: session.size(),
+            hint: format!(
+                "drop {CONDENSATION_OPTION} (under MPI the default is columns, the three-step condensation with a \
+                 distributed solver of the interior block), or run on one process"
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The three-step condensation's pieces: `A_zz` with its solver, the coupling `A_zr` by
@@ -193,8 +216,10 @@ pub struct ColumnCondensation<'s> {
 }
 
 impl<'s> ColumnCondensation<'s> {
-    /// Split the assembled rows (all rows, one process) at `num_interior` and set up the solver
-    /// of `A_zz` with the options under `prefix`.
+    /// Split the assembled rows (all rows, on every rank) at `num_interior` and set up the
+    /// solver of `A_zz` with the options under `prefix`. Under MPI `A_zz` is distributed in
+    /// contiguous row blocks (rank `k` owns rows `k nz / N .. (k + 1) nz / N`) and solved by
+    /// the distributed solver; `A_zr`, `A_rr` and the solves' answers are held by every rank.
     pub fn new(session: &'s Session, rows: &ReducedRows, num_interior: usize, prefix: &str) -> Result<Self> {
         let n = rows.indptr.len() - 1;
         let nz = num_interior;
@@ -219,7 +244,21 @@ impl<'s> ColumnCondensation<'s> {
                 indptr.push(indices.len());
             }
         }
-        let interior = Matrix::from_csr_rows(session, session.world(), nz, 0, &indptr, &indices, &values, 1, true)?;
+        let (size, rank) = (session.size(), session.rank());
+        let owned = (rank * nz / size)..((rank + 1) * nz / size);
+        let (first, last) = (indptr[owned.start], indptr[owned.end]);
+        let owned_indptr: Vec<usize> = indptr[owned.start..=owned.end].iter().map(|k| k - first).collect();
+        let interior = Matrix::from_csr_rows(
+            session,
+            session.world(),
+            nz,
+            owned.start,
+            &owned_indptr,
+            &indices[first..last],
+            &values[first..last],
+            1,
+            true,
+        )?;
         let mut solver = LinearSolver::new(session, session.world(), prefix)?;
         solver.prefer_ordering(4);
         solver.set_operator(&interior)?;
@@ -244,7 +283,8 @@ impl<'s> ColumnCondensation<'s> {
 
     fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>> {
         let mut b = self.interior.create_vector()?;
-        b.set_owned(rhs)?;
+        let owned = b.owned_range();
+        b.set_owned(&rhs[owned])?;
         let mut x = self.interior.create_vector()?;
         let stats = self.solver.borrow_mut().solve(&self.interior, &b, &mut x)?;
         self.solves.set(self.solves.get() + 1);
