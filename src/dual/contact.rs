@@ -36,7 +36,8 @@
 //! `u = W r + u_free` is the dual contact displacement (the multiplier of the force
 //! constraints: a weighted mean of the displacement near each edge end). `W` comes from one
 //! MUMPS factorisation of `A` with the Schur complement on the contact forces
-//! ([`crate::petsc::schur::SchurFactor`]) — taken, where the boundary walk allows it, in the
+//! ([`crate::petsc::schur::SchurFactor`]; under MPI, where that complement is not available,
+//! from the three-step condensation on the distributed `A_zz`: [`super::condensation`]) — taken, where the boundary walk allows it, in the
 //! local parametrisation of the contact part ([`super::local_contact`]: on the deviations `ξ`,
 //! then `W = B⁻ᵀ S B⁻¹`, without the dense block of the forces as unknowns); `u_free` and, for the solver's `r`, `z` each from one
 //! interior solve with the same factor (`z = A_zz⁻¹ (b_z − A_zr r)`): no solve with `W`, whose

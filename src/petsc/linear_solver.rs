@@ -388,9 +388,15 @@ impl<'s> LinearSolver<'s> {
         let (mut residual, mut scale) = (vec![0.0; columns], vec![0.0; columns]);
         petsc!(MatGetColumnNorms(product.0, sys::NormType::NORM_2, residual.as_mut_ptr()))?;
         petsc!(MatGetColumnNorms(b.0, sys::NormType::NORM_2, scale.as_mut_ptr()))?;
-        let worst = residual.iter().zip(&scale).fold(0.0f64, |m, (r, s)| m.max(if *s > 0.0 { r / s } else { *r }));
+        // f64::max drops NaN: a non-finite column is caught on its own.
+        let non_finite = residual.iter().any(|r| !r.is_finite());
+        let worst = if non_finite {
+            f64::NAN
+        } else {
+            residual.iter().zip(&scale).fold(0.0f64, |m, (r, s)| m.max(if *s > 0.0 { r / s } else { *r }))
+        };
         let described = format!("KSP {ksp_type} + {pc_type} ({})", factor_package.as_deref().unwrap_or("petsc"));
-        if reason.0 < 0 || !(worst <= 1e-6) {
+        if reason.0 < 0 || non_finite || worst > 1e-6 {
             return Err(Error::SolverDiverged {
                 solver: described,
                 reason: format!(
