@@ -167,13 +167,17 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
     }
     let show_progress = session.rank() == 0 && terminal_progress::wanted(args.quiet);
     let progress = Box::new(terminal_progress::TerminalProgress::new(show_progress));
-    let mut problem = ElasticityProblem::setup_system_with_progress(session, scene, progress)?;
     let dual = match args.formulation.as_deref() {
         Some("dual") => true,
         Some(_) => false,
-        None => problem.scene.formulation == signorini::scene::Formulation::Dual,
+        None => scene.formulation == signorini::scene::Formulation::Dual,
     };
-    let estimate = args.estimate || problem.scene.estimate;
+    let estimate = args.estimate || scene.estimate;
+    // What of the dual contact cannot run on several ranks is refused before any work starts.
+    if (dual || estimate) && scene.contact.is_some() {
+        signorini::dual::condensation::refuse_undistributable(session)?;
+    }
+    let mut problem = ElasticityProblem::setup_system_with_progress(session, scene, progress)?;
     match args.dual_constraints.as_deref() {
         Some("multipliers") => problem.scene.dual_constraints = signorini::scene::DualConstraints::Multipliers,
         Some(_) => problem.scene.dual_constraints = signorini::scene::DualConstraints::Eliminated,

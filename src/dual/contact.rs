@@ -36,7 +36,8 @@
 //! `u = W r + u_free` is the dual contact displacement (the multiplier of the force
 //! constraints: a weighted mean of the displacement near each edge end). `W` comes from one
 //! MUMPS factorisation of `A` with the Schur complement on the contact forces
-//! ([`crate::petsc::schur::SchurFactor`]) — taken, where the boundary walk allows it, in the
+//! ([`crate::petsc::schur::SchurFactor`]; under MPI, where that complement is not available,
+//! from the three-step condensation on the distributed `A_zz`: [`super::condensation`]) — taken, where the boundary walk allows it, in the
 //! local parametrisation of the contact part ([`super::local_contact`]: on the deviations `ξ`,
 //! then `W = B⁻ᵀ S B⁻¹`, without the dense block of the forces as unknowns); `u_free` and, for the solver's `r`, `z` each from one
 //! interior solve with the same factor (`z = A_zz⁻¹ (b_z − A_zr r)`): no solve with `W`, whose
@@ -187,12 +188,16 @@ pub fn condense<'s>(
                 .into(),
         ));
     }
-    if session.size() != 1 {
-        return Err(Error::Usage(
-            "contact in the dual formulation runs on one process (the Schur complement on the contact forces is \
-             sequential in PETSc 3.18): run without mpirun"
-                .into(),
-        ));
+    if condensation == Condensation::Schur && session.size() > 1 {
+        return Err(Error::SingleProcess {
+            feature: "the dual contact's Schur condensation".into(),
+            reason: format!(
+                "started on {} MPI processes: PETSc 3.18 computes MUMPS Schur complements on one process; condense \
+                 by columns ({} columns), distributed",
+                session.size(),
+                super::condensation::CONDENSATION_OPTION
+            ),
+        });
     }
     let nm = system.num_unknowns();
     let nz = system.affine.num_masters;
@@ -207,9 +212,23 @@ pub fn condense<'s>(
     // one (module `local_contact`: no dense block); the other routes keep the forces.
     let local = system.local.as_ref().filter(|_| condensation == Condensation::Schur);
     let start = std::time::Instant::now();
+    // Every rank assembles every row (the condensation's coupling blocks and the right-hand
+    // side are held by every rank) and gives PETSc its own contiguous block of them.
     let rows = system.assemble_in(local.map_or(&system.affine, |l| &l.affine), mesh, 0..nm);
-    let matrix =
-        Matrix::from_csr_rows(session, session.world(), nm, 0, &rows.indptr, &rows.indices, &rows.values, 1, true)?;
+    let owned = (session.rank() * nm / session.size())..((session.rank() + 1) * nm / session.size());
+    let (first, last) = (rows.indptr[owned.start], rows.indptr[owned.end]);
+    let owned_indptr: Vec<usize> = rows.indptr[owned.start..=owned.end].iter().map(|k| k - first).collect();
+    let matrix = Matrix::from_csr_rows(
+        session,
+        session.world(),
+        nm,
+        owned.start,
+        &owned_indptr,
+        &rows.indices[first..last],
+        &rows.values[first..last],
+        1,
+        true,
+    )?;
     let assemble_seconds = start.elapsed().as_secs_f64();
     let start = std::time::Instant::now();
     let m2 = nm - nz;
@@ -239,7 +258,8 @@ pub fn condense<'s>(
             let mut glued = rows.rhs.clone();
             glued[nz..].fill(0.0);
             let mut b = matrix.create_vector()?;
-            b.set_owned(&glued)?;
+            let owned = b.owned_range();
+            b.set_owned(&glued[owned])?;
             let mut x = matrix.create_vector()?;
             factor.solve_interior(&b, &mut x)?;
             // The solve returns s ℓ (`SchurFactor::solve_interior`).
@@ -403,7 +423,8 @@ impl CondensedDual<'_> {
                     rhs[nz + k] = r / pass_through - l;
                 }
                 let mut b = self.matrix.create_vector()?;
-                b.set_owned(&rhs)?;
+                let owned = b.owned_range();
+                b.set_owned(&rhs[owned])?;
                 let mut x = self.matrix.create_vector()?;
                 factor.solve_interior(&b, &mut x)?;
                 x.gather_all()?
@@ -418,7 +439,8 @@ impl CondensedDual<'_> {
         reduced[nz..].copy_from_slice(&unknowns);
         // Independent displacement: the contact rows of A x − b, plus the rigid part.
         let mut full = self.matrix.create_vector()?;
-        full.set_owned(&reduced)?;
+        let owned = full.owned_range();
+        full.set_owned(&reduced[owned])?;
         let mut product = self.matrix.create_vector()?;
         self.matrix.multiply(&full, &mut product)?;
         let product = product.gather_all()?;

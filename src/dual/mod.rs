@@ -25,7 +25,8 @@
 //! - [`contact`]: contact with a rigid obstacle: the contact forces as unknowns, condensed onto
 //!   the same [`crate::contact::CondensedProblem`] as the primal's; [`condensation`]: the
 //!   talk's condensations and storages of `W` (dense, or implicit: products by interior
-//!   solves, Uzawa on the full dual system); [`equilibrium`]: the equilibrium of the contact
+//!   solves, Uzawa on the full dual system; under MPI `A_zz` distributed, the condensed
+//!   problem held and solved by every rank); [`equilibrium`]: the equilibrium of the contact
 //!   forces of a body held only by the obstacle; [`local_contact`]: the contact part's own dofs
 //!   as unknowns instead of the forces (no dense block), for the Schur condensation.
 pub mod boundary;

@@ -5,7 +5,9 @@
 //!     contact_side                     the contact part and the obstacle's frame and gap
 //!     dual::contact::condense          assemble (z, r), MUMPS with the Schur complement on r
 //!                                      (or the talk's other condensations and storages of W:
-//!                                      -dual_contact_condensation, -dual_contact_storage)
+//!                                      -dual_contact_condensation, -dual_contact_storage;
+//!                                      under MPI the columns on the distributed A_zz, the
+//!                                      condensed problem solved by every rank)
 //!     CondensedDual::solve             the scene's condensed solver (+ equilibrium of r)
 //!     verify_dual_contact              independent check: forces recomputed from σ_h,
 //!                                      displacements from the assembled matrix
