@@ -282,18 +282,18 @@ fn point_case(session: &Session, index: usize) -> Result<ScaleRow> {
         ranks: session.size(),
         dofs: strip_dofs(m, cells, two),
         contact_points: m,
-        seconds: f64::NAN,
-        peak_memory_mb: f64::NAN,
+        // Zero until measured (NaN is no JSON number): a skipped case keeps them.
+        seconds: 0.0,
+        peak_memory_mb: 0.0,
         newton_steps: 0,
         route_taken: None,
         route_reason: None,
         skipped: None,
     };
-    if let Some(r) = route.filter(|r| r.name == "dense_schur") {
+    if route.is_some_and(|r| r.name == "dense_schur") {
         let (seconds, bytes) = dense_prediction(m, two);
         if seconds > MAX_PREDICTED_SECONDS || bytes > MAX_PREDICTED_BYTES {
             row.skipped = Some(format!("predicted {seconds:.0} s, {:.1} GB", bytes / 1e9));
-            let _ = r;
             return Ok(row);
         }
     }
@@ -359,6 +359,19 @@ fn scaling_case(session: &Session, part: Part, scene: usize, dofs: usize) -> Res
         route_taken: None,
         route_reason: None,
         skipped: None,
+    })
+}
+
+/// A route asked for by name that the program reports it did not take (a fallback): the
+/// row is kept and this is its failed-case reason.
+pub fn route_mismatch(row: &ScaleRow) -> Option<String> {
+    let taken = row.route_taken.as_deref()?;
+    (row.route != "auto" && row.route != LINEAR && taken != row.route).then(|| {
+        format!(
+            "asked for {}, the program took {taken} ({})",
+            row.route,
+            row.route_reason.as_deref().unwrap_or("no reason given")
+        )
     })
 }
 
@@ -574,6 +587,32 @@ mod tests {
         assert!((seconds - 52.0).abs() < 0.1 && (bytes - 3.2e9).abs() < 1e7);
         assert!(dense_prediction(10_000, false).0 > MAX_PREDICTED_SECONDS);
         assert!(dense_prediction(1_000, true).0 < MAX_PREDICTED_SECONDS);
+    }
+
+    /// A skipped case is a row the parent can read back (its times are numbers, not NaN, which
+    /// JSON cannot carry), and the table says why it was skipped.
+    #[test]
+    fn a_skipped_row_goes_through_json_and_into_the_table() {
+        let row = ScaleRow {
+            part: Part::ContactPoints.name().into(),
+            scene: STRIPS[0].into(),
+            route: "dense_schur".into(),
+            ranks: 1,
+            dofs: 100_000,
+            contact_points: 10_000,
+            seconds: 0.0,
+            peak_memory_mb: 0.0,
+            newton_steps: 0,
+            route_taken: None,
+            route_reason: None,
+            skipped: Some("predicted 813 s, 20.0 GB".into()),
+        };
+        let back: ScaleRow = serde_json::from_str(&serde_json::to_string(&row).unwrap()).unwrap();
+        let table = points_table(&[back]);
+        assert!(
+            table.contains("| one body | 10000 | 100000 | dense_schur | skipped (predicted 813 s, 20.0 GB) |"),
+            "{table}"
+        );
     }
 
     #[test]

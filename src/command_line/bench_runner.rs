@@ -451,7 +451,7 @@ pub fn bench_scale(args: &ScaleArgs, petsc: &[String]) -> ExitCode {
             table: scale::scale_table,
             write: Box::new(move |rows, record, dir| scale::write_scale_outputs(rows, record, dir, &note)),
             scratch: None,
-            failure_of: None,
+            failure_of: Some(scale::route_mismatch),
             ranks_of: Some(|index| (index >= 10_000).then(|| scale::case_ranks(index))),
         },
     )
