@@ -83,6 +83,7 @@ fn main() -> ExitCode {
                 Bench::DualContact(o) => bench_runner::bench_dual_contact(&o, &petsc),
                 Bench::Held(o) => bench_runner::bench_held(&o, &petsc),
                 Bench::Accuracy(o) => bench_runner::bench_accuracy(&o, &petsc),
+                Bench::Scale(o) => bench_runner::bench_scale(&o, &petsc),
                 Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
                 Bench::ElasticityCase(c) => session(&|s| bench_elasticity_case(s, &c)),
                 Bench::ContactCase(c) => session(&|s| bench_contact_case(s, &c)),
@@ -90,6 +91,7 @@ fn main() -> ExitCode {
                 Bench::DualCase(c) => session(&|s| bench_dual_case(s, &c)),
                 Bench::DualContactCase(c) => session(&|s| bench_dual_contact_case(s, &c)),
                 Bench::HeldCase(c) => session(&|s| bench_held_case(s, &c)),
+                Bench::ScaleCase(c) => session(&|s| bench_scale_case(s, &c)),
             }
         }
     }
@@ -383,6 +385,14 @@ fn bench_dual_contact_case(session: &Session, args: &CaseArgs) -> Result<(), Fai
 fn bench_held_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
     let (dofs, index) = args.case;
     let row = bench::held::held_case(session, dofs, index)?;
+    print_case_row(session, &row)
+}
+
+/// `bench scale-case --case DOFS,INDEX`: one case of `bench scale` (under mpirun for its
+/// scaling parts), its row as JSON on stdout (rank 0).
+fn bench_scale_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
+    let row = bench::scale::scale_case(session, dofs, index)?;
     print_case_row(session, &row)
 }
 

@@ -12,6 +12,7 @@ pub mod dual;
 pub mod dual_contact;
 pub mod held;
 pub mod provenance;
+pub mod scale;
 pub mod startup;
 
 pub use provenance::{BenchRecord, FailedCase};

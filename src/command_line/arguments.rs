@@ -203,6 +203,16 @@ pub enum Bench {
     /// markdown table. Default scene: the square block without its corner point, Tresca
     /// friction (examples/scenes/square_block_tresca.toml).
     Accuracy(AccuracyArgs),
+    /// Scaling: (contact points) a strip pressed onto a rigid line and onto a second strip, with
+    /// 100 to 20 000 contact points: time, peak memory and Newton steps of each contact route
+    /// (dense_schur, sparse_lu, auto) against one linear solve of the same mesh, the route auto
+    /// took and its time over the best route's (dense_schur skipped where predicted above 60 s
+    /// or 8 GB); (strong) elasticity, one-body and two-body contact and primal + dual +
+    /// estimate at --max-dofs on mpirun -n 1, 2, ... up to the cores present: time, speedup,
+    /// efficiency; (weak) the same scenes at about 5e5 dofs per rank (at most --max-dofs in
+    /// all): efficiency t1/tn. Writes bench_scale.md, bench_scale_points.svg and
+    /// bench_scale_speedup.svg.
+    Scale(ScaleArgs),
     /// One elasticity case (used by `bench elasticity`, one process per case).
     #[command(hide = true)]
     ElasticityCase(CaseArgs),
@@ -221,6 +231,9 @@ pub enum Bench {
     /// One held-by-contact case (used by `bench held`).
     #[command(hide = true)]
     HeldCase(CaseArgs),
+    /// One scaling case (used by `bench scale`, under mpirun for the scaling parts).
+    #[command(hide = true)]
+    ScaleCase(CaseArgs),
 }
 
 impl Bench {
@@ -235,12 +248,14 @@ impl Bench {
             Bench::Held(_) => Some("held"),
             Bench::Startup(_) => Some("startup"),
             Bench::Accuracy(_) => Some("accuracy"),
+            Bench::Scale(_) => Some("scale"),
             Bench::ElasticityCase(_)
             | Bench::AccuracyCase(_)
             | Bench::ContactCase(_)
             | Bench::DualCase(_)
             | Bench::DualContactCase(_)
-            | Bench::HeldCase(_) => None,
+            | Bench::HeldCase(_)
+            | Bench::ScaleCase(_) => None,
         }
     }
 }
@@ -258,6 +273,21 @@ pub struct BenchArgs {
     /// `icc`); a NAME that matches none is refused with the list of names.
     #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
     pub solvers: Option<Vec<String>>,
+}
+
+#[derive(Debug, Args)]
+pub struct ScaleArgs {
+    /// Which part: contact-points, strong or weak (default: all three).
+    #[arg(long, value_name = "PART", value_parser = ["contact-points", "strong", "weak", "all"])]
+    pub part: Option<String>,
+    /// Largest problem size, in degrees of freedom (default 2e5): the contact-point cases up to
+    /// it, the strong-scaling size, and the weak-scaling size on the most ranks (the docs' runs
+    /// use 1e6).
+    #[arg(long, value_name = "N", value_parser = parse_dofs)]
+    pub max_dofs: Option<usize>,
+    /// Where the tables and the plots go (default ./bench).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -316,8 +346,9 @@ fn parse_case(v: &str) -> Result<(usize, usize), String> {
 }
 
 /// Our flags that take a value (the next argument, unless written `--flag=value`).
-const VALUE_FLAGS: [&str; 14] = [
+const VALUE_FLAGS: [&str; 15] = [
     "--out",
+    "--part",
     "--runs",
     "--max-dofs",
     "--case",

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use signorini::bench::{self, BenchRecord, FailedCase};
 use signorini::Error;
 
-use super::arguments::{AccuracyArgs, BenchArgs};
+use super::arguments::{AccuracyArgs, BenchArgs, ScaleArgs};
 use super::terminal_progress::{self, Spinner};
 
 /// How many processes the MPI launcher started this one among (`mpirun -n N`), and this one's
@@ -43,16 +43,47 @@ pub fn refuse_several_processes(name: &str) -> Result<(), ExitCode> {
     Err(ExitCode::from(2))
 }
 
-/// Run `exe bench KIND-case --case DOFS,INDEX` and parse its JSON row; else the reason.
+/// The reason of a case on several ranks when there is no `mpirun`.
+const MPIRUN_MISSING: &str = "mpirun not found on the PATH (openmpi-bin; ./setup.sh installs it): not run";
+
+/// `mpirun` on the PATH, if any.
+fn find_mpirun() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path).map(|d| d.join("mpirun")).find(|p| p.is_file())
+}
+
+/// Run `exe bench KIND-case --case DOFS,INDEX` (under `mpirun -n RANKS` when `ranks` is given)
+/// and parse its JSON row; else the reason.
 fn run_case<T: serde::de::DeserializeOwned>(
     exe: &Path,
     kind: &str,
-    dofs: usize,
-    index: usize,
+    (dofs, index): (usize, usize),
+    ranks: Option<usize>,
     out: &Path,
     petsc: &[String],
 ) -> Result<T, String> {
-    let o = std::process::Command::new(exe)
+    let mpirun = ranks.and_then(|n| find_mpirun().map(|m| (n, m)));
+    let mut command = match (ranks, mpirun) {
+        // One rank without mpirun: the run is the same, serial.
+        (None, _) | (Some(1), None) => std::process::Command::new(exe),
+        (Some(_), None) => return Err(MPIRUN_MISSING.to_string()),
+        (Some(n), Some((_, mpirun))) => {
+            let mut c = std::process::Command::new(mpirun);
+            // As the tests run it: more ranks than cores allowed, one thread per rank, and
+            // allowed as root (containers).
+            c.args(["-n", &n.to_string(), "--oversubscribe"])
+                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+            for threads in ["OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"] {
+                if std::env::var_os(threads).is_none() {
+                    c.env(threads, "1");
+                }
+            }
+            c.arg(exe);
+            c
+        }
+    };
+    let o = command
         .args(["bench", &format!("{kind}-case"), "--case", &format!("{dofs},{index}"), "--out"])
         .arg(out)
         .args(petsc)
@@ -88,6 +119,9 @@ struct CaseRunner<T> {
     scratch: Option<PathBuf>,
     /// A result that is partly a failure (rows kept, the reason a failed-case row).
     failure_of: Option<fn(&T) -> Option<String>>,
+    /// The MPI ranks of a case (by its index), launched through `mpirun`; `None`: every case in
+    /// one process.
+    ranks_of: Option<fn(usize) -> Option<usize>>,
 }
 
 /// The command line as typed (the program by its file name), for the benchmark files.
@@ -190,7 +224,8 @@ fn run_bench<T: serde::de::DeserializeOwned>(line: &BenchLine, mut runner: CaseR
     for (k, (dofs, index, name)) in runner.cases.iter().enumerate() {
         let head = format!("[{}/{}] ~{dofs} dofs, {name:<26}", k + 1, runner.cases.len());
         spinner.start(head.clone());
-        let result = run_case::<T>(&exe, runner.kind, *dofs, *index, &scratch, line.petsc);
+        let ranks = runner.ranks_of.and_then(|f| f(*index));
+        let result = run_case::<T>(&exe, runner.kind, (*dofs, *index), ranks, &scratch, line.petsc);
         spinner.finish();
         match result {
             Ok(row) => {
@@ -255,6 +290,7 @@ pub fn bench_elasticity(args: &BenchArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(bench::write_elasticity_outputs),
             scratch: None,
             failure_of: None,
+            ranks_of: None,
         },
     )
 }
@@ -285,6 +321,7 @@ pub fn bench_contact(args: &BenchArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(bench::write_contact_outputs),
             scratch: None,
             failure_of: None,
+            ranks_of: None,
         },
     )
 }
@@ -307,6 +344,7 @@ pub fn bench_dual(args: &BenchArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(bench::write_dual_outputs),
             scratch: None,
             failure_of: None,
+            ranks_of: None,
         },
     )
 }
@@ -366,6 +404,7 @@ pub fn bench_accuracy(args: &AccuracyArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(move |rows, record, dir| accuracy::write_accuracy_outputs(rows, record, dir, &scene_name)),
             scratch: Some(scratch),
             failure_of: Some(|r| r.failure.clone()),
+            ranks_of: None,
         },
     )
 }
@@ -383,6 +422,7 @@ pub fn bench_held(args: &BenchArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(bench::write_held_outputs),
             scratch: None,
             failure_of: None,
+            ranks_of: None,
         },
     )
 }
@@ -409,6 +449,42 @@ pub fn bench_dual_contact(args: &BenchArgs, petsc: &[String]) -> ExitCode {
             write: Box::new(bench::write_dual_contact_outputs),
             scratch: None,
             failure_of: None,
+            ranks_of: None,
+        },
+    )
+}
+
+/// `bench scale`: the contact-point cases in a child process each, the scaling cases under
+/// `mpirun -n 1, 2, ...` up to the cores present.
+pub fn bench_scale(args: &ScaleArgs, petsc: &[String]) -> ExitCode {
+    use signorini::bench::scale::{self, Part};
+    let parts: Vec<Part> = match args.part.as_deref() {
+        Some("contact-points") => vec![Part::ContactPoints],
+        Some("strong") => vec![Part::Strong],
+        Some("weak") => vec![Part::Weak],
+        _ => vec![Part::ContactPoints, Part::Strong, Part::Weak],
+    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cases = scale::scale_cases(&parts, args.max_dofs.unwrap_or(200_000), cores);
+    let scaling = parts.iter().any(|p| *p != Part::ContactPoints);
+    let note = if scaling && cores > 1 && find_mpirun().is_none() {
+        format!("Runs on more than one rank: not made, {MPIRUN_MISSING}.")
+    } else if scaling && cores == 1 {
+        "One core present: the scaling parts have one rank only.".to_string()
+    } else {
+        String::new()
+    };
+    run_bench(
+        &BenchLine { out: args.out.clone(), solvers: None, petsc },
+        CaseRunner::<scale::ScaleRow> {
+            kind: "scale",
+            cases,
+            describe: scale::describe,
+            table: scale::scale_table,
+            write: Box::new(move |rows, record, dir| scale::write_scale_outputs(rows, record, dir, &note)),
+            scratch: None,
+            failure_of: Some(scale::route_mismatch),
+            ranks_of: Some(|index| (index >= 10_000).then(|| scale::case_ranks(index))),
         },
     )
 }

@@ -225,3 +225,48 @@ fn bench_failed_cases_are_rows_with_their_reason() {
     assert!(table_rows(&md).is_empty() && md.contains("Failed cases (5)"), "{md}");
     assert!(!dir.join("bench_elasticity.svg").exists(), "no plot of nothing (and no stale one)");
 }
+
+/// `bench scale`, tiny: every part writes its table (each route and the linear solve a row per
+/// strip size; ranks 1 and, with mpirun and two cores, 2 in the scaling tables) and the plots;
+/// `--part` keeps one part.
+#[test]
+fn bench_scale_small_writes_its_tables_and_plots() {
+    let dir = scratch("bench-scale");
+    let out = bin().args(["bench", "scale", "--max-dofs", "5e3", "--out"]).arg(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let md = std::fs::read_to_string(dir.join("bench_scale.md")).unwrap();
+    assert_provenance(&md, "bench scale --max-dofs 5e3");
+    assert!(failed_rows(&md).is_empty(), "{md}");
+    let rows = table_rows(&md);
+    // Strips of 100 points (one body, two bodies) and 400 (one body) up to 5e3 dofs.
+    for (scene, m) in [("one body", 100), ("two bodies", 100), ("one body", 400)] {
+        for route in ["one linear solve (MUMPS)", "dense_schur", "sparse_lu", "auto"] {
+            let cells = format!("| {scene} | {m} |");
+            assert_eq!(
+                rows.iter()
+                    .filter(|r| r.starts_with(&cells) && r.split('|').nth(4).map(str::trim) == Some(route))
+                    .count(),
+                1,
+                "{scene}, {m} points, {route}: {md}"
+            );
+        }
+    }
+    let ranks = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for heading in ["## Strong scaling", "## Weak scaling"] {
+        let section = &md[md.find(heading).unwrap_or_else(|| panic!("{heading}: {md}"))..];
+        let rows = table_rows(section);
+        assert_eq!(rows.len(), 4 * ranks, "{heading}: {md}");
+        for scene in signorini::bench::scale::SCALING_SCENES {
+            assert!(rows.iter().any(|r| r.starts_with(&format!("| {scene} | 1 |"))), "{scene}: {md}");
+        }
+    }
+    for svg in ["bench_scale_points.svg", "bench_scale_speedup.svg"] {
+        assert!(std::fs::read_to_string(dir.join(svg)).unwrap().contains("<svg"), "{svg}");
+    }
+
+    let dir = scratch("bench-scale-part");
+    run_ok(bin().args(["bench", "scale", "--part", "strong", "--max-dofs", "2e3", "--out"]).arg(&dir));
+    let md = std::fs::read_to_string(dir.join("bench_scale.md")).unwrap();
+    assert!(md.contains("## Strong scaling") && !md.contains("## Weak") && !md.contains("## Contact points"), "{md}");
+    assert!(!dir.join("bench_scale_points.svg").exists() && dir.join("bench_scale_speedup.svg").exists());
+}
