@@ -444,11 +444,16 @@ impl Session {
     /// Use MUMPS ordering `icntl_7` for the solvers under `prefix` unless the user chose one
     /// (an ordering the program itself set earlier, for another solver, is not the user's).
     pub fn prefer_mumps_ordering(&self, prefix: &str, icntl_7: i32) -> Result<()> {
-        let ordering = format!("-{prefix}mat_mumps_icntl_7");
-        let ours = self.program_options.borrow().contains(&ordering);
-        if ours || !self.has_option(&ordering)? {
-            self.set_option(&ordering, Some(&icntl_7.to_string()))?;
-            self.program_options.borrow_mut().insert(ordering);
+        self.prefer_option(format!("-{prefix}mat_mumps_icntl_7"), icntl_7)
+    }
+
+    /// Set `name` to `value` unless the user set it (a value the program itself set earlier,
+    /// for another solver, is not the user's).
+    fn prefer_option(&self, name: String, value: i32) -> Result<()> {
+        let ours = self.program_options.borrow().contains(&name);
+        if ours || !self.has_option(&name)? {
+            self.set_option(&name, Some(&value.to_string()))?;
+            self.program_options.borrow_mut().insert(name);
         }
         Ok(())
     }
@@ -458,13 +463,7 @@ impl Session {
     /// diagonal more than the analysis foresees: a 1000 × 1 slab on its contact (1001 points)
     /// stopped with INFOG(1) = −9 (workspace too small) at MUMPS's 20 %, and ran at 50 %.
     pub fn prefer_mumps_workspace(&self, prefix: &str, percent: i32) -> Result<()> {
-        let name = format!("-{prefix}mat_mumps_icntl_14");
-        let ours = self.program_options.borrow().contains(&name);
-        if ours || !self.has_option(&name)? {
-            self.set_option(&name, Some(&percent.to_string()))?;
-            self.program_options.borrow_mut().insert(name);
-        }
-        Ok(())
+        self.prefer_option(format!("-{prefix}mat_mumps_icntl_14"), percent)
     }
 
     /// On more than one process: refuse, before any work, a main linear solver (no prefix) that

@@ -758,10 +758,7 @@ unsafe extern "C" fn weigh_rhs_callback(
     _x: sys::Vec,
     ctx: *mut c_void,
 ) -> sys::PetscErrorCode {
-    guarded(ctx, |c| match &c.reuse {
-        Some(reuse) => petsc!(VecPointwiseMult(b, b, reuse.weight_vector.raw)),
-        None => Ok(()),
-    })
+    weigh_rhs(b, ctx, true)
 }
 
 /// KSP's post-solve hook: the right-hand side (SNES's residual vector) restored exactly (the
@@ -772,7 +769,13 @@ unsafe extern "C" fn unweigh_rhs_callback(
     _x: sys::Vec,
     ctx: *mut c_void,
 ) -> sys::PetscErrorCode {
+    weigh_rhs(b, ctx, false)
+}
+
+/// `b` times the row weights (`multiply`), or divided by them.
+fn weigh_rhs(b: sys::Vec, ctx: *mut c_void, multiply: bool) -> sys::PetscErrorCode {
     guarded(ctx, |c| match &c.reuse {
+        Some(reuse) if multiply => petsc!(VecPointwiseMult(b, b, reuse.weight_vector.raw)),
         Some(reuse) => petsc!(VecPointwiseDivide(b, b, reuse.weight_vector.raw)),
         None => Ok(()),
     })
