@@ -15,12 +15,51 @@
 //! PETSc's interface wants the pattern of the wanted entries as the transpose of a sparse
 //! matrix (`MatCreateTranspose` of `Bᵀ`, `Bᵀ` row `j` holding the rows `i` wanted in column
 //! `j`; `n × n`: MUMPS wants as many right-hand sides as the matrix order, INFOG(1) = -47
-//! otherwise, the columns not wanted are empty), all of it on rank 0 (an MPI AIJ matrix whose rows and columns rank 0 owns); MUMPS
-//! writes the entries into that matrix's values on rank 0, and they are then summed to every
+//! otherwise, the columns not wanted are empty), all of it on rank 0 (an MPI AIJ matrix whose
+//! rows and columns rank 0 owns); MUMPS writes the entries into that matrix's values on rank 0, and they are then summed to every
 //! rank (ranks other than 0 contribute zeros). `MatMumpsGetInverse` leaves ICNTL(30) = 1 and
 //! ICNTL(21) = 0 (centralized solution) set on the factor; both are put back (0, and 1 on
 //! several ranks: PETSc's parallel `MatSolve` reads a distributed solution), or the next
 //! `MatSolve` would compute inverse entries again or read the solution from the wrong place.
+//!
+//! [`InverseBlockFactor::with_schur_complement`] is the other way PETSc 3.18 allows in
+//! parallel: the Schur complement returned centralized on rank 0 (ICNTL(19) = 1). MUMPS then
+//! returns one triangle of `S` only (PETSc transposes it, and LAPACK's Cholesky reads the
+//! other), so the triangle is mirrored before `S` is inverted. PETSc refuses `MatSolve` on
+//! such a factor in parallel.
+//!
+//! ## Measured: the block is not faster on two ranks
+//!
+//! `examples/inverse_block_timing.rs` (a square P1 grid clamped on its top side, the block on
+//! the bottom side's dofs, as the square block's contact dofs; 2-core machine shared with
+//! other builds, `OMP_NUM_THREADS=1`), wall-clock seconds; `--oversubscribe` makes Open MPI
+//! yield when idle:
+//!
+//! ```text
+//!   load 7-8 (other builds running)
+//!   dofs    block  ranks  factorisation alone   factorisation + selected inverse   with the Schur complement
+//!   2.0e5     632      1  1.09, 1.25, 1.75      1.55; 2.57 (1.64 + 0.94)            0.94 (schur.rs), 0.95
+//!   2.0e5     632      2  1.96, 2.07, 2.43      6.81; 15.53 (2.32 + 13.21)          2.08 (2.02 + 0.06)
+//!                         (--oversubscribe)     ICNTL(27) = 8, 128, 632: inverse 41.2, 7.6, 5.0
+//!   1.0e6    1416      1  7.01, 10.08, 13.39    12.05                               12.09 (schur.rs), 7.95
+//!   1.0e6    1416      2  8.87, 14.26           182.7                               > 12 min (stopped)
+//!
+//!   load 2-3.5: analysis + numerical factorisation
+//!   2.0e5     632      1  0.07 + 0.54          1.13 (0.74 + 0.40 inverse)
+//!   2.0e5     632      2  0.16 + 0.60          5.39 (0.90 + 4.50 inverse)          1.22 (1.19 + 0.03)
+//!   1.0e6    1416      1  0.39 + 3.83, 0.43 + 4.73, 0.38 + 4.28                      5.62 (5.49 + 0.13)
+//!   1.0e6    1416      2  0.42 + 2.53, 0.51 + 3.40, 0.79 + 3.96                      > 115 s (stopped)
+//!                         --oversubscribe: 0.64 + 3.46, 0.79 + 4.32
+//! ```
+//!
+//! The distributed factorisation alone gains 1.1 to 1.45 on two ranks when two cores are free
+//! (nothing with `--oversubscribe`). But MUMPS's parallel solve phase with the sparse
+//! right-hand sides is 5 to 40 times slower than its sequential one (and took 105 s for a
+//! 2-entry block at 2e5 dofs: it seems to walk every one of the `n` right-hand sides), and the
+//! distributed factorisation with the Schur complement on rank 0 took twice the sequential time
+//! at 2e5 dofs and more than 20 times it at 1e6. So the contact routes keep the sequential
+//! Schur factorisation (`schur.rs`); this module is kept for the measurements and for a MUMPS
+//! or a machine where they turn out otherwise.
 use std::marker::PhantomData;
 
 use super::{petsc, to_petsc_int, Matrix, Session, Vector};
@@ -33,7 +72,7 @@ pub struct InverseBlockFactor<'s> {
     factor: sys::Mat,
     size: usize,
     inverse: Vec<f64>,
-    seconds: [f64; 2],
+    seconds: [f64; 3],
     /// Built by [`InverseBlockFactor::with_schur_complement`]: no solves.
     schur_only: bool,
     _session: PhantomData<&'s Session>,
@@ -60,7 +99,7 @@ impl<'s> InverseBlockFactor<'s> {
             factor: f,
             size: rows.len(),
             inverse: Vec::new(),
-            seconds: [0.0; 2],
+            seconds: [0.0; 3],
             schur_only: false,
             _session: PhantomData,
         };
@@ -68,17 +107,18 @@ impl<'s> InverseBlockFactor<'s> {
         let mut info = sys::MatFactorInfo::default();
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
+        this.seconds[0] = start.elapsed().as_secs_f64();
         petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
         let mut infog = 0 as sys::PetscInt;
         petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
         if infog < 0 {
             return Err(super::schur::factor_failure(infog as i64));
         }
-        this.seconds[0] = start.elapsed().as_secs_f64();
+        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
         if !rows.is_empty() {
             this.inverse = selected_inverse(session, f, n, rows, &sorted)?;
         }
-        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
+        this.seconds[2] = start.elapsed().as_secs_f64() - this.seconds[0] - this.seconds[1];
         Ok(this)
     }
 
@@ -105,7 +145,7 @@ impl<'s> InverseBlockFactor<'s> {
             factor: f,
             size: rows.len(),
             inverse: Vec::new(),
-            seconds: [0.0; 2],
+            seconds: [0.0; 3],
             schur_only: true,
             _session: PhantomData,
         };
@@ -129,13 +169,14 @@ impl<'s> InverseBlockFactor<'s> {
         let mut info = sys::MatFactorInfo::default();
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
+        this.seconds[0] = start.elapsed().as_secs_f64();
         petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
         let mut infog = 0 as sys::PetscInt;
         petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
         if infog < 0 {
             return Err(super::schur::factor_failure(infog as i64));
         }
-        this.seconds[0] = start.elapsed().as_secs_f64();
+        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
         let m = rows.len();
         if session.rank() == 0 {
             fill_symmetric_schur(f, m)?;
@@ -147,12 +188,13 @@ impl<'s> InverseBlockFactor<'s> {
             block = inverse;
         }
         this.inverse = session.world().sum(&block)?;
-        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
+        this.seconds[2] = start.elapsed().as_secs_f64() - this.seconds[0] - this.seconds[1];
         Ok(this)
     }
 
-    /// Wall-clock seconds of the factorisation and of the selected inverse (this rank's view).
-    pub fn seconds(&self) -> [f64; 2] {
+    /// Wall-clock seconds of the analysis (ordering, symbolic factorisation), the numerical
+    /// factorisation and the block of the inverse (this rank's view).
+    pub fn seconds(&self) -> [f64; 3] {
         self.seconds
     }
 
