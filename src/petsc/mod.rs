@@ -32,6 +32,7 @@ use signorini_sys as sys;
 pub mod bounded;
 pub mod dense_lu;
 mod ict;
+pub mod inverse_block;
 mod linear_solver;
 mod matrix;
 pub mod nonlinear;

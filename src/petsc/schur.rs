@@ -58,7 +58,7 @@ pub struct SchurFactor<'s> {
 
 /// The error of a MUMPS factorisation that failed with `INFOG(1) = infog < 0`: out of memory
 /// (-9, -11, -13, -14, -15, -17, -19, -20), a zero pivot (-10), or another MUMPS error.
-fn factor_failure(infog: i64) -> Error {
+pub(crate) fn factor_failure(infog: i64) -> Error {
     let method = "MUMPS Cholesky with the Schur complement on the contact dofs";
     let message = match infog {
         -9 | -11 | -13 | -14 | -15 | -17 | -19 | -20 => format!(
@@ -216,7 +216,7 @@ impl<'s> SchurFactor<'s> {
 }
 
 /// The factor's current Schur matrix (`S`, or `S⁻¹` once inverted), row-major, and its status.
-fn read_schur(f: sys::Mat, m: usize) -> Result<(Vec<f64>, sys::MatFactorSchurStatus)> {
+pub(crate) fn read_schur(f: sys::Mat, m: usize) -> Result<(Vec<f64>, sys::MatFactorSchurStatus)> {
     let mut s: sys::Mat = std::ptr::null_mut();
     let mut status = sys::MatFactorSchurStatus::MAT_FACTOR_SCHUR_UNFACTORED;
     petsc!(MatFactorGetSchurComplement(f, &mut s, &mut status))?;
