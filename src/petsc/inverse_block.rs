@@ -150,22 +150,8 @@ impl<'s> InverseBlockFactor<'s> {
             _session: PhantomData,
         };
         let start = std::time::Instant::now();
-        let mine: Vec<sys::PetscInt> = if session.rank() == 0 {
-            rows.iter().map(|&r| to_petsc_int(r, "Schur row")).collect::<Result<_>>()?
-        } else {
-            Vec::new()
-        };
-        let mut is: sys::IS = std::ptr::null_mut();
-        petsc!(ISCreateGeneral(
-            session.world().raw(),
-            to_petsc_int(mine.len(), "Schur size")?,
-            mine.as_ptr(),
-            sys::PetscCopyMode::PETSC_COPY_VALUES,
-            &mut is
-        ))?;
-        let set = petsc!(MatFactorSetSchurIS(f, is));
-        let _ = unsafe { sys::ISDestroy(&mut is) };
-        set?;
+        let mine: &[usize] = if session.rank() == 0 { rows } else { &[] };
+        super::schur::set_schur_rows(f, session.world(), mine)?;
         let mut info = sys::MatFactorInfo::default();
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;

@@ -115,18 +115,7 @@ impl<'s> SchurFactor<'s> {
             pass_through: 1.0,
             _session: PhantomData,
         };
-        let idx: Vec<sys::PetscInt> = rows.iter().map(|&r| r as sys::PetscInt).collect();
-        let mut is: sys::IS = std::ptr::null_mut();
-        petsc!(ISCreateGeneral(
-            session.self_comm().raw(),
-            to_petsc_int(rows.len(), "Schur size")?,
-            idx.as_ptr(),
-            sys::PetscCopyMode::PETSC_COPY_VALUES,
-            &mut is
-        ))?;
-        let set = petsc!(MatFactorSetSchurIS(f, is));
-        let _ = unsafe { sys::ISDestroy(&mut is) };
-        set?;
+        set_schur_rows(f, session.self_comm(), rows)?;
         let mut info = sys::MatFactorInfo::default();
         petsc!(MatFactorInfoInitialize(&mut info))?;
         petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
@@ -213,6 +202,24 @@ impl<'s> SchurFactor<'s> {
         }
         petsc!(MatSolve(self.factor, b.raw, x.raw))
     }
+}
+
+/// Give the MUMPS factor `f` (before its symbolic factorisation) the Schur rows this rank
+/// lists, over `comm` (on several ranks PETSc 3.18 wants them all on rank 0, none elsewhere).
+pub(crate) fn set_schur_rows(f: sys::Mat, comm: super::Comm, rows: &[usize]) -> Result<()> {
+    let idx: Vec<sys::PetscInt> = rows.iter().map(|&r| to_petsc_int(r, "Schur row")).collect::<Result<_>>()?;
+    let mut is: sys::IS = std::ptr::null_mut();
+    petsc!(ISCreateGeneral(
+        comm.raw(),
+        to_petsc_int(idx.len(), "Schur size")?,
+        idx.as_ptr(),
+        sys::PetscCopyMode::PETSC_COPY_VALUES,
+        &mut is
+    ))?;
+    let set = petsc!(MatFactorSetSchurIS(f, is));
+    // SAFETY: `is` was created above and is not used after this.
+    let _ = unsafe { sys::ISDestroy(&mut is) };
+    set
 }
 
 /// The factor's current Schur matrix (`S`, or `S⁻¹` once inverted), row-major, and its status.
