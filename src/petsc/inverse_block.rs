@@ -92,29 +92,8 @@ impl<'s> InverseBlockFactor<'s> {
         if sorted.windows(2).any(|w| w[0] == w[1]) {
             return Err(Error::PetscUsage("inverse rows must be distinct".into()));
         }
-        session.prefer_amf_ordering("")?;
-        let mut f: sys::Mat = std::ptr::null_mut();
-        petsc!(MatGetFactor(matrix.raw, c"mumps".as_ptr(), sys::MatFactorType::MAT_FACTOR_CHOLESKY, &mut f))?;
-        let mut this = InverseBlockFactor {
-            factor: f,
-            size: rows.len(),
-            inverse: Vec::new(),
-            seconds: [0.0; 3],
-            schur_only: false,
-            _session: PhantomData,
-        };
-        let start = std::time::Instant::now();
-        let mut info = sys::MatFactorInfo::default();
-        petsc!(MatFactorInfoInitialize(&mut info))?;
-        petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
-        this.seconds[0] = start.elapsed().as_secs_f64();
-        petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
-        let mut infog = 0 as sys::PetscInt;
-        petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
-        if infog < 0 {
-            return Err(super::schur::factor_failure(infog as i64));
-        }
-        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
+        let (mut this, start) = Self::factorise(session, matrix, rows.len(), None)?;
+        let f = this.factor;
         if !rows.is_empty() {
             this.inverse = selected_inverse(session, f, n, rows, &sorted)?;
         }
@@ -138,31 +117,10 @@ impl<'s> InverseBlockFactor<'s> {
         if rows.is_empty() || rows.iter().any(|&r| r >= n) {
             return Err(Error::PetscUsage(format!("Schur rows must be non-empty and below the matrix order {n}")));
         }
-        session.prefer_amf_ordering("")?;
-        let mut f: sys::Mat = std::ptr::null_mut();
-        petsc!(MatGetFactor(matrix.raw, c"mumps".as_ptr(), sys::MatFactorType::MAT_FACTOR_CHOLESKY, &mut f))?;
-        let mut this = InverseBlockFactor {
-            factor: f,
-            size: rows.len(),
-            inverse: Vec::new(),
-            seconds: [0.0; 3],
-            schur_only: true,
-            _session: PhantomData,
-        };
-        let start = std::time::Instant::now();
+        // Rank 0 names the Schur rows, the others an empty set (ICNTL(19) = 1).
         let mine: &[usize] = if session.rank() == 0 { rows } else { &[] };
-        super::schur::set_schur_rows(f, session.world(), mine)?;
-        let mut info = sys::MatFactorInfo::default();
-        petsc!(MatFactorInfoInitialize(&mut info))?;
-        petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
-        this.seconds[0] = start.elapsed().as_secs_f64();
-        petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
-        let mut infog = 0 as sys::PetscInt;
-        petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
-        if infog < 0 {
-            return Err(super::schur::factor_failure(infog as i64));
-        }
-        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
+        let (mut this, start) = Self::factorise(session, matrix, rows.len(), Some(mine))?;
+        let f = this.factor;
         let m = rows.len();
         if session.rank() == 0 {
             fill_symmetric_schur(f, m)?;
@@ -176,6 +134,45 @@ impl<'s> InverseBlockFactor<'s> {
         this.inverse = session.world().sum(&block)?;
         this.seconds[2] = start.elapsed().as_secs_f64() - this.seconds[0] - this.seconds[1];
         Ok(this)
+    }
+
+    /// The distributed MUMPS Cholesky factorisation of `matrix` for a block of `size` rows,
+    /// with the Schur complement on `schur_rows` (this rank's list) when given; the analysis
+    /// and numerical times in `seconds[0..2]`, and the clock they started from.
+    fn factorise(
+        session: &'s Session,
+        matrix: &Matrix<'s>,
+        size: usize,
+        schur_rows: Option<&[usize]>,
+    ) -> Result<(Self, std::time::Instant)> {
+        session.prefer_amf_ordering("")?;
+        let mut f: sys::Mat = std::ptr::null_mut();
+        petsc!(MatGetFactor(matrix.raw, c"mumps".as_ptr(), sys::MatFactorType::MAT_FACTOR_CHOLESKY, &mut f))?;
+        // Owned from here: dropped (destroyed) on every error below.
+        let mut this = InverseBlockFactor {
+            factor: f,
+            size,
+            inverse: Vec::new(),
+            seconds: [0.0; 3],
+            schur_only: schur_rows.is_some(),
+            _session: PhantomData,
+        };
+        let start = std::time::Instant::now();
+        if let Some(rows) = schur_rows {
+            super::schur::set_schur_rows(f, session.world(), rows)?;
+        }
+        let mut info = sys::MatFactorInfo::default();
+        petsc!(MatFactorInfoInitialize(&mut info))?;
+        petsc!(MatCholeskyFactorSymbolic(f, matrix.raw, std::ptr::null_mut(), &info))?;
+        this.seconds[0] = start.elapsed().as_secs_f64();
+        petsc!(MatCholeskyFactorNumeric(f, matrix.raw, &info))?;
+        let mut infog = 0 as sys::PetscInt;
+        petsc!(MatMumpsGetInfog(f, 1, &mut infog))?;
+        if infog < 0 {
+            return Err(super::schur::factor_failure(infog as i64));
+        }
+        this.seconds[1] = start.elapsed().as_secs_f64() - this.seconds[0];
+        Ok((this, start))
     }
 
     /// Wall-clock seconds of the analysis (ordering, symbolic factorisation), the numerical
