@@ -641,10 +641,10 @@ impl ContactSetup {
         let schur_rows = schur_dofs(b);
         let default_solver = !session.has_option("-ksp_type")? && !session.has_option("-pc_type")?;
         let applicable = session.size() == 1 && default_solver;
-        let wants_schur = match session.option("-contact_condense_schur")?.as_deref() {
+        let wants_schur = match session.flag("-contact_condense_schur")? {
             None => applicable,
-            Some("0" | "false" | "no") => false,
-            Some("" | "1" | "true" | "yes") => {
+            Some(false) => false,
+            Some(true) => {
                 if !applicable {
                     return Err(Error::Usage(
                         "-contact_condense_schur needs one process and the default linear solver (no -ksp_type/-pc_type)"
@@ -652,9 +652,6 @@ impl ContactSetup {
                     ));
                 }
                 true
-            }
-            Some(other) => {
-                return Err(Error::Usage(format!("-contact_condense_schur takes true or false (got \"{other}\")")))
             }
         };
         let start = std::time::Instant::now();

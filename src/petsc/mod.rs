@@ -516,6 +516,17 @@ impl Session {
         })
     }
 
+    /// A true/false option: `None` if absent; present without a value, `1`, `true` or `yes`
+    /// is true; `0`, `false` or `no` false; anything else is [`Error::Usage`] naming it.
+    pub fn flag(&self, name: &str) -> Result<Option<bool>> {
+        match self.option(name)?.as_deref() {
+            None => Ok(None),
+            Some("" | "1" | "true" | "yes") => Ok(Some(true)),
+            Some("0" | "false" | "no") => Ok(Some(false)),
+            Some(other) => Err(Error::Usage(format!("{name} takes true or false (got \"{other}\")"))),
+        }
+    }
+
     /// The value of `-name`: `None` if absent, `Some("")` if present without a value.
     pub fn option(&self, name: &str) -> Result<Option<String>> {
         let n = cstring(name)?;

@@ -427,7 +427,7 @@ impl ContactSetup {
         };
         // The sparse LU route keeps its factorisation while few rows change; GMRES weighs the
         // contact rows (displacements) by the force rows' scale (a power of two).
-        let reuse = (choice.route == Route::SparseLu && reuse_allowed(session)?).then(|| {
+        let reuse = (choice.route == Route::SparseLu && session.flag(LU_REUSE_OPTION)?.unwrap_or(true)).then(|| {
             let weight = 2f64.powi(force_scale.log2().round() as i32);
             FactorisationReuse {
                 max_changed_rows: MAX_CHANGED_ROWS,
@@ -526,11 +526,7 @@ impl ContactSetup {
             u = floating.displacement(&u, &force)?;
         }
         // The eliminations' answer refined against K itself (refinement.rs).
-        let refine = match session.option(REFINE_OPTION)?.as_deref() {
-            None | Some("" | "1" | "true" | "yes") => true,
-            Some("0" | "false" | "no") => false,
-            Some(other) => return Err(Error::Usage(format!("{REFINE_OPTION} takes true or false (got \"{other}\")"))),
-        };
+        let refine = session.flag(REFINE_OPTION)?.unwrap_or(true);
         let refinement = if refine && (mixed.elimination.is_some() || mixed.held_by_contact.is_some()) {
             let equations =
                 Equations { stiffness: k, rhs: &system.rhs, boundary: b, law: &law, rho: &rho_of, per_point };
@@ -740,15 +736,6 @@ impl ContactSetup {
             .ok_or_else(|| Error::PetscUsage("the condensed fallback recorded no linear solve".into()))?;
         stats.seconds = start.elapsed().as_secs_f64();
         Ok((u, outcome, stats))
-    }
-}
-
-/// Whether `-contact_lu_reuse` leaves the sparse LU route its factorisation reuse (default yes).
-fn reuse_allowed(session: &Session) -> Result<bool> {
-    match session.option(LU_REUSE_OPTION)?.as_deref() {
-        None | Some("" | "1" | "true" | "yes") => Ok(true),
-        Some("0" | "false" | "no") => Ok(false),
-        Some(other) => Err(Error::Usage(format!("{LU_REUSE_OPTION} takes true or false (got \"{other}\")"))),
     }
 }
 
