@@ -74,6 +74,7 @@
 //!   eliminations and the condensed route.
 //! - [`report`]: what a run reports (contact, several bodies, warnings) and the files it writes.
 //! - [`problem`]: the driver, whose methods read like the algorithm.
+//! - [`evolution`]: load paths, increments with friction memory, their records.
 //! - [`adapt`]: the optimal size map, remeshing, the adaptive loop and studies of the estimator.
 //! - [`export`]: the condensed contact problem in the FCLIB format (HDF5), for other solvers.
 //! - [`bench`](mod@bench): the benchmark cases the `signorini bench` subcommands run.
@@ -89,6 +90,7 @@ mod contact_routes;
 pub mod dual;
 pub mod error;
 pub mod estimate;
+pub mod evolution;
 pub mod export;
 pub mod fem;
 pub mod mesh;
