@@ -528,15 +528,25 @@ impl ContactSetup {
         ksp: &mut LinearSolver<'s>,
         progress: &dyn crate::problem::Progress,
     ) -> Result<(Vec<f64>, ContactOutcome, Option<SolveStats>)> {
-        let b = &self.boundary;
-        let m = b.points();
-        let n = matrix.global_size();
-        let rows = matrix.owned_rows();
-        let mut x = matrix.create_vector()?;
-        let friction = self.friction_law();
-        let frictional = !matches!(friction, FrictionLaw::None);
-        let mut e = matrix.create_vector()?;
-        let (mut w, mut linear, mut solves) = self.flexibility(session, matrix, ksp, frictional, progress)?;
+        let mut operator = self.condense(session, matrix, ksp, progress)?;
+        let f = rhs.owned_values()?;
+        let (u, outcome) =
+            self.solve_condensed_load(session, &mut operator, matrix, &f, &Increment::default(), progress)?;
+        Ok((u, outcome, operator.linear.stats()))
+    }
+
+    /// The condensed operator of this contact: `W = B K⁻¹ Bᵀ` and the factorised K, computed once
+    /// and reused by every load solved on it ([`ContactSetup::solve_condensed_load`]).
+    pub(crate) fn condense<'a, 's>(
+        &self,
+        session: &'s Session,
+        matrix: &Matrix<'s>,
+        ksp: &'a mut LinearSolver<'s>,
+        progress: &dyn crate::problem::Progress,
+    ) -> Result<CondensedOperator<'a, 's>> {
+        let m = self.boundary.points();
+        let frictional = !matches!(self.friction_law(), FrictionLaw::None);
+        let (mut w, linear, solves) = self.flexibility(session, matrix, ksp, frictional, progress)?;
         if !frictional {
             // Tangential block never used (rT stays 0): keep W symmetric positive definite.
             for i in 0..m {
@@ -547,24 +557,52 @@ impl ContactSetup {
                 }
             }
         }
+        Ok(CondensedOperator { w, linear, solves })
+    }
+
+    /// Solve the contact problem for the owned load `f` on a condensed operator: the
+    /// proximal iterations on the stabilisation springs around the condensed solves, the
+    /// recovery `u = K⁻¹ (f + Bᵀ r)` and the independent check. `increment` says what the
+    /// contact law sees beyond the static problem (an increment of a load path: the law acts
+    /// on `B u − shift`) and where to start.
+    pub(crate) fn solve_condensed_load<'s>(
+        &self,
+        session: &'s Session,
+        operator: &mut CondensedOperator<'_, 's>,
+        matrix: &Matrix<'s>,
+        f: &[f64],
+        increment: &Increment,
+        progress: &dyn crate::problem::Progress,
+    ) -> Result<(Vec<f64>, ContactOutcome)> {
+        let b = &self.boundary;
+        let m = b.points();
+        let n = matrix.global_size();
+        let rows = matrix.owned_rows();
+        let mut x = matrix.create_vector()?;
+        let friction = self.friction_law();
+        let mut e = matrix.create_vector()?;
+        let zero_shift = vec![0.0; 2 * m];
+        let shift = increment.shift.as_deref().unwrap_or(&zero_shift);
         let mut settings = super::condensation::solver_settings(&self.spec);
         // Proximal iterations on the stabilisation springs (see the module doc): the springs
         // are anchored at the previous displacement, so their force vanishes at convergence.
-        let f = rhs.owned_values()?;
-        let mut anchor = vec![0.0; n];
+        let mut anchor = increment.start_displacement.clone().unwrap_or_else(|| vec![0.0; n]);
         let mut history: Vec<f64> = Vec::new();
-        let mut initial_force: Option<Vec<f64>> = None;
+        let mut initial_force: Option<Vec<f64>> = increment.start_force.clone();
         let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::<f64>::new());
         let base_tolerance = settings.tolerance;
         let mut step_iterations = Vec::new();
         loop {
-            let rk = self.anchored_load(&f, &anchor, rows.clone());
+            let rk = self.anchored_load(f, &anchor, rows.clone());
             e.set_owned(&rk)?;
-            linear.solve(matrix, &e, &mut x)?;
-            solves += 2;
-            let u_free = b.gather(&x.gather_all()?);
+            operator.linear.solve(matrix, &e, &mut x)?;
+            operator.solves += 2;
+            let mut u_free = b.gather(&x.gather_all()?);
+            for (v, s) in u_free.iter_mut().zip(shift) {
+                *v -= s;
+            }
             let problem = CondensedProblem::new(
-                Delassus::Dense(w.clone()),
+                Delassus::Dense(operator.w.clone()),
                 u_free,
                 b.gap.clone(),
                 friction.clone(),
@@ -589,8 +627,9 @@ impl ContactSetup {
             };
             // The independent check accepts what the scene's tolerance accepts.
             let check = SolverSettings { tolerance: base_tolerance, ..settings.clone() };
+            let solves = operator.solves;
             let (u, mut outcome) =
-                self.recover_and_verify(matrix, &rk, &mut linear, &problem, solution, &check, solves)?;
+                self.recover_and_verify(matrix, &rk, &mut operator.linear, &problem, solution, &check, solves, shift)?;
             total_iterations += outcome.report.iterations;
             step_iterations.push(outcome.report.iterations);
             all_changes.extend(outcome.report.status_changes.iter().copied());
@@ -598,7 +637,7 @@ impl ContactSetup {
             outcome.report.residual_history = all_residuals.clone();
             outcome.report.iterations = total_iterations;
             outcome.report.status_changes = all_changes.clone();
-            let Some(k) = self.spring else { return Ok((u, outcome, linear.stats())) };
+            let Some(k) = self.spring else { return Ok((u, outcome)) };
             let (mut spring, mut largest) = ([0.0f64; 2], 0.0f64);
             for &dof in &self.spring_dofs {
                 let fc = -k * (u[dof] - anchor[dof]);
@@ -611,7 +650,7 @@ impl ContactSetup {
             outcome.report.stabilisation_iterations = history.len();
             outcome.report.stabilisation_step_iterations = step_iterations.clone();
             if proximal_iterations_done(&history, scale, outcome.report.open == outcome.report.points) {
-                return Ok((u, outcome, linear.stats()));
+                return Ok((u, outcome));
             }
             anchor = u;
             initial_force = Some(outcome.force);
@@ -761,6 +800,7 @@ impl ContactSetup {
         solution: contact::ContactSolution,
         settings: &SolverSettings,
         linear_solves: usize,
+        shift: &[f64],
     ) -> Result<(Vec<f64>, ContactOutcome)> {
         let b = &self.boundary;
         let rows = matrix.owned_rows();
@@ -777,8 +817,11 @@ impl ContactSetup {
         e.set_owned(&total)?;
         linear.solve(matrix, &e, &mut x)?;
         let u = x.gather_all()?;
-        // Independent check on (r, B u).
-        let uc = b.gather(&u);
+        // Independent check on (r, B u − shift).
+        let mut uc = b.gather(&u);
+        for (v, s) in uc.iter_mut().zip(shift) {
+            *v -= s;
+        }
         let residuals = problem.residuals_at(&solution.force, &uc)?;
         let status = problem.status_at(&solution.force, &uc)?;
         let accepted = self.acceptance(settings.tolerance);
@@ -856,6 +899,30 @@ impl ContactSetup {
             linear_solves,
         }
     }
+}
+
+/// The condensed operator of a contact, computed once ([`ContactSetup::condense`]): the
+/// flexibility `W = B K⁻¹ Bᵀ` in the contact frames (its tangential block zero without
+/// friction) and the factorised stiffness, with the number of linear solves so far.
+pub(crate) struct CondensedOperator<'a, 's> {
+    pub(crate) w: DMatrix<f64>,
+    pub(crate) linear: Factorised<'a, 's>,
+    pub(crate) solves: usize,
+}
+
+/// What one solve of a load path adds to the static contact problem
+/// ([`ContactSetup::solve_condensed_load`]); the default is the static problem from rest.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Increment {
+    /// Subtracted from the relative displacement `B u` (2m entries, the contact frames) before
+    /// the contact law sees it: the obstacle's motion along the normal, and along the tangent
+    /// the obstacle's motion plus the slip of the last converged state, so that friction acts
+    /// on the slip increment. `None`: zero.
+    pub(crate) shift: Option<Vec<f64>>,
+    /// Where the springs are anchored first (the last converged displacement); zero if `None`.
+    pub(crate) start_displacement: Option<Vec<f64>>,
+    /// The force the contact solver starts from (the last converged one); zero if `None`.
+    pub(crate) start_force: Option<Vec<f64>>,
 }
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two

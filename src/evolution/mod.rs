@@ -5,6 +5,10 @@
 //! memory: at each increment Coulomb's and Tresca's laws act on the slip *increment* since the
 //! last converged state (the backward-Euler time discretisation of the rate law, see
 //! `../shared/reference/SCIENCE.md`, "the incremental problem").
+mod driver;
+pub mod load_path;
 pub mod record;
 
+pub use driver::{EnergyBalance, LoadFactors, LoadPathReport, MAX_HALVINGS};
+pub use load_path::LoadPath;
 pub use record::{ContactProfile, StepRecord};

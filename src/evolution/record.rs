@@ -26,7 +26,7 @@ pub struct StepRecord {
     pub stick: usize,
     /// Closed points slipping (friction).
     pub slip: usize,
-    /// Closed points of frictionless parts.
+    /// Every closed point (stick and slip included; without friction: the closed points).
     pub closed: usize,
     /// Iterations of the contact solver in this increment.
     pub iterations: usize,

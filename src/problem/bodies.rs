@@ -179,7 +179,7 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
 /// scene's `dirichlet` (body by body, each body's in file order): each found on its own body's
 /// mesh, so that a point condition takes its body's node, not another body's node at the same
 /// place (two blocks touching at a corner).
-pub(super) fn dirichlet_nodes(model: &BodiesModel) -> Result<Vec<Vec<usize>>> {
+pub(crate) fn dirichlet_nodes(model: &BodiesModel) -> Result<Vec<Vec<usize>>> {
     let mut out = Vec::new();
     for (b, body) in model.bodies.iter().enumerate() {
         let offset = model.layout.bodies[b].nodes.start;

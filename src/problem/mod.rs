@@ -183,7 +183,7 @@ pub struct ElasticityProblem<'s> {
     /// Wall-clock seconds of each phase so far.
     pub timings: Timings,
     scene_options: Vec<String>,
-    system: Option<(Matrix<'s>, Vector<'s>)>,
+    pub(crate) system: Option<(Matrix<'s>, Vector<'s>)>,
     /// The owned rows of K and f, kept in Rust for the full-space contact route (which builds
     /// its own mixed Jacobian instead of a PETSc K).
     full_space_system: Option<assembly::LinearSystem>,
@@ -211,6 +211,11 @@ pub struct ElasticityProblem<'s> {
     pub mesh_cache: Option<CacheReport>,
     /// Who is told the progress of the run ([`NoProgress`] unless set).
     pub(crate) progress: Box<dyn Progress>,
+    /// Within a load path: the factors the scene's loads are multiplied by at the current
+    /// increment (`None`: the loads as written).
+    pub(crate) load_factors: Option<crate::evolution::LoadFactors>,
+    /// After a load path: its increments, energies and profiles.
+    pub load_path: Option<crate::evolution::LoadPathReport>,
 }
 
 /// Post-processed fields.
@@ -405,6 +410,8 @@ impl<'s> ElasticityProblem<'s> {
             warnings: initial_warnings,
             mesh_cache: None,
             progress,
+            load_factors: None,
+            load_path: None,
         })
     }
 
@@ -424,14 +431,17 @@ impl<'s> ElasticityProblem<'s> {
     }
 
     fn loads(&self) -> Result<(Option<[f64; 2]>, Vec<(usize, Traction<'static>)>)> {
-        let body = self.scene.body_force;
+        let factors = self.load_factors.as_ref();
+        let body_factor = factors.map_or(1.0, |f| f.body_force);
+        let body = self.scene.body_force.map(|b| body_factor * b);
         let body = if body == [0.0, 0.0] { None } else { Some(body) };
         let mut edge = Vec::new();
-        for t in &self.scene.tractions {
+        for (k, t) in self.scene.tractions.iter().enumerate() {
             let g = self.mesh.require_group(&t.part, 1)?;
+            let factor = factors.map_or(1.0, |f| f.traction[k]);
             let traction = match t.load {
-                scene::Load::Traction(v) => Traction::Constant(v),
-                scene::Load::Pressure(p) => Traction::Pressure(p),
+                scene::Load::Traction(v) => Traction::Constant(v.map(|x| factor * x)),
+                scene::Load::Pressure(p) => Traction::Pressure(factor * p),
             };
             edge.push((g, traction));
         }
@@ -439,7 +449,7 @@ impl<'s> ElasticityProblem<'s> {
     }
 
     /// Run `f` with the scene's loads (body force and edge tractions) as `fem` loads.
-    fn with_loads<T>(&self, f: impl FnOnce(&Loads) -> T) -> Result<T> {
+    pub(crate) fn with_loads<T>(&self, f: impl FnOnce(&Loads) -> T) -> Result<T> {
         let (body, edge) = self.loads()?;
         let body_fn = body.map(|b| move |_x: [f64; 2]| b);
         let loads = Loads {
@@ -556,7 +566,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// A body held by contact (stabilisation springs added): it must not lift off, and the
     /// springs must carry nothing of the load.
-    fn check_contact_equilibrium(&self, outcome: &ContactOutcome) -> Result<()> {
+    pub(crate) fn check_contact_equilibrium(&self, outcome: &ContactOutcome) -> Result<()> {
         let contact = match &self.contact {
             Some(c) if c.spring.is_some() => c,
             _ => return Ok(()),

@@ -24,6 +24,7 @@ mod contact_routes;
 mod dual;
 mod dual_contact;
 mod dual_implicit;
+mod evolution;
 mod export;
 mod ict;
 mod locking;
@@ -35,6 +36,7 @@ type Case = fn(&Session) -> Result<(), String>;
 
 pub const TESTS: &[(&str, Case)] = &[
     ("runner_parses_libtest_options", runner::runner_parses_libtest_options),
+    ("load_path_proportional_equals_static", evolution::load_path_proportional_equals_static),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),

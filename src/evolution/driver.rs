@@ -1,0 +1,582 @@
+//! The increments of a load path on the condensed contact route, with K factorised and
+//! `W = B K⁻¹ Bᵀ` formed once for the whole path.
+//!
+//! ```text
+//! setup        load cases: one right-hand side per load key (a name, or the ramped loads),
+//!              each with its own part of the Dirichlet values: f(t) = Σ_k φ_k(t) f_k
+//! factorise    K (+ springs), W once (ContactSetup::condense)
+//! increment n  f(t_n); the obstacle at d(t_n) = φ(t_n) d; the law sees B u − shift with
+//!                shift_N = d·n,  shift_T = d·t + s^(n−1)   (s = (B u)_T − d·t, the slip so far)
+//!              condensed solve warm-started from (u, r)^(n−1), recovery, independent check
+//!              on the increment; failed: cut in two (at most MAX_HALVINGS times)
+//! record       counts, resultants, energies (below), the profile at the asked times
+//! ```
+//!
+//! With the shift, the tangential relative displacement the solvers see is the slip increment
+//! `Δs = s^n − s^(n−1)`: Coulomb and Tresca in rates discretised by backward Euler (SCIENCE.md
+//! §10; Klarbring, Mikelić and Shillor 1988; Andersson 1991 for existence of the incremental
+//! problem), while the normal law stays on the total gap.
+//!
+//! # Energies (trapezoidal, exact for an increment in which u and r vary linearly)
+//!
+//! With `F` the non-contact external nodal forces (the loads, and at the prescribed dofs
+//! `F = K u − Bᵀ r`, the supports' reactions), `E = ½ uᵀ K u`, `Δ` the change over increment n
+//! and `r̄ = ½ (r^n + r^(n−1))`:
+//!
+//! ```text
+//!   work      W += ½ (F^n + F^(n−1))·Δu  +  r̄·Δ(d-frame)      (loads, supports, moving obstacle)
+//!   friction  D^n = −Σ_i r̄T_i Δs_i  ≥ 0                        (dissipation, SCIENCE.md §10)
+//!   normal    N^n = −Σ_i r̄N_i Δg̃_i ≥ 0,   g̃ = (B u)_N − d·n     (zero while the contact set is fixed)
+//!   balance   W = E + Σ D + Σ N   (equilibrium K u = F + Bᵀ r at every increment)
+//! ```
+//!
+//! `N` is the energy the discrete normal law loses when points close or open within an
+//! increment (it vanishes with the increment). The balance's residual is reported relative to
+//! the work.
+use serde::Serialize;
+
+use super::load_path::LoadPath;
+use super::record::{ContactProfile, StepRecord};
+use crate::contact_routes::condensed_route::{ContactOutcome, Increment};
+use crate::error::{Error, Result};
+use crate::fem::assembly::{self, Constraints};
+use crate::petsc::LinearSolver;
+use crate::problem::ElasticityProblem;
+use crate::report::contact::{ContactState, StateCounts};
+use crate::scene::{ContactSolverSpec, Formulation};
+
+/// Most times one increment is cut in two before the path stops.
+pub const MAX_HALVINGS: usize = 5;
+
+/// The factors the scene's loads are multiplied by at one increment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadFactors {
+    /// One per `[[traction]]` of the scene (in order).
+    pub traction: Vec<f64>,
+    /// The body force's.
+    pub body_force: f64,
+}
+
+/// What a load path reports (`report.json` → `load_path`, and `steps`).
+#[derive(Debug, Clone, Serialize)]
+pub struct LoadPathReport {
+    /// Every converged increment.
+    pub steps: Vec<StepRecord>,
+    /// The contact profiles kept (at the asked times).
+    pub profiles: Vec<ContactProfile>,
+    /// Increments cut in two, over the path.
+    pub halvings: usize,
+    /// The energy balance at the end of the path.
+    pub energy: EnergyBalance,
+    /// How the increments were solved.
+    pub route: String,
+    /// What happened on the way.
+    pub notes: Vec<String>,
+}
+
+/// The energy balance of a path (J/m; see the module documentation).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct EnergyBalance {
+    /// Work of the loads, the supports and the moving obstacle.
+    pub work: f64,
+    /// Elastic energy at the end.
+    pub stored_energy: f64,
+    /// Frictional dissipation, summed.
+    pub dissipation: f64,
+    /// Energy lost by the discrete normal law (points closing or opening within increments).
+    pub normal_contact_loss: f64,
+    /// `|W − E − D − N| / max(|W|, E)`.
+    pub relative_residual: f64,
+}
+
+/// One load key (a name, or `None` for the ramped loads) and its part of the loads.
+struct LoadCase {
+    key: Option<String>,
+    /// Owned rows of the right-hand side (Dirichlet values of this key lifted).
+    rhs: Vec<f64>,
+    /// The whole unconstrained load vector.
+    load: Vec<f64>,
+}
+
+/// The state the next increment starts from.
+struct State {
+    time: f64,
+    u: Vec<f64>,
+    force: Vec<f64>,
+    /// `B u` in the contact frames.
+    relative: Vec<f64>,
+    /// The obstacle's displacement.
+    obstacle: [f64; 2],
+    /// Non-contact external forces `F` (whole vector).
+    external: Vec<f64>,
+}
+
+/// The key of the loads of a `[[traction]]`, of the body force, of a `[[dirichlet]]` and of
+/// the obstacle's motion.
+fn traction_key(_t: &crate::scene::TractionSpec) -> Option<&str> {
+    None
+}
+fn body_force_key(_scene: &crate::scene::Scene) -> Option<&str> {
+    None
+}
+fn dirichlet_key(_d: &crate::scene::DirichletSpec) -> Option<&str> {
+    None
+}
+fn motion_of(_spec: &crate::scene::ContactSpec) -> Option<([f64; 2], Option<&str>)> {
+    None
+}
+
+impl<'s> ElasticityProblem<'s> {
+    /// Solve the increments of `path` (module documentation), calling `on_step` after each
+    /// converged one with the problem holding that increment's displacement and contact
+    /// outcome (post-processed when `postprocess_steps`). The path's report is left in
+    /// [`ElasticityProblem::load_path`].
+    pub fn solve_load_path(
+        &mut self,
+        path: &LoadPath,
+        postprocess_steps: bool,
+        on_step: &mut dyn FnMut(&ElasticityProblem<'s>, &StepRecord) -> Result<()>,
+    ) -> Result<()> {
+        let mut notes = Vec::new();
+        self.refuse_on_load_path()?;
+        if let Some(c) = self.contact.as_mut() {
+            if c.spec.solver == ContactSolverSpec::FullSpaceNewton {
+                c.spec.solver = ContactSolverSpec::Newton;
+                notes.push(
+                    "the increments run on the condensed route (semi-smooth Newton on W = B K⁻¹ Bᵀ, formed once)"
+                        .into(),
+                );
+            }
+        }
+        if self.system.is_none() {
+            self.assemble()?;
+        }
+        let cases = self.load_cases(path)?;
+        let (matrix, rhs) =
+            self.system.take().ok_or(Error::CallOrder { call: "solve_load_path()", needs: "assemble()" })?;
+        let outcome = self.run_increments(path, &cases, &matrix, &mut notes, postprocess_steps, on_step);
+        self.system = Some((matrix, rhs));
+        outcome
+    }
+
+    /// Refuse what a load path cannot do, before any work.
+    fn refuse_on_load_path(&self) -> Result<()> {
+        if self.scene.formulation == Formulation::Dual {
+            return Err(Error::Formulation {
+                message: "a load path is solved in the primal formulation only".into(),
+                hint: "remove `formulation = \"dual\"` (or the [evolution] table)".into(),
+            });
+        }
+        if let Some(c) = &self.contact {
+            if c.spec.solver == ContactSolverSpec::SnesVi {
+                return Err(Error::Formulation {
+                    message: "contact solver snes_vi solves one static problem on the whole system; a load path needs \
+                              the condensed route"
+                        .into(),
+                    hint: "use solver = \"newton\" (or any condensed solver) with [evolution]".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// One right-hand side per load key, with that key's loads at factor 1, the others at 0,
+    /// and the Dirichlet values of that key's conditions (the others' at 0).
+    fn load_cases(&mut self, path: &LoadPath) -> Result<Vec<LoadCase>> {
+        let mut keys: Vec<Option<String>> = Vec::new();
+        let mut add = |k: Option<&str>| {
+            let k = k.map(str::to_string);
+            if !keys.contains(&k) {
+                keys.push(k);
+            }
+        };
+        for t in &self.scene.tractions {
+            add(traction_key(t));
+        }
+        if self.scene.body_force != [0.0, 0.0] {
+            add(body_force_key(&self.scene));
+        }
+        let dirichlet = self.dirichlet_with_nodes()?;
+        for (d, _) in &dirichlet {
+            if d.ux.is_some_and(|v| v != 0.0) || d.uy.is_some_and(|v| v != 0.0) {
+                add(dirichlet_key(d));
+            }
+        }
+        if keys.is_empty() {
+            keys.push(None);
+        }
+        let _ = path;
+        // Which condition gives each fixed dof its value: the last one listing it.
+        let mut owner: Vec<Option<(Option<String>, f64)>> = vec![None; self.num_dofs()];
+        for (d, nodes) in &dirichlet {
+            for &node in nodes {
+                for (c, v) in [d.ux, d.uy].into_iter().enumerate() {
+                    if let Some(v) = v {
+                        owner[2 * node + c] = Some((dirichlet_key(d).map(str::to_string), v));
+                    }
+                }
+            }
+        }
+        let saved = self.load_factors.take();
+        let mut cases = Vec::new();
+        for key in keys {
+            let mut constraints = Constraints::new(self.num_dofs());
+            for (dof, o) in owner.iter().enumerate() {
+                if let Some((k, v)) = o {
+                    constraints.fix(dof, if *k == key { *v } else { 0.0 });
+                }
+            }
+            let bf = if body_force_key(&self.scene).map(str::to_string) == key { 1.0 } else { 0.0 };
+            let traction = self
+                .scene
+                .tractions
+                .iter()
+                .map(|t| if traction_key(t).map(str::to_string) == key { 1.0 } else { 0.0 })
+                .collect();
+            self.load_factors = Some(LoadFactors { traction, body_force: bf });
+            let (rhs, load) = self.with_loads(|loads| {
+                let system = assembly::assemble_cells(
+                    &self.mesh,
+                    &self.cell_materials,
+                    self.scene.element,
+                    &constraints,
+                    loads,
+                    self.rows.clone(),
+                );
+                (system.rhs, assembly::load_vector(&self.mesh, loads))
+            })?;
+            cases.push(LoadCase { key, rhs, load });
+        }
+        self.load_factors = saved;
+        Ok(cases)
+    }
+
+    /// Every Dirichlet condition of the scene with the nodes it fixes (with several bodies,
+    /// each on its own body's nodes).
+    fn dirichlet_with_nodes(&self) -> Result<Vec<(crate::scene::DirichletSpec, Vec<usize>)>> {
+        let nodes = match &self.bodies {
+            Some(model) => crate::problem::bodies::dirichlet_nodes(model)?,
+            None => self.scene.dirichlet.iter().map(|d| d.nodes(&self.mesh)).collect::<Result<Vec<_>>>()?,
+        };
+        Ok(self.scene.dirichlet.iter().cloned().zip(nodes).collect())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn run_increments(
+        &mut self,
+        path: &LoadPath,
+        cases: &[LoadCase],
+        matrix: &crate::petsc::Matrix<'s>,
+        notes: &mut Vec<String>,
+        postprocess_steps: bool,
+        on_step: &mut dyn FnMut(&ElasticityProblem<'s>, &StepRecord) -> Result<()>,
+    ) -> Result<()> {
+        let session = self.session;
+        let n = self.num_dofs();
+        let mut ksp = LinearSolver::new(session, session.world(), "")?;
+        ksp.set_operator(matrix)?;
+        // Without contact: the increments' linear solves (the KSP keeps its factorisation).
+        let mut plain = LinearSolver::new(session, session.world(), "")?;
+        plain.set_operator(matrix)?;
+        let start = std::time::Instant::now();
+        let contact = self.contact.as_ref();
+        let m = contact.map_or(0, |c| c.boundary.points());
+        let motion = contact.and_then(|c| motion_of(&c.spec)).map(|(d, k)| (d, k.map(str::to_string)));
+        let mut operator = match contact {
+            Some(c) => Some(c.condense(session, matrix, &mut ksp, &*self.progress)?),
+            None => None,
+        };
+        self.timings.add("condense", start.elapsed().as_secs_f64());
+        let tangent = contact.map_or([1.0, 0.0], |c| c.boundary.tangent.first().copied().unwrap_or([1.0, 0.0]));
+        let monitor = self.monitor_nodes(path)?;
+        let obstacle_at = |t: f64| match &motion {
+            Some((d, k)) => {
+                let f = path.factor(k.as_deref(), t);
+                [f * d[0], f * d[1]]
+            }
+            None => [0.0, 0.0],
+        };
+        let mut state = State {
+            time: path.start,
+            u: vec![0.0; n],
+            force: vec![0.0; 2 * m],
+            relative: vec![0.0; 2 * m],
+            obstacle: obstacle_at(path.start),
+            external: vec![0.0; n],
+        };
+        let mut energy = EnergyBalance::default();
+        let mut steps: Vec<StepRecord> = Vec::new();
+        let mut profiles = Vec::new();
+        let mut halvings_total = 0;
+        let profile_times: Vec<f64> = if path.profiles.is_empty() { vec![path.end()] } else { path.profiles.clone() };
+        let mut x = matrix.create_vector()?;
+        let mut e = matrix.create_vector()?;
+        // Targets still to reach, the next last; each with how often it was halved.
+        let mut pending: Vec<(f64, usize)> = path.times.iter().rev().map(|&t| (t, 0)).collect();
+        while let Some((t, depth)) = pending.pop() {
+            let step_start = std::time::Instant::now();
+            let factor = |k: &Option<String>| path.factor(k.as_deref(), t);
+            let mut f = vec![0.0; self.rows.len()];
+            let mut load = vec![0.0; n];
+            for case in cases {
+                let phi = factor(&case.key);
+                if phi != 0.0 {
+                    f.iter_mut().zip(&case.rhs).for_each(|(a, b)| *a += phi * b);
+                    load.iter_mut().zip(&case.load).for_each(|(a, b)| *a += phi * b);
+                }
+            }
+            self.load_factors = Some(LoadFactors {
+                traction: self.scene.tractions.iter().map(|tr| path.factor(traction_key(tr), t)).collect(),
+                body_force: path.factor(body_force_key(&self.scene), t),
+            });
+            let d = obstacle_at(t);
+            let attempt: Result<(Vec<f64>, Option<ContactOutcome>)> = match (self.contact.as_ref(), operator.as_mut()) {
+                (Some(c), Some(op)) => {
+                    let b = &c.boundary;
+                    let mut shift = vec![0.0; 2 * m];
+                    for i in 0..m {
+                        let (nn, tt) = (b.normal[i], b.tangent[i]);
+                        let slip_so_far = state.relative[2 * i + 1] - dot(state.obstacle, tt);
+                        shift[2 * i] = dot(d, nn);
+                        shift[2 * i + 1] = dot(d, tt) + slip_so_far;
+                    }
+                    let increment = Increment {
+                        shift: Some(shift),
+                        start_displacement: Some(state.u.clone()),
+                        start_force: Some(state.force.clone()),
+                    };
+                    c.solve_condensed_load(session, op, matrix, &f, &increment, &*self.progress)
+                        .map(|(u, outcome)| (u, Some(outcome)))
+                }
+                _ => (|| {
+                    e.set_owned(&f)?;
+                    plain.solve(matrix, &e, &mut x)?;
+                    Ok((x.gather_all()?, None))
+                })(),
+            };
+            let (u, outcome) = match attempt {
+                Ok(v) => v,
+                Err(err @ Error::SolverDiverged { .. }) => {
+                    if depth >= MAX_HALVINGS {
+                        return Err(Error::SolverDiverged {
+                            solver: "load path".into(),
+                            reason: format!(
+                                "the increment from t = {} to t = {t} did not converge, even cut in two {MAX_HALVINGS} times: {err}",
+                                state.time
+                            ),
+                            iterations: steps.len(),
+                            residual: f64::NAN,
+                            tried: format!("{MAX_HALVINGS} halvings of the increment"),
+                        });
+                    }
+                    let middle = 0.5 * (state.time + t);
+                    notes.push(format!(
+                        "the increment to t = {t} failed ({}); cut in two at t = {middle}",
+                        first_line(&err.to_string())
+                    ));
+                    halvings_total += 1;
+                    pending.push((t, depth + 1));
+                    pending.push((middle, depth + 1));
+                    continue;
+                }
+                Err(other) => return Err(other),
+            };
+            if let Some(o) = &outcome {
+                self.check_contact_equilibrium(o)?;
+            }
+            // Energies and the record.
+            let ku = assembly::residual_forces_cells(&self.mesh, &self.cell_materials, self.scene.element, &u);
+            let force = outcome.as_ref().map_or_else(|| vec![0.0; 2 * m], |o| o.force.clone());
+            let mut btr = vec![0.0; n];
+            let relative = match self.contact.as_ref() {
+                Some(c) => {
+                    c.boundary.scatter_add(&force, &mut btr);
+                    c.boundary.gather(&u)
+                }
+                None => Vec::new(),
+            };
+            let mut external = load;
+            for (dof, _) in self.constraints.fixed() {
+                external[dof] = ku[dof] - btr[dof];
+            }
+            let mut work = 0.0;
+            for k in 0..n {
+                work += 0.5 * (external[k] + state.external[k]) * (u[k] - state.u[k]);
+            }
+            let (mut dissipation, mut normal_loss) = (0.0, 0.0);
+            if let Some(c) = self.contact.as_ref() {
+                let b = &c.boundary;
+                for i in 0..m {
+                    let (nn, tt) = (b.normal[i], b.tangent[i]);
+                    let (rn, rt) =
+                        (0.5 * (force[2 * i] + state.force[2 * i]), 0.5 * (force[2 * i + 1] + state.force[2 * i + 1]));
+                    let dgap = (relative[2 * i] - dot(d, nn)) - (state.relative[2 * i] - dot(state.obstacle, nn));
+                    let dslip =
+                        (relative[2 * i + 1] - dot(d, tt)) - (state.relative[2 * i + 1] - dot(state.obstacle, tt));
+                    dissipation -= rt * dslip;
+                    normal_loss -= rn * dgap;
+                    // The moving obstacle's work on the body.
+                    let dd = [d[0] - state.obstacle[0], d[1] - state.obstacle[1]];
+                    work += rn * dot(dd, nn) + rt * dot(dd, tt);
+                }
+            }
+            let stored = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
+            energy.work += work;
+            energy.dissipation += dissipation;
+            energy.normal_contact_loss += normal_loss;
+            energy.stored_energy = stored;
+            let monitor_displacement = if monitor.is_empty() {
+                0.0
+            } else {
+                monitor.iter().map(|&k| u[2 * k] * tangent[0] + u[2 * k + 1] * tangent[1]).sum::<f64>()
+                    / monitor.len() as f64
+            };
+            let record = match &outcome {
+                Some(o) => {
+                    let r = &o.report;
+                    let counts = StateCounts::of(
+                        o.status
+                            .iter()
+                            .copied()
+                            .zip(self.contact.as_ref().map(|c| c.frictional_points()).unwrap_or_default()),
+                    );
+                    StepRecord {
+                        step: steps.len() + 1,
+                        time: t,
+                        halvings: depth,
+                        contact_resultant: r.resultant,
+                        normal_resultant: r.normal_resultant,
+                        tangential_resultant: r.tangential_resultant,
+                        open: counts.open,
+                        stick: counts.stick,
+                        slip: counts.slip,
+                        closed: counts.closed,
+                        iterations: r.iterations,
+                        worst_residual: worst_of(&r.residuals),
+                        dissipation,
+                        total_dissipation: energy.dissipation,
+                        work: energy.work,
+                        stored_energy: stored,
+                        monitor_displacement,
+                        seconds: step_start.elapsed().as_secs_f64(),
+                    }
+                }
+                None => StepRecord {
+                    step: steps.len() + 1,
+                    time: t,
+                    halvings: depth,
+                    contact_resultant: [0.0; 2],
+                    normal_resultant: 0.0,
+                    tangential_resultant: 0.0,
+                    open: 0,
+                    stick: 0,
+                    slip: 0,
+                    closed: 0,
+                    iterations: 0,
+                    worst_residual: 0.0,
+                    dissipation: 0.0,
+                    total_dissipation: 0.0,
+                    work: energy.work,
+                    stored_energy: stored,
+                    monitor_displacement,
+                    seconds: step_start.elapsed().as_secs_f64(),
+                },
+            };
+            if let (Some(c), Some(o)) = (self.contact.as_ref(), &outcome) {
+                if profile_times.iter().any(|&p| (p - t).abs() <= 1e-12 * t.abs().max(1.0)) {
+                    profiles.push(profile_of(c, o, &self.mesh, record.step, t, tangent));
+                }
+            }
+            state = State { time: t, u: u.clone(), force, relative, obstacle: d, external };
+            self.displacement = Some(u);
+            self.contact_outcome = outcome;
+            self.stats = match &operator {
+                Some(op) => op.linear.stats(),
+                None => plain.last_stats(),
+            };
+            if postprocess_steps {
+                self.postprocess()?;
+            }
+            on_step(self, &record)?;
+            steps.push(record);
+        }
+        let scale = energy.work.abs().max(energy.stored_energy).max(f64::MIN_POSITIVE);
+        energy.relative_residual =
+            (energy.work - energy.stored_energy - energy.dissipation - energy.normal_contact_loss).abs() / scale;
+        let route = match &self.contact {
+            Some(c) => format!(
+                "condensed route, solver {} (K factorised and W formed once; each increment: 2 solves per proximal iteration)",
+                c.spec.solver.scene_name()
+            ),
+            None => "linear: K factorised once, one solve per increment".into(),
+        };
+        self.load_path =
+            Some(LoadPathReport { steps, profiles, halvings: halvings_total, energy, route, notes: notes.clone() });
+        Ok(())
+    }
+
+    /// The nodes of the monitored part (the path's, else the contact part), empty without one.
+    fn monitor_nodes(&self, path: &LoadPath) -> Result<Vec<usize>> {
+        let part = match (&path.monitor, &self.contact) {
+            (Some(p), _) => p.clone(),
+            (None, Some(c)) => c.spec.part.clone(),
+            (None, None) => return Ok(Vec::new()),
+        };
+        let Some(group) = self.mesh.group_index(&part, 1) else {
+            return match &path.monitor {
+                Some(_) => Err(self.mesh.require_group(&part, 1).err().expect("the group is absent")),
+                None => Ok(Vec::new()),
+            };
+        };
+        let mut nodes: Vec<usize> = self.mesh.edges_in_group(group).flat_map(|e| self.mesh.edge(e).to_vec()).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        Ok(nodes)
+    }
+}
+
+fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+fn first_line(s: &str) -> &str {
+    s.lines().next().unwrap_or(s)
+}
+
+fn worst_of(r: &crate::report::contact::ContactResidualsReport) -> f64 {
+    [
+        r.max_penetration,
+        r.max_wrong_sign_pressure,
+        r.max_cone_violation,
+        r.normal_complementarity,
+        r.tangential_complementarity,
+    ]
+    .into_iter()
+    .map(|v| if v.is_nan() { f64::INFINITY } else { v })
+    .fold(0.0, f64::max)
+}
+
+/// The contact tractions along the contact part, sorted by their position along `tangent`.
+fn profile_of(
+    c: &crate::contact_routes::condensed_route::ContactSetup,
+    o: &ContactOutcome,
+    mesh: &crate::mesh::Mesh,
+    step: usize,
+    time: f64,
+    tangent: [f64; 2],
+) -> ContactProfile {
+    let b = &c.boundary;
+    let (pressure, traction) = b.tractions(&o.force);
+    let frictional = c.frictional_points();
+    let mut order: Vec<usize> = (0..b.points()).collect();
+    let along = |i: usize| dot(mesh.nodes[b.nodes[i]], tangent);
+    order.sort_by(|&i, &j| along(i).total_cmp(&along(j)));
+    ContactProfile {
+        step,
+        time,
+        abscissa: order.iter().map(|&i| along(i)).collect(),
+        pressure: order.iter().map(|&i| pressure[i]).collect(),
+        traction: order.iter().map(|&i| traction[i]).collect(),
+        state: order.iter().map(|&i| ContactState::of(o.status[i], frictional[i])).collect(),
+    }
+}
