@@ -185,7 +185,26 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
         Some(_) => problem.scene.dual_constraints = signorini::scene::DualConstraints::Eliminated,
         None => {}
     }
-    if !dual || estimate {
+    let load_path = signorini::evolution::LoadPath::of_scene(&problem.scene)?;
+    if let Some(path) = &load_path {
+        if dual || estimate {
+            return Err(Failure::Run(Error::Formulation {
+                message: "a load path ([evolution]) is solved in the primal formulation, without the estimate".into(),
+                hint: "remove --estimate / --formulation dual (or the [evolution] table)".into(),
+            }));
+        }
+        problem.assemble()?;
+        let steps_dir = out.clone();
+        let solved = problem
+            .solve_load_path(path, true, &mut |p, record| p.write_step_output(&steps_dir, record.step).map(|_| ()));
+        if let Err(e) = solved {
+            // No increments left behind by a path that did not finish.
+            if session.rank() == 0 {
+                let _ = std::fs::remove_dir_all(out.join("steps"));
+            }
+            return Err(e.into());
+        }
+    } else if !dual || estimate {
         problem.assemble()?;
         problem.solve()?;
         problem.postprocess()?;

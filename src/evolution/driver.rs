@@ -74,6 +74,34 @@ pub struct LoadPathReport {
     pub notes: Vec<String>,
 }
 
+/// A load path in `report.json` → `load_path` (its increments are in `steps`).
+#[derive(Debug, Clone, Serialize)]
+pub struct LoadPathSummary {
+    /// Converged increments.
+    pub increments: usize,
+    /// Increments cut in two, over the path.
+    pub halvings: usize,
+    /// The energy balance at the end of the path.
+    pub energy: EnergyBalance,
+    /// How the increments were solved.
+    pub route: String,
+    /// What happened on the way.
+    pub notes: Vec<String>,
+}
+
+impl LoadPathSummary {
+    /// The summary of a path's report.
+    pub fn of(report: &LoadPathReport) -> Self {
+        LoadPathSummary {
+            increments: report.steps.len(),
+            halvings: report.halvings,
+            energy: report.energy,
+            route: report.route.clone(),
+            notes: report.notes.clone(),
+        }
+    }
+}
+
 /// The energy balance of a path (J/m; see the module documentation).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct EnergyBalance {

@@ -81,6 +81,12 @@ impl LoadPath {
         Ok(self)
     }
 
+    /// The load path a scene asks for (`[evolution]`), `None` for a single static solve.
+    pub fn of_scene(scene: &crate::scene::Scene) -> Result<Option<LoadPath>> {
+        let _ = scene;
+        Ok(None)
+    }
+
     /// The last time of the path.
     pub fn end(&self) -> f64 {
         *self.times.last().expect("a validated path has an increment")

@@ -225,10 +225,35 @@ fn install(temporary: &mut TemporaryFile, path: &Path, parent: &Path) -> Result<
     Ok(())
 }
 
-/// The result files of a run in its output directory (the last three for contact runs; with
-/// several bodies also `solution.pvd` and the `.vtu` file of each body it lists).
-pub const RUN_FILES: [&str; 6] =
-    ["solution.vtu", "solution.pvd", "report.json", "contact.csv", "contact.svg", "convergence.svg"];
+/// The result files of a run in its output directory (`contact.csv` and the plots for contact
+/// runs; with several bodies also `solution.pvd` and the `.vtu` file of each body it lists; a
+/// load path adds `solution.pvd`, its history and plots, and `steps/solution_NNNN.vtu`).
+pub const RUN_FILES: [&str; 9] = [
+    "solution.vtu",
+    "solution.pvd",
+    "report.json",
+    "contact.csv",
+    "contact.svg",
+    "convergence.svg",
+    "history.csv",
+    "hysteresis.svg",
+    "contact_profiles.svg",
+];
+
+/// The increments a previous load path left in `dir/steps` (`solution_NNNN.vtu`, and their
+/// temporaries).
+fn previous_increments(dir: &Path) -> Vec<PathBuf> {
+    let Ok(entries) = fs::read_dir(dir.join("steps")) else { return Vec::new() };
+    entries
+        .flatten()
+        .filter(|e| {
+            let name = e.file_name().to_string_lossy().to_string();
+            let plain = name.trim_start_matches('.');
+            plain.starts_with("solution_") && (plain.ends_with(".vtu") || plain.ends_with(".tmp"))
+        })
+        .map(|e| e.path())
+        .collect()
+}
 
 /// The `.vtu` files a previous run's `solution.pvd` in `dir` lists (plain names in `dir` only).
 fn collection_members(dir: &Path) -> Vec<String> {
@@ -268,6 +293,13 @@ pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut targets: Vec<String> = RUN_FILES.iter().map(|f| f.to_string()).collect();
     targets.extend(collection_members(dir));
     let mut stale: Vec<(PathBuf, String)> = Vec::new();
+    for path in previous_increments(dir) {
+        match fs::remove_file(&path) {
+            Ok(()) => removed.push(path),
+            Err(e) => stale.push((path, e.to_string())),
+        }
+    }
+    let _ = fs::remove_dir(dir.join("steps")); // only when empty
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().to_string();
         if targets.contains(&name) || is_temporary_of(&name, &targets) {

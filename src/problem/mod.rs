@@ -113,6 +113,13 @@ pub struct Report {
     /// Several bodies: each body's equilibrium and each contact part's checks.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bodies: Option<BodiesReport>,
+    /// A load path: every increment (time, contact resultant, counts, iterations, worst
+    /// residual, dissipation, energies); empty for a single static solve.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<crate::evolution::StepRecord>,
+    /// A load path: how it was solved, halvings, the energy balance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_path: Option<crate::evolution::LoadPathSummary>,
     /// Physics warnings (see `problem::warnings`): the answer is right for the model, the
     /// model may not be.
     pub warnings: Vec<Warning>,
@@ -700,6 +707,8 @@ impl<'s> ElasticityProblem<'s> {
                 e.run_seconds = self.timings.total();
                 e
             }),
+            steps: self.load_path.as_ref().map(|l| l.steps.clone()).unwrap_or_default(),
+            load_path: self.load_path.as_ref().map(crate::evolution::LoadPathSummary::of),
             warnings,
         })
     }

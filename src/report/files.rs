@@ -180,6 +180,23 @@ impl ElasticityProblem<'_> {
         Ok(())
     }
 
+    /// Write the current increment of a load path as `dir/steps/solution_NNNN.vtu` (rank 0;
+    /// the problem post-processed at that increment). Returns the path written (on rank 0).
+    pub fn write_step_output(&self, dir: &Path, step: usize) -> Result<PathBuf> {
+        let path = dir.join(format!("steps/solution_{step:04}.vtu"));
+        let wrote = if self.session.rank() == 0 {
+            let steps = dir.join("steps");
+            std::fs::create_dir_all(&steps)
+                .map_err(|e| crate::Error::io(steps, "creating the directory of the increments", e))
+                .and_then(|()| self.solution_fields(&path, &[]))
+                .and_then(|fields| fields.write(&path, &self.mesh))
+        } else {
+            Ok(())
+        };
+        self.session.agree(wrote, "writing an increment's results")?;
+        Ok(path)
+    }
+
     /// Write `solution.vtu`, `report.json` and, with contact, `contact.csv`, `contact.svg` and
     /// `convergence.svg` into `dir` (rank 0 only; all or none of them, synced to disk together:
     /// [`output::all_or_nothing`], so the `output` time in the report leaves out that last
