@@ -122,7 +122,7 @@ struct LoadCase {
     key: Option<String>,
     /// Owned rows of the right-hand side (Dirichlet values of this key lifted).
     rhs: Vec<f64>,
-    /// The whole unconstrained load vector.
+    /// Owned rows of the unconstrained load vector.
     load: Vec<f64>,
 }
 
@@ -135,7 +135,7 @@ struct State {
     relative: Vec<f64>,
     /// The obstacle's displacement.
     obstacle: [f64; 2],
-    /// Non-contact external forces `F` (whole vector).
+    /// Non-contact external forces `F` (owned rows).
     external: Vec<f64>,
 }
 
@@ -179,10 +179,10 @@ impl<'s> ElasticityProblem<'s> {
         if self.system.is_none() {
             self.assemble()?;
         }
-        let cases = self.load_cases(path)?;
+        let (cases, stiffness) = self.load_cases(path)?;
         let (matrix, rhs) =
             self.system.take().ok_or(Error::CallOrder { call: "solve_load_path()", needs: "assemble()" })?;
-        let outcome = self.run_increments(path, &cases, &matrix, &mut notes, postprocess_steps, on_step);
+        let outcome = self.run_increments(path, &cases, &stiffness, &matrix, &mut notes, postprocess_steps, on_step);
         self.system = Some((matrix, rhs));
         outcome
     }
@@ -210,7 +210,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// One right-hand side per load key, with that key's loads at factor 1, the others at 0,
     /// and the Dirichlet values of that key's conditions (the others' at 0).
-    fn load_cases(&mut self, path: &LoadPath) -> Result<Vec<LoadCase>> {
+    fn load_cases(&mut self, path: &LoadPath) -> Result<(Vec<LoadCase>, assembly::CsrRows)> {
         let mut keys: Vec<Option<String>> = Vec::new();
         let mut add = |k: Option<&str>| {
             let k = k.map(str::to_string);
@@ -247,6 +247,7 @@ impl<'s> ElasticityProblem<'s> {
         }
         let saved = self.load_factors.take();
         let mut cases = Vec::new();
+        let mut stiffness = None;
         for key in keys {
             let mut constraints = Constraints::new(self.num_dofs());
             for (dof, o) in owner.iter().enumerate() {
@@ -262,7 +263,8 @@ impl<'s> ElasticityProblem<'s> {
                 .map(|t| if traction_key(t).map(str::to_string) == key { 1.0 } else { 0.0 })
                 .collect();
             self.load_factors = Some(LoadFactors { traction, body_force: bf });
-            let (rhs, load) = self.with_loads(|loads| {
+            let first = stiffness.is_none();
+            let (rhs, load, unconstrained) = self.with_loads(|loads| {
                 let system = assembly::assemble_cells(
                     &self.mesh,
                     &self.cell_materials,
@@ -271,12 +273,27 @@ impl<'s> ElasticityProblem<'s> {
                     loads,
                     self.rows.clone(),
                 );
-                (system.rhs, assembly::load_vector(&self.mesh, loads))
+                // K without constraints (the energies), once.
+                let unconstrained = first.then(|| {
+                    assembly::assemble_cells(
+                        &self.mesh,
+                        &self.cell_materials,
+                        self.scene.element,
+                        &Constraints::new(self.num_dofs()),
+                        loads,
+                        self.rows.clone(),
+                    )
+                    .matrix
+                });
+                (system.rhs, assembly::load_vector(&self.mesh, loads)[self.rows.clone()].to_vec(), unconstrained)
             })?;
+            if let Some(k) = unconstrained {
+                stiffness = Some(k);
+            }
             cases.push(LoadCase { key, rhs, load });
         }
         self.load_factors = saved;
-        Ok(cases)
+        Ok((cases, stiffness.expect("at least one load case")))
     }
 
     /// Every Dirichlet condition of the scene with the nodes it fixes (with several bodies,
@@ -294,6 +311,7 @@ impl<'s> ElasticityProblem<'s> {
         &mut self,
         path: &LoadPath,
         cases: &[LoadCase],
+        stiffness: &assembly::CsrRows,
         matrix: &crate::petsc::Matrix<'s>,
         notes: &mut Vec<String>,
         postprocess_steps: bool,
@@ -330,7 +348,7 @@ impl<'s> ElasticityProblem<'s> {
             force: vec![0.0; 2 * m],
             relative: vec![0.0; 2 * m],
             obstacle: obstacle_at(path.start),
-            external: vec![0.0; n],
+            external: vec![0.0; self.rows.len()],
         };
         let mut energy = EnergyBalance::default();
         let mut steps: Vec<StepRecord> = Vec::new();
@@ -345,7 +363,7 @@ impl<'s> ElasticityProblem<'s> {
             let step_start = std::time::Instant::now();
             let factor = |k: &Option<String>| path.factor(k.as_deref(), t);
             let mut f = vec![0.0; self.rows.len()];
-            let mut load = vec![0.0; n];
+            let mut load = vec![0.0; self.rows.len()];
             for case in cases {
                 let phi = factor(&case.key);
                 if phi != 0.0 {
@@ -413,7 +431,13 @@ impl<'s> ElasticityProblem<'s> {
                 self.check_contact_equilibrium(o)?;
             }
             // Energies and the record.
-            let ku = assembly::residual_forces_cells(&self.mesh, &self.cell_materials, self.scene.element, &u);
+            let rows = self.rows.clone();
+            let ku: Vec<f64> = (0..rows.len())
+                .map(|r| {
+                    let span = stiffness.indptr[r]..stiffness.indptr[r + 1];
+                    stiffness.indices[span.clone()].iter().zip(&stiffness.values[span]).map(|(&c, v)| v * u[c]).sum()
+                })
+                .collect();
             let force = outcome.as_ref().map_or_else(|| vec![0.0; 2 * m], |o| o.force.clone());
             let mut btr = vec![0.0; n];
             let relative = match self.contact.as_ref() {
@@ -424,13 +448,15 @@ impl<'s> ElasticityProblem<'s> {
                 None => Vec::new(),
             };
             let mut external = load;
-            for (dof, _) in self.constraints.fixed() {
-                external[dof] = ku[dof] - btr[dof];
+            for (dof, _) in self.constraints.fixed().filter(|(dof, _)| rows.contains(dof)) {
+                external[dof - rows.start] = ku[dof - rows.start] - btr[dof];
             }
-            let mut work = 0.0;
-            for k in 0..n {
-                work += 0.5 * (external[k] + state.external[k]) * (u[k] - state.u[k]);
+            let mut own = [0.0, 0.0]; // this rank's work of F and ½ uᵀ K u
+            for (r, dof) in rows.clone().enumerate() {
+                own[0] += 0.5 * (external[r] + state.external[r]) * (u[dof] - state.u[dof]);
+                own[1] += 0.5 * u[dof] * ku[r];
             }
+            let [mut work, stored] = <[f64; 2]>::try_from(session.world().sum(&own)?).expect("two sums");
             let (mut dissipation, mut normal_loss) = (0.0, 0.0);
             if let Some(c) = self.contact.as_ref() {
                 let b = &c.boundary;
@@ -448,7 +474,6 @@ impl<'s> ElasticityProblem<'s> {
                     work += rn * dot(dd, nn) + rt * dot(dd, tt);
                 }
             }
-            let stored = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
             energy.work += work;
             energy.dissipation += dissipation;
             energy.normal_contact_loss += normal_loss;

@@ -37,6 +37,9 @@ type Case = fn(&Session) -> Result<(), String>;
 pub const TESTS: &[(&str, Case)] = &[
     ("runner_parses_libtest_options", runner::runner_parses_libtest_options),
     ("load_path_proportional_equals_static", evolution::load_path_proportional_equals_static),
+    ("mindlin_deresiewicz_fretting_cycle", evolution::mindlin_deresiewicz_fretting_cycle),
+    ("stick_patch_exact_at_every_increment", evolution::stick_patch_exact_at_every_increment),
+    ("square_block_press_then_push_path_dependence", evolution::square_block_press_then_push_path_dependence),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
