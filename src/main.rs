@@ -82,6 +82,7 @@ fn main() -> ExitCode {
                 Bench::Dual(o) => bench_runner::bench_dual(&o, &petsc),
                 Bench::DualContact(o) => bench_runner::bench_dual_contact(&o, &petsc),
                 Bench::Held(o) => bench_runner::bench_held(&o, &petsc),
+                Bench::Evolution(o) => bench_runner::bench_evolution(&o, &petsc),
                 Bench::Accuracy(o) => bench_runner::bench_accuracy(&o, &petsc),
                 Bench::Scale(o) => bench_runner::bench_scale(&o, &petsc),
                 Bench::Startup(o) => bench_runner::bench_startup(o.runs as usize, o.skip_half_disc, o.out),
@@ -91,6 +92,7 @@ fn main() -> ExitCode {
                 Bench::DualCase(c) => session(&|s| bench_dual_case(s, &c)),
                 Bench::DualContactCase(c) => session(&|s| bench_dual_contact_case(s, &c)),
                 Bench::HeldCase(c) => session(&|s| bench_held_case(s, &c)),
+                Bench::EvolutionCase(c) => session(&|s| bench_evolution_case(s, &c)),
                 Bench::ScaleCase(c) => session(&|s| bench_scale_case(s, &c)),
             }
         }
@@ -404,6 +406,12 @@ fn bench_dual_contact_case(session: &Session, args: &CaseArgs) -> Result<(), Fai
 fn bench_held_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
     let (dofs, index) = args.case;
     let row = bench::held::held_case(session, dofs, index)?;
+    print_case_row(session, &row)
+}
+
+fn bench_evolution_case(session: &Session, args: &CaseArgs) -> Result<(), Failure> {
+    let (dofs, index) = args.case;
+    let row = bench::evolution::evolution_case(session, dofs, index)?;
     print_case_row(session, &row)
 }
 

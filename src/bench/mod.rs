@@ -10,6 +10,7 @@
 pub mod accuracy;
 pub mod dual;
 pub mod dual_contact;
+pub mod evolution;
 pub mod held;
 pub mod provenance;
 pub mod scale;
@@ -541,6 +542,38 @@ pub fn write_held_outputs(rows: &[held::HeldBenchRow], record: &BenchRecord, dir
         ("Benchmark: a body held by the contact (half disc, Coulomb)", &held::held_table(rows)),
         "Half disc, Coulomb: displacement- against force-driven",
         drives,
+        plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
+    )
+}
+
+/// `bench_evolution.md` and `bench_evolution.svg` (path time against dofs, per path, with one
+/// linear solve of the same mesh).
+pub fn write_evolution_outputs(
+    rows: &[evolution::EvolutionBenchRow],
+    record: &BenchRecord,
+    dir: &Path,
+) -> Result<Vec<PathBuf>> {
+    let paths = evolution::PATHS
+        .iter()
+        .map(|name| {
+            let points = rows.iter().filter(|r| r.path == *name).map(|r| (r.dofs as f64, r.path_seconds));
+            (
+                format!(
+                    "{name} path ({} increments)",
+                    rows.iter().find(|r| r.path == *name).map_or(0, |r| r.increments)
+                ),
+                points.collect(),
+            )
+        })
+        .collect();
+    let linear = rows.iter().map(|r| (r.dofs as f64, r.linear_seconds)).collect();
+    write_table_and_plot(
+        dir,
+        "bench_evolution",
+        record,
+        ("Benchmark: load paths (increments with friction memory)", &evolution::evolution_table(rows)),
+        "Load paths: the whole path against one linear solve",
+        paths,
         plot::Series { label: "one linear solve (MUMPS)".into(), points: linear },
     )
 }

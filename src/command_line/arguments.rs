@@ -193,6 +193,11 @@ pub enum Bench {
     /// displacement and by a traction with no support, full-space Newton, the ratio of the two
     /// solve times, at 1e4, 8.6e4 and 3e5 dofs up to --max-dofs (default 1e5).
     Held(BenchArgs),
+    /// Load paths: the square block pressed then pushed (20 increments) and two cylinders
+    /// through a fretting cycle (40 increments), at 1e4 and 1e5 dofs up to --max-dofs (default
+    /// 1e5): the whole path against one linear solve and one static contact solve of the same
+    /// mesh, with the targets (1 + 0.3 N linear solves; 10 static contact solves).
+    Evolution(BenchArgs),
     /// Start-up and meshing: the wall and CPU time of a 1e3-dof `run` against
     /// `signorini --version`, and the mesh / contact-solve time ratio of the 8.6e4-dof P2 half
     /// disc on a first run and from the mesh cache.
@@ -231,6 +236,9 @@ pub enum Bench {
     /// One held-by-contact case (used by `bench held`).
     #[command(hide = true)]
     HeldCase(CaseArgs),
+    /// One load-path case (used by `bench evolution`).
+    #[command(hide = true)]
+    EvolutionCase(CaseArgs),
     /// One scaling case (used by `bench scale`, under mpirun for the scaling parts).
     #[command(hide = true)]
     ScaleCase(CaseArgs),
@@ -246,6 +254,7 @@ impl Bench {
             Bench::Dual(_) => Some("dual"),
             Bench::DualContact(_) => Some("dual-contact"),
             Bench::Held(_) => Some("held"),
+            Bench::Evolution(_) => Some("evolution"),
             Bench::Startup(_) => Some("startup"),
             Bench::Accuracy(_) => Some("accuracy"),
             Bench::Scale(_) => Some("scale"),
@@ -255,6 +264,7 @@ impl Bench {
             | Bench::DualCase(_)
             | Bench::DualContactCase(_)
             | Bench::HeldCase(_)
+            | Bench::EvolutionCase(_)
             | Bench::ScaleCase(_) => None,
         }
     }

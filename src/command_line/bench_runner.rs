@@ -427,6 +427,32 @@ pub fn bench_held(args: &BenchArgs, petsc: &[String]) -> ExitCode {
     )
 }
 
+/// `bench evolution`: each (size, path) case in a child process.
+pub fn bench_evolution(args: &BenchArgs, petsc: &[String]) -> ExitCode {
+    let cases = bench::evolution::evolution_cases(args.max_dofs.unwrap_or(100_000));
+    run_bench(
+        &BenchLine::of(args, petsc),
+        CaseRunner::<bench::evolution::EvolutionBenchRow> {
+            kind: "evolution",
+            cases,
+            describe: |row| {
+                format!(
+                    "path {:>7.3} s ({} increments), {:.2} linear solves, {:.2} static contact solves",
+                    row.path_seconds,
+                    row.increments,
+                    row.path_seconds / row.linear_seconds,
+                    row.path_seconds / row.static_contact_seconds
+                )
+            },
+            table: bench::evolution::evolution_table,
+            write: Box::new(bench::write_evolution_outputs),
+            scratch: None,
+            failure_of: None,
+            ranks_of: None,
+        },
+    )
+}
+
 /// `bench dual-contact`: each (size, strategy) case in a child process.
 pub fn bench_dual_contact(args: &BenchArgs, petsc: &[String]) -> ExitCode {
     let cases = bench::dual_contact::dual_contact_cases(args.max_dofs.unwrap_or(100_000));

@@ -306,7 +306,10 @@ fn fretting_cycle(s: &Session, fine: &str, per_unit: usize) -> Result<(f64, f64)
 /// contact solver's tolerance 1e-12.
 fn square_block_path(history: &str, cells: usize, per_unit: usize) -> (String, std::path::PathBuf) {
     let (text, file) = example("square_block.toml");
-    assert!(text.contains("pressure = 5e7\n") && text.contains("pressure = 1.5e8"), "test bug: square_block.toml changed");
+    assert!(
+        text.contains("pressure = 5e7\n") && text.contains("pressure = 1.5e8"),
+        "test bug: square_block.toml changed"
+    );
     let text = text
         .replace("pressure = 5e7\n", "pressure = 5e7\nname = \"press\"\n")
         .replace("pressure = 1.5e8", "name = \"push\"\npressure = 1.5e8")
@@ -316,10 +319,8 @@ fn square_block_path(history: &str, cells: usize, per_unit: usize) -> (String, s
         "press-then-push" => ("[[0, 0], [1, 1], [2, 1]]", "[[0, 0], [1, 0], [2, 1]]"),
         _ => ("[[0, 0], [2, 1]]", "[[0, 0], [2, 1]]"),
     };
-    let evolution = format!(
-        "\n[evolution]\nsteps = {}\n\n[evolution.factor]\npress = {press}\npush = {push}\n",
-        2 * per_unit
-    );
+    let evolution =
+        format!("\n[evolution]\nsteps = {}\n\n[evolution.factor]\npress = {press}\npush = {push}\n", 2 * per_unit);
     (text + &evolution, file)
 }
 
@@ -479,7 +480,11 @@ pub fn stick_patch_exact_at_every_increment(s: &Session) -> Result<(), String> {
                 problems.push(format!("t = {t}: {} of {} points stick", o.report.stick, o.report.points));
             }
             if (o.report.resultant[0] + 2.0 * shear).abs() > 1e-10 * p {
-                problems.push(format!("t = {t}: friction resultant {:?}, applied shear {}", o.report.resultant, 2.0 * shear));
+                problems.push(format!(
+                    "t = {t}: friction resultant {:?}, applied shear {}",
+                    o.report.resultant,
+                    2.0 * shear
+                ));
             }
             let r = &q.results.as_ref().unwrap().report;
             if r.equilibrium_residual > 1e-9 {
