@@ -189,16 +189,23 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
     }
     let load_path = signorini::evolution::LoadPath::of_scene(&problem.scene)?;
     if let Some(path) = &load_path {
-        if dual || estimate {
+        if dual {
             return Err(Failure::Run(Error::Formulation {
-                message: "a load path ([evolution]) is solved in the primal formulation, without the estimate".into(),
-                hint: "remove --estimate / --formulation dual (or the [evolution] table)".into(),
+                message: "a load path ([evolution]) is solved in the primal formulation (with --estimate: the dual \
+                          at every increment)"
+                    .into(),
+                hint: "remove --formulation dual / formulation = \"dual\" (or the [evolution] table)".into(),
             }));
         }
         problem.assemble()?;
+        let each = if estimate {
+            signorini::evolution::EachIncrement::Estimate
+        } else {
+            signorini::evolution::EachIncrement::Postprocess
+        };
         let steps_dir = out.clone();
         let solved = problem
-            .solve_load_path(path, true, &mut |p, record| p.write_step_output(&steps_dir, record.step).map(|_| ()));
+            .solve_load_path(path, each, &mut |p, record| p.write_step_output(&steps_dir, record.step).map(|_| ()));
         if let Err(e) = solved {
             // No increments left behind by a path that did not finish.
             if session.rank() == 0 {
@@ -215,7 +222,8 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
     // take the scene (a point support that carries a force, a hole, ...) the primal results are
     // written all the same, and the run then fails with the dual's reason.
     let mut refused = None;
-    if dual || estimate {
+    // A load path estimated every increment already (the last one's stays in the report).
+    if (dual || estimate) && load_path.is_none() {
         let outcome = problem.solve_dual().and_then(|()| if estimate { problem.estimate() } else { Ok(()) });
         match outcome {
             Err(Error::Formulation { message, hint }) if !dual && problem.results.is_some() => {

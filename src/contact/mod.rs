@@ -502,6 +502,23 @@ impl<'a> CondensedProblem<'a> {
         Ok(residuals::compute(self, force, &u))
     }
 
+    /// The same problem with `shift` (`2m` finite values) subtracted from the free
+    /// displacement: the law then acts on `u − shift` (an increment of a load path: the
+    /// obstacle's motion, and the slip so far along the tangent, see [`crate::evolution`]).
+    pub fn shifted(mut self, shift: &[f64]) -> Result<Self> {
+        if shift.len() != self.free_displacement.len() || shift.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Usage(format!(
+                "a shift of the contact displacements needs {} finite values, got {}",
+                self.free_displacement.len(),
+                shift.len()
+            )));
+        }
+        for (u, s) in self.free_displacement.iter_mut().zip(shift) {
+            *u -= s;
+        }
+        Ok(self)
+    }
+
     /// The residuals of a force against displacements obtained some other way — e.g. `B u` of
     /// the displacement field recomputed from `K u = f + Bᵀ r` by a separate linear solve —
     /// so that the check does not trust `W` either.

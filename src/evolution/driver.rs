@@ -45,6 +45,19 @@ use crate::problem::ElasticityProblem;
 use crate::report::contact::{ContactState, StateCounts};
 use crate::scene::{ContactSolverSpec, Formulation};
 
+/// What is done at every increment beyond its solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EachIncrement {
+    /// The solve, its check and its record only.
+    Solve,
+    /// Also [`ElasticityProblem::postprocess`] (stresses, reactions, the equilibrium check):
+    /// what the output files of an increment need.
+    Postprocess,
+    /// Also the dual solve and the estimate of the increment's problem (the contact terms on
+    /// the increment: the law on the slip increment, the obstacle where it is at `t_n`).
+    Estimate,
+}
+
 /// Most times one increment is cut in two before the path stops.
 pub const MAX_HALVINGS: usize = 5;
 
@@ -55,6 +68,35 @@ pub struct LoadFactors {
     pub traction: Vec<f64>,
     /// The body force's.
     pub body_force: f64,
+    /// One per `[[dirichlet]]` of the scene (in order): its prescribed values' factor (the
+    /// primal takes them from its load cases; the dual reads these).
+    pub dirichlet: Vec<f64>,
+}
+
+/// What the contact law of an increment subtracts from the displacement at a point `x` of the
+/// contact part with tangent `t`: `d + ((u^(n−1)(x) − d^(n−1))·t) t` — the obstacle's
+/// displacement, and the slip so far along the tangent (module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactShift {
+    /// The obstacle's displacement at this increment.
+    pub obstacle: [f64; 2],
+    /// At the last converged increment.
+    pub previous_obstacle: [f64; 2],
+    /// The last converged displacement (whole vector).
+    pub previous_displacement: Vec<f64>,
+}
+
+impl ContactShift {
+    /// The shift vector at a point whose last displacement was `previous`, tangent `t`.
+    pub fn at(&self, previous: [f64; 2], t: [f64; 2]) -> [f64; 2] {
+        let slip = (previous[0] - self.previous_obstacle[0]) * t[0] + (previous[1] - self.previous_obstacle[1]) * t[1];
+        [self.obstacle[0] + slip * t[0], self.obstacle[1] + slip * t[1]]
+    }
+
+    /// The last converged displacement of node `k`.
+    pub fn previous_at_node(&self, k: usize) -> [f64; 2] {
+        [self.previous_displacement[2 * k], self.previous_displacement[2 * k + 1]]
+    }
 }
 
 /// What a load path reports (`report.json` → `load_path`, and `steps`).
@@ -157,12 +199,12 @@ fn motion_of(_spec: &crate::scene::ContactSpec) -> Option<([f64; 2], Option<&str
 impl<'s> ElasticityProblem<'s> {
     /// Solve the increments of `path` (module documentation), calling `on_step` after each
     /// converged one with the problem holding that increment's displacement and contact
-    /// outcome (post-processed when `postprocess_steps`). The path's report is left in
+    /// outcome (and what `each` asks for). The path's report is left in
     /// [`ElasticityProblem::load_path`].
     pub fn solve_load_path(
         &mut self,
         path: &LoadPath,
-        postprocess_steps: bool,
+        each: EachIncrement,
         on_step: &mut dyn FnMut(&ElasticityProblem<'s>, &StepRecord) -> Result<()>,
     ) -> Result<()> {
         let mut notes = Vec::new();
@@ -182,7 +224,7 @@ impl<'s> ElasticityProblem<'s> {
         let (cases, stiffness) = self.load_cases(path)?;
         let (matrix, rhs) =
             self.system.take().ok_or(Error::CallOrder { call: "solve_load_path()", needs: "assemble()" })?;
-        let outcome = self.run_increments(path, &cases, &stiffness, &matrix, &mut notes, postprocess_steps, on_step);
+        let outcome = self.run_increments(path, &cases, &stiffness, &matrix, &mut notes, each, on_step);
         self.system = Some((matrix, rhs));
         outcome
     }
@@ -262,7 +304,13 @@ impl<'s> ElasticityProblem<'s> {
                 .iter()
                 .map(|t| if traction_key(t).map(str::to_string) == key { 1.0 } else { 0.0 })
                 .collect();
-            self.load_factors = Some(LoadFactors { traction, body_force: bf });
+            let dirichlet = self
+                .scene
+                .dirichlet
+                .iter()
+                .map(|d| if dirichlet_key(d).map(str::to_string) == key { 1.0 } else { 0.0 })
+                .collect();
+            self.load_factors = Some(LoadFactors { traction, body_force: bf, dirichlet });
             let first = stiffness.is_none();
             let (rhs, load, unconstrained) = self.with_loads(|loads| {
                 let system = assembly::assemble_cells(
@@ -314,7 +362,7 @@ impl<'s> ElasticityProblem<'s> {
         stiffness: &assembly::CsrRows,
         matrix: &crate::petsc::Matrix<'s>,
         notes: &mut Vec<String>,
-        postprocess_steps: bool,
+        each: EachIncrement,
         on_step: &mut dyn FnMut(&ElasticityProblem<'s>, &StepRecord) -> Result<()>,
     ) -> Result<()> {
         let session = self.session;
@@ -374,6 +422,7 @@ impl<'s> ElasticityProblem<'s> {
             self.load_factors = Some(LoadFactors {
                 traction: self.scene.tractions.iter().map(|tr| path.factor(traction_key(tr), t)).collect(),
                 body_force: path.factor(body_force_key(&self.scene), t),
+                dirichlet: self.scene.dirichlet.iter().map(|d| path.factor(dirichlet_key(d), t)).collect(),
             });
             let d = obstacle_at(t);
             let attempt: Result<(Vec<f64>, Option<ContactOutcome>)> = match (self.contact.as_ref(), operator.as_mut()) {
@@ -511,6 +560,7 @@ impl<'s> ElasticityProblem<'s> {
                         work: energy.work,
                         stored_energy: stored,
                         monitor_displacement,
+                        estimate_percent: None,
                         seconds: step_start.elapsed().as_secs_f64(),
                     }
                 }
@@ -532,6 +582,7 @@ impl<'s> ElasticityProblem<'s> {
                     work: energy.work,
                     stored_energy: stored,
                     monitor_displacement,
+                    estimate_percent: None,
                     seconds: step_start.elapsed().as_secs_f64(),
                 },
             };
@@ -540,6 +591,7 @@ impl<'s> ElasticityProblem<'s> {
                     profiles.push(profile_of(c, o, &self.mesh, record.step, t, tangent));
                 }
             }
+            let shift = ContactShift { obstacle: d, previous_obstacle: state.obstacle, previous_displacement: state.u };
             state = State { time: t, u: u.clone(), force, relative, obstacle: d, external };
             self.displacement = Some(u);
             self.contact_outcome = outcome;
@@ -547,8 +599,16 @@ impl<'s> ElasticityProblem<'s> {
                 Some(op) => op.linear.stats(),
                 None => plain.last_stats(),
             };
-            if postprocess_steps {
+            let mut record = record;
+            if each != EachIncrement::Solve {
                 self.postprocess()?;
+            }
+            if each == EachIncrement::Estimate {
+                self.contact_shift = Some(shift);
+                let estimated = self.solve_dual().and_then(|()| self.estimate());
+                self.contact_shift = None;
+                estimated?;
+                record.estimate_percent = self.estimate.as_ref().map(|e| e.estimate.relative_percent);
             }
             on_step(self, &record)?;
             steps.push(record);

@@ -9,6 +9,8 @@ mod driver;
 pub mod load_path;
 pub mod record;
 
-pub use driver::{EnergyBalance, LoadFactors, LoadPathReport, LoadPathSummary, MAX_HALVINGS};
+pub use driver::{
+    ContactShift, EachIncrement, EnergyBalance, LoadFactors, LoadPathReport, LoadPathSummary, MAX_HALVINGS,
+};
 pub use load_path::LoadPath;
 pub use record::{ContactProfile, StepRecord};

@@ -43,6 +43,9 @@ pub struct StepRecord {
     /// Mean displacement of the monitored part, along the contact tangent (m): the abscissa of
     /// the hysteresis loop.
     pub monitor_displacement: f64,
+    /// The estimated relative error of the increment's problem (%), when asked for
+    /// ([`crate::evolution::EachIncrement::Estimate`]).
+    pub estimate_percent: Option<f64>,
     /// Wall-clock seconds the increment took.
     pub seconds: f64,
 }

@@ -155,9 +155,12 @@ impl<'s> ElasticityProblem<'s> {
             edge.into_iter().map(|(group, traction)| EdgeLoad { group, traction }).collect();
         let mut prescribed = Vec::new();
         let mut notes = Vec::new();
-        for d in &self.scene.dirichlet {
+        for (k, d) in self.scene.dirichlet.iter().enumerate() {
+            // Within a load path, the increment's values.
+            let factor = self.load_factors.as_ref().map_or(1.0, |f| f.dirichlet[k]);
             match &d.target {
-                DirichletTarget::Part(part) => prescribed.push((self.mesh.require_group(part, 1)?, [d.ux, d.uy])),
+                DirichletTarget::Part(part) => prescribed
+                    .push((self.mesh.require_group(part, 1)?, [d.ux.map(|v| factor * v), d.uy.map(|v| factor * v)])),
                 DirichletTarget::Point(p) => notes.push(format!(
                     "point support at ({}, {}) dropped: a point force cannot be carried by a C1 Airy function; the \
                      answer is that of the problem without it (the same when its reaction is zero, as for a support \

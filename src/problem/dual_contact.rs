@@ -116,6 +116,28 @@ impl ElasticityProblem<'_> {
             prefix,
             &mut note_columns,
         )?;
+        // Within a load path: the law acts on the increment (`ContactShift`), each point's
+        // shift weighted like its gap, (2 v_end + v_other)/3, in the end's frame.
+        let shift = self.contact_shift.as_ref().map(|c| {
+            let at = |k: usize| {
+                let p = &points[k];
+                c.at(c.previous_at_node(p.node), p.tangent)
+            };
+            let mut values = vec![0.0; 2 * points.len()];
+            for (k, p) in points.iter().enumerate() {
+                // The other end of the edge is the neighbouring point (ends are stored in pairs).
+                let other = if p.end == 0 { k + 1 } else { k - 1 };
+                let (v, w) = (at(k), at(other));
+                let v = [(2.0 * v[0] + w[0]) / 3.0, (2.0 * v[1] + w[1]) / 3.0];
+                values[2 * k] = v[0] * p.normal[0] + v[1] * p.normal[1];
+                values[2 * k + 1] = v[0] * p.tangent[0] + v[1] * p.tangent[1];
+            }
+            values
+        });
+        if let Some(shift) = &shift {
+            let problem = std::mem::replace(&mut condensed.problem, placeholder_problem()?);
+            condensed.problem = problem.shifted(shift)?;
+        }
         let settings = crate::contact_routes::condensation::solver_settings(spec);
         let start = std::time::Instant::now();
         let tao = |p: &crate::contact::CondensedProblem| tao_box_qp(self.session, p);
@@ -131,7 +153,11 @@ impl ElasticityProblem<'_> {
         let force_mismatch =
             answer.solution.force.iter().zip(&force_check).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
                 / scale.max(f64::MIN_POSITIVE);
-        let residuals = condensed.problem.residuals_at(&force_check, &answer.displacement_check)?;
+        let law_displacement: Vec<f64> = match &shift {
+            Some(shift) => answer.displacement_check.iter().zip(shift).map(|(u, s)| u - s).collect(),
+            None => answer.displacement_check.clone(),
+        };
+        let residuals = condensed.problem.residuals_at(&force_check, &law_displacement)?;
         let equilibrium = condensed.equilibrium.relative_residual(&force_check);
         // The displacements are recomputed as a residual of the assembled HCT system, which
         // carries its round-off (measured up to 1e-7 of the displacement scale on the 32 × 32
@@ -150,7 +176,7 @@ impl ElasticityProblem<'_> {
                 tried: answer.solution.notes.join("; "),
             });
         }
-        let status = condensed.problem.status_at(&force_check, &answer.displacement_check)?;
+        let status = condensed.problem.status_at(&force_check, &law_displacement)?;
         let mut notes = answer.solution.notes.clone();
         if let (Condensation::Schur, Some(reason)) = (condensation, &system.local_fallback) {
             notes.push(local_fallback_note(reason));
@@ -253,9 +279,25 @@ impl ElasticityProblem<'_> {
                             sigma[0] * outward[0] + sigma[2] * outward[1],
                             sigma[2] * outward[0] + sigma[1] * outward[1],
                         ],
-                        displacement: crate::estimate::constitutive_relation::displacement_at_point(
-                            &self.mesh, u, cell, x,
-                        ),
+                        displacement: {
+                            let u_x =
+                                crate::estimate::constitutive_relation::displacement_at_point(&self.mesh, u, cell, x);
+                            // Within a load path, the increment's (`ContactShift`).
+                            match &self.contact_shift {
+                                Some(c) => {
+                                    let n = side.normal(x);
+                                    let previous = crate::estimate::constitutive_relation::displacement_at_point(
+                                        &self.mesh,
+                                        &c.previous_displacement,
+                                        cell,
+                                        x,
+                                    );
+                                    let v = c.at(previous, [-n[1], n[0]]);
+                                    [u_x[0] - v[0], u_x[1] - v[1]]
+                                }
+                                None => u_x,
+                            }
+                        },
                         normal: side.normal(x),
                         gap: side.gap(x),
                     }
@@ -267,6 +309,17 @@ impl ElasticityProblem<'_> {
         let admissible = terms.all_nonnegative(1e-6);
         Ok(Some((terms, admissible)))
     }
+}
+
+/// An empty condensed problem, to move the real one out of its owner for a moment.
+fn placeholder_problem() -> Result<crate::contact::CondensedProblem<'static>> {
+    crate::contact::CondensedProblem::new(
+        crate::contact::Delassus::Dense(nalgebra::DMatrix::identity(2, 2)),
+        vec![0.0; 2],
+        vec![0.0],
+        FrictionLaw::None,
+        None,
+    )
 }
 
 /// The note of a Schur condensation that could not take the local parametrisation of the

@@ -221,6 +221,9 @@ pub struct ElasticityProblem<'s> {
     /// Within a load path: the factors the scene's loads are multiplied by at the current
     /// increment (`None`: the loads as written).
     pub(crate) load_factors: Option<crate::evolution::LoadFactors>,
+    /// Within a load path: what the contact law subtracts from the displacement at the current
+    /// increment (the obstacle's motion, the slip so far), for the dual and the estimate.
+    pub(crate) contact_shift: Option<crate::evolution::ContactShift>,
     /// After a load path: its increments, energies and profiles.
     pub load_path: Option<crate::evolution::LoadPathReport>,
 }
@@ -418,6 +421,7 @@ impl<'s> ElasticityProblem<'s> {
             mesh_cache: None,
             progress,
             load_factors: None,
+            contact_shift: None,
             load_path: None,
         })
     }

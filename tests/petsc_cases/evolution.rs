@@ -26,7 +26,7 @@ fn solve_path<'s>(
     let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
     p.assemble().map_err(|e| e.to_string())?;
     let mut fields = Vec::new();
-    p.solve_load_path(path, true, &mut |q, _| {
+    p.solve_load_path(path, signorini::evolution::EachIncrement::Postprocess, &mut |q, _| {
         fields.push(q.displacement.clone().expect("a step has a displacement"));
         Ok(())
     })
@@ -228,7 +228,7 @@ fn fretting_cycle(s: &Session, fine: &str, per_unit: usize) -> Result<(f64, f64)
     let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
     p.assemble().map_err(|e| e.to_string())?;
     let mut snaps = Vec::new();
-    p.solve_load_path(&path, false, &mut |q, record| {
+    p.solve_load_path(&path, signorini::evolution::EachIncrement::Solve, &mut |q, record| {
         snaps.push(snapshot(q, record.time));
         Ok(())
     })
@@ -356,7 +356,8 @@ pub fn square_block_press_then_push_path_dependence(s: &Session) -> Result<(), S
             let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
             let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
             p.assemble().map_err(|e| e.to_string())?;
-            p.solve_load_path(&path, false, &mut |_, _| Ok(())).map_err(|e| format!("{history}, {cells}: {e}"))?;
+            p.solve_load_path(&path, signorini::evolution::EachIncrement::Solve, &mut |_, _| Ok(()))
+                .map_err(|e| format!("{history}, {cells}: {e}"))?;
             let report = p.load_path.as_ref().unwrap();
             ensure(report.energy.relative_residual < 1e-8, || format!("{history}: energy {:?}", report.energy))?;
             runs.push(bottom_ux(&p, &xs));
@@ -459,7 +460,7 @@ pub fn stick_patch_exact_at_every_increment(s: &Session) -> Result<(), String> {
         let mut worst = 0.0f64;
         let mut problems = Vec::new();
         let mut count = 0;
-        pr.solve_load_path(&path, true, &mut |q, record| {
+        pr.solve_load_path(&path, signorini::evolution::EachIncrement::Postprocess, &mut |q, record| {
             count += 1;
             let t = record.time;
             let press = path.factor(Some("press"), t);
@@ -497,5 +498,89 @@ pub fn stick_patch_exact_at_every_increment(s: &Session) -> Result<(), String> {
         ensure(problems.is_empty(), || format!("P{order}: {}", problems.join("; ")))?;
         ensure(count == 8 && worst <= 1e-12, || format!("P{order}: {count} increments, error {worst:e}"))?;
     }
+    Ok(())
+}
+
+/// The estimate at every increment (`EachIncrement::Estimate`) on the square block without its
+/// corner point (`square_block_tresca.toml`, refined to 14 cells a side):
+/// - frictionless, loads ramped in 3 increments: each increment's estimate equals the static
+///   estimate at its loads (frictionless steps are independent of the path), to 1e-8, with a
+///   body force so that the answer is not a uniform stress (exact in P1, estimate zero);
+/// - Tresca, pressed, pushed, then half unpushed (the side pressure back to one half: the slip
+///   reverses near the pushed side): at every increment the dual passes its independent check
+///   with the law on the slip increment, the contact terms of the estimate are nonnegative (an
+///   admissible pair for the increment's problem: the estimator refuses otherwise), and the
+///   estimate stays of the size of the static one at full load (between 0.5× and 2×).
+pub fn estimate_at_every_increment(s: &Session) -> Result<(), String> {
+    use signorini::evolution::EachIncrement;
+    let (base, file) = example("square_block_tresca.toml");
+    let base = base
+        .replace("cell_size = 6e-3", "cell_size = 2.857142857142857e-3")
+        .replace("solver = \"newton\"", "tolerance = 1e-11\nsolver = \"newton\"");
+    // Frictionless: path against static.
+    // A body force makes the answer other than a uniform stress (which P1 would get exactly).
+    let frictionless = set_line(&base, "threshold", "").replace("friction = \"tresca\"", "friction = \"none\"")
+        + "\n[loads]\nbody_force = [0.0, -1e9]\n";
+    let path = LoadPath::proportional(3).unwrap();
+    let scene = Scene::from_str(&frictionless, &file).map_err(|e| e.to_string())?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    p.assemble().map_err(|e| e.to_string())?;
+    let mut along = Vec::new();
+    p.solve_load_path(&path, EachIncrement::Estimate, &mut |_, record| {
+        along.push(record.estimate_percent.expect("an estimate per increment"));
+        Ok(())
+    })
+    .map_err(|e| format!("frictionless path: {e}"))?;
+    for (k, &t) in path.times.iter().enumerate() {
+        let scaled = frictionless
+            .replace("pressure = 5e7", &format!("pressure = {:e}", 5e7 * t))
+            .replace("pressure = 1.5e8", &format!("pressure = {:e}", 1.5e8 * t))
+            .replace("body_force = [0.0, -1e9]", &format!("body_force = [0.0, {:e}]", -1e9 * t));
+        let mut q = solve_text(s, &scaled, &file).map_err(|e| format!("static at t = {t}: {e}"))?;
+        q.solve_dual().and_then(|()| q.estimate()).map_err(|e| format!("static estimate at t = {t}: {e}"))?;
+        let reference = q.estimate.as_ref().unwrap().estimate.relative_percent;
+        eprintln!("    frictionless, t = {t:.4}: estimate {:.6} % (static {reference:.6} %)", along[k]);
+        ensure((along[k] - reference).abs() <= 1e-8 * reference, || {
+            format!("frictionless t = {t}: estimate {} % on the path, {reference} % static", along[k])
+        })?;
+    }
+    // Tresca with a reversal.
+    let text = base
+        .replace("pressure = 5e7\n", "pressure = 5e7\nname = \"press\"\n")
+        .replace("pressure = 1.5e8", "name = \"push\"\npressure = 1.5e8")
+        + "\n[evolution]\nsteps = 6\n[evolution.factor]\npress = [[0, 0], [1, 1], [3, 1]]\npush = [[0, 0], [1, 0], [2, 1], [3, 0.5]]\n";
+    let scene = Scene::from_str(&text, &file).map_err(|e| e.to_string())?;
+    let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    p.assemble().map_err(|e| e.to_string())?;
+    let mut lines = Vec::new();
+    let mut estimates = Vec::new();
+    p.solve_load_path(&path, EachIncrement::Estimate, &mut |q, record| {
+        let e = q.estimate.as_ref().expect("an estimate");
+        lines.push(format!(
+            "t = {:.2}: {:.4} % (contact {:.3e}, min contact integrand {:.2e}), stick/slip/open {}/{}/{}",
+            record.time,
+            e.estimate.relative_percent,
+            e.estimate.contact,
+            e.estimate.min_contact_integrand,
+            record.stick,
+            record.slip,
+            record.open
+        ));
+        estimates.push(e.estimate.relative_percent);
+        Ok(())
+    })
+    .map_err(|e| format!("Tresca path: {e}\n{}", lines.join("\n")))?;
+    for l in &lines {
+        eprintln!("    Tresca path, {l}");
+    }
+    let mut q = solve_text(s, &base, &file).map_err(|e| format!("static: {e}"))?;
+    q.solve_dual().and_then(|()| q.estimate()).map_err(|e| format!("static estimate: {e}"))?;
+    let reference = q.estimate.as_ref().unwrap().estimate.relative_percent;
+    let at_full = estimates[path.times.iter().position(|&t| (t - 2.0).abs() < 1e-12).unwrap()];
+    ensure(estimates.len() == path.times.len(), || format!("{} estimates", estimates.len()))?;
+    ensure((0.5 * reference..2.0 * reference).contains(&at_full), || {
+        format!("estimate at full load {at_full} % on the path, {reference} % static")
+    })?;
     Ok(())
 }
