@@ -9,6 +9,7 @@ mod dual_outputs;
 mod errors;
 mod examples;
 mod formulations;
+mod load_paths;
 mod mpi;
 mod run_output;
 mod several_bodies;
