@@ -418,6 +418,10 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
 /// | [`gap`](Self::gap), [`coulomb`](Self::coulomb), [`tresca`](Self::tresca) | `[contact]` `gap`, `friction` with `mu` or `threshold` |
 /// | [`contact_solver`](Self::contact_solver), [`contact_tolerance`](Self::contact_tolerance), [`contact_max_iterations`](Self::contact_max_iterations) | `[contact]` `solver` (and `omega`), `tolerance`, `max_iterations` |
 /// | [`petsc_options`](Self::petsc_options), [`output_dir`](Self::output_dir) | `[solver]`, `[output]` |
+/// | [`named`](Self::named) (after a load's call) | `name` of `[[traction]]`, `[[dirichlet]]`, `[loads]`, `[contact]` |
+/// | [`obstacle_motion`](Self::obstacle_motion) | `[contact]` `motion` |
+/// | [`evolution_steps`](Self::evolution_steps), [`evolution_times`](Self::evolution_times), [`evolution_start`](Self::evolution_start), [`evolution_monitor`](Self::evolution_monitor), [`evolution_profiles`](Self::evolution_profiles) | `[evolution]` `steps`, `times`, `start`, `monitor`, `profiles` |
+/// | [`load_factor`](Self::load_factor) (any number) | `[evolution.factor]` |
 ///
 /// Several bodies: build each body with a `SceneBuilder` and join them with [`BodiesBuilder`].
 ///
@@ -428,7 +432,12 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
 /// [`material`](Self::material), a second obstacle, [`coulomb`](Self::coulomb) after
 /// [`tresca`](Self::tresca), ...), which would replace the first. Only [`traction`](Self::traction),
 /// [`pressure`](Self::pressure), [`dirichlet`](Self::dirichlet),
-/// [`dirichlet_point`](Self::dirichlet_point) and [`petsc_options`](Self::petsc_options) add up.
+/// [`dirichlet_point`](Self::dirichlet_point), [`load_factor`](Self::load_factor) and
+/// [`petsc_options`](Self::petsc_options) add up. A load-path setting
+/// ([`load_factor`](Self::load_factor), [`evolution_start`](Self::evolution_start), ...)
+/// without [`evolution_steps`](Self::evolution_steps) or
+/// [`evolution_times`](Self::evolution_times) is refused, and so is [`named`](Self::named)
+/// after a call that adds no load.
 ///
 /// **Mistakes are named by their call.** A value the scene reader refuses (ν = 0.6, μ < 0, a
 /// P2–P0 element on linear triangles, ...) gives the reader's message and hint, at

@@ -16,7 +16,10 @@
 //!   Signorini + friction          on a part      [contact] (see `contact`)
 //! ```
 //!
-//! with `n` the unit outward normal, so a positive pressure pushes into the body. Components
+//! with `n` the unit outward normal, so a positive pressure pushes into the body. With an
+//! `[evolution]` table (`evolution`, [`EvolutionSpec`]) the problem is solved along a load
+//! path: each load (traction, prescribed displacement, body force, the obstacle's `motion`)
+//! multiplied by a piecewise-linear factor of a pseudo-time, at a list of increments. Components
 //! `i` not listed in a `[[dirichlet]]` table stay free on that part. From Young's modulus `E`
 //! and Poisson's ratio `ν` (`[material]`), the Lamé constants are
 //!

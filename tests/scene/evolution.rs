@@ -645,3 +645,54 @@ fn the_bodies_builder_takes_the_load_path() {
     let m = message(BodiesBuilder::new("x").body("punch", with_path).body("base", base.clone()));
     assert!(m.contains("a load path"), "{m}");
 }
+
+/// A factor multiplies its load in the overflow check: a traction that is fine at factor 1 is
+/// refused when its table reaches 1e20 (energy (t L)² / E from 1e249 to 1e289 > 1e280).
+#[test]
+fn factors_count_in_the_overflow_check() {
+    let loaded = BASE.edit("traction = [0.0, -1e6]", "traction = [0.0, -1e130]\nname = \"f\"");
+    let mesh = two_triangles();
+    for (table, refused) in [("[[0, 0], [1, 1]]", false), ("[[0, 0], [0.5, -1e20], [1, 1]]", true)] {
+        let text = format!("{loaded}\n[evolution]\nsteps = 2\n[evolution.factor]\nf = {table}\n");
+        let s = parse(&text).unwrap();
+        assert_eq!(s.largest_factor(Some("f")), if refused { 1e20 } else { 1.0 });
+        match s.check_magnitudes(&mesh) {
+            Ok(()) => assert!(!refused, "{table}"),
+            Err(Error::Scene { location, message, .. }) => {
+                assert!(refused, "{table}: {message}");
+                assert_eq!(location.line, line_of(&text, "part = \"right\""));
+                assert!(message.contains("would overflow"), "{message}");
+            }
+            Err(other) => panic!("{other}"),
+        }
+    }
+    // unnamed loads: the ramp, at most 1 at the end of the path; without a path, 1
+    let s = parse(&format!("{BASE}\n[evolution]\nsteps = 2\n")).unwrap();
+    assert_eq!((s.largest_factor(None), s.largest_factor(Some("absent"))), (1.0, 1.0));
+    assert_eq!(parse(BASE).unwrap().largest_factor(Some("x")), 1.0);
+}
+
+/// The example of docs/scene-format.md says what its comments say.
+#[test]
+fn the_documented_load_path_is_what_it_says() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-format.md")).unwrap();
+    let section = &doc[doc.find("## Load paths: `[evolution]`").unwrap()..];
+    let start = section.find("```toml\n").unwrap() + "```toml\n".len();
+    let text = &section[start..start + section[start..].find("```").unwrap()];
+    let s = parse(text).unwrap_or_else(|e| panic!("{e}"));
+    let e = s.evolution.unwrap();
+    // 40 increments over [0, 4]: t = k/10, the breakpoints 1, 2, 3 among them
+    assert_eq!(e.times.len(), 40);
+    for (k, t) in e.times.iter().enumerate() {
+        close(*t, (k + 1) as f64 / 10.0);
+    }
+    assert!([1.0, 2.0, 3.0, 4.0].iter().all(|b| e.times.contains(b)), "{:?}", e.times);
+    assert_eq!(e.profiles, [1.0, 2.0, 3.0, 4.0]);
+    // press reaches 1 at t = 1 and stays; push starts at t = 1, peaks at 2, reverses to −1 at 3
+    assert_eq!((e.factor(Some("press"), 0.5), e.factor(Some("press"), 3.0)), (0.5, 1.0));
+    assert_eq!(
+        (e.factor(Some("push"), 1.0), e.factor(Some("push"), 2.0), e.factor(Some("push"), 3.0)),
+        (0.0, 1.0, -1.0)
+    );
+    close(e.factor(Some("push"), 2.5), 0.0);
+}
