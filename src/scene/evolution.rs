@@ -86,10 +86,10 @@ pub struct LoadFunction {
 
 impl LoadFunction {
     /// The factor at `t`: linear interpolation between the rows, the first (last) factor before
-    /// the first (after the last) time.
+    /// the first (after the last) time. NaN for a table without rows (never read from a scene).
     pub fn value(&self, t: f64) -> f64 {
         let p = &self.points;
-        let (first, last) = (p[0], p[p.len() - 1]);
+        let (Some(&first), Some(&last)) = (p.first(), p.last()) else { return f64::NAN };
         if t <= first[0] {
             return first[1];
         }
@@ -105,14 +105,14 @@ impl LoadFunction {
         f0 + (f1 - f0) * ((t - t0) / (t1 - t0))
     }
 
-    /// The first time of the table.
+    /// The first time of the table (NaN without rows).
     pub fn first_time(&self) -> f64 {
-        self.points[0][0]
+        self.points.first().map_or(f64::NAN, |p| p[0])
     }
 
-    /// The last time of the table.
+    /// The last time of the table (NaN without rows).
     pub fn last_time(&self) -> f64 {
-        self.points[self.points.len() - 1][0]
+        self.points.last().map_or(f64::NAN, |p| p[0])
     }
 }
 
@@ -236,11 +236,11 @@ pub(super) fn evolution_spec(
         Some(v) => {
             let s = src.number(v, "start")?;
             if s < lo || s >= hi {
-                return Err(src.error(
-                    &v.span(),
-                    format!("`start` = {} is not before the end of the path", src.written(v)),
-                    format!("give a start in [{lo}, {hi}): {}", span_text(s)),
-                ));
+                let message = match s < lo {
+                    true => format!("`start` = {} is before the beginning of the load path, {lo}", src.written(v)),
+                    false => format!("`start` = {} is not before the end of the load path, {hi}", src.written(v)),
+                };
+                return Err(src.error(&v.span(), message, format!("give a start in [{lo}, {hi}): {}", span_text(s))));
             }
             s
         }

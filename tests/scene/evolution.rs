@@ -126,6 +126,8 @@ fn a_load_path_parses_and_its_factors_interpolate_the_tables() {
     let f = LoadFunction { name: "x".into(), points: vec![[1.0, 2.0], [3.0, -2.0]], at: e.at.clone() };
     assert_eq!((f.value(0.0), f.value(1.0), f.value(2.0), f.value(3.0), f.value(9.0)), (2.0, 2.0, 0.0, -2.0, -2.0));
     assert_eq!((f.first_time(), f.last_time()), (1.0, 3.0));
+    let empty = LoadFunction { points: Vec::new(), ..f.clone() };
+    assert!(empty.value(1.0).is_nan() && empty.first_time().is_nan(), "no rows: no value, no panic");
 
     // The obstacle at a factor: moved by factor · motion.
     assert_eq!(c.obstacle_at(0.0), c.obstacle);
@@ -328,10 +330,17 @@ fn listed_times_increase_within_the_tables() {
 #[test]
 fn start_lies_before_the_end() {
     let (message, hint) = error_at("steps = 4", "steps = 4\nstart = 4", "start = 4");
-    assert_eq!(message, "`start` = 4 is not before the end of the path");
+    assert_eq!(message, "`start` = 4 is not before the end of the load path, 4");
     assert!(hint.contains("[0, 4)"), "{hint}");
     let (message, _) = error_at("steps = 4", "steps = 4\nstart = -1", "start = -1");
-    assert_eq!(message, "`start` = -1 is not before the end of the path");
+    assert_eq!(message, "`start` = -1 is before the beginning of the load path, 0");
+    let text = format!("{BASE}\n[evolution]\nsteps = 2\nstart = 1\n");
+    let e = scene_error(&text);
+    assert_eq!(
+        (e.line, e.message.as_str()),
+        (line_of(&text, "start = 1"), "`start` = 1 is not before the end of the load path, 1")
+    );
+    assert!(e.hint.contains("without tables"), "{}", e.hint);
     let (message, _) = error_at("steps = 4", "steps = 4\nstart = \"0\"", "start = ");
     assert!(message.contains("`start` must be a number"), "{message}");
 }
