@@ -386,6 +386,8 @@ fn contact_of_bodies(
             solver: ContactSolverSpec::FullSpaceNewton,
             tolerance: None,
             max_iterations: None,
+            motion: None,
+            name: None,
             at: parts[0].at.clone(),
         },
     };

@@ -107,6 +107,8 @@ pub struct BodySpec {
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³).
     pub body_force: [f64; 2],
+    /// `[body.loads] name`: the load name of the body force ([`super::EvolutionSpec::factor`]).
+    pub body_force_name: Option<String>,
     /// The body's `[[traction]]` tables, in file order.
     pub tractions: Vec<TractionSpec>,
     /// The body's `[[dirichlet]]` tables, in file order.
@@ -172,6 +174,7 @@ impl BodySpec {
             element: self.element,
             material: self.material,
             body_force: self.body_force,
+            body_force_name: self.body_force_name.clone(),
             tractions: self.tractions.clone(),
             dirichlet: self.dirichlet.clone(),
             contact: self.contact.clone(),
@@ -235,6 +238,7 @@ impl Scene {
             element: self.element,
             material: self.material,
             body_force: self.body_force,
+            body_force_name: self.body_force_name.clone(),
             tractions: self.tractions.clone(),
             dirichlet: self.dirichlet.clone(),
             contact: self.contact.clone(),
@@ -381,7 +385,7 @@ pub(super) fn body_specs(src: &Source, raw: &[RawBody], scene_dir: &Path) -> Res
             dirichlet: &body.dirichlet,
             contact: body.contact.as_ref(),
         };
-        let BodyData { mesh, order, element, material, body_force, tractions, dirichlet, contact } =
+        let BodyData { mesh, order, element, material, body_force, body_force_name, tractions, dirichlet, contact } =
             body_data(src, &scope, &tables, scene_dir)?;
         let rotate = body.rotate.as_ref().map(|v| src.number(v, "rotate")).transpose()?.unwrap_or(0.0);
         let translate = body.translate.as_ref().map(|v| src.vector(v, "translate")).transpose()?.unwrap_or([0.0; 2]);
@@ -435,6 +439,7 @@ pub(super) fn body_specs(src: &Source, raw: &[RawBody], scene_dir: &Path) -> Res
             element,
             material,
             body_force,
+            body_force_name,
             tractions,
             dirichlet,
             contact,

@@ -50,6 +50,7 @@
 //!   A polyline must not cross itself (not checked) and must not turn back on itself (checked).
 use super::convert::{Scope, Table};
 use super::diagnostic::Source;
+use super::evolution::load_name;
 use super::raw::Leaf;
 use super::raw::RawContact;
 use super::{DirichletSpec, DirichletTarget};
@@ -72,6 +73,13 @@ pub struct ContactSpec {
     pub tolerance: Option<f64>,
     /// Iteration limit of the contact solve, ≥ 1; the solver's default if `None`.
     pub max_iterations: Option<usize>,
+    /// `motion`: the obstacle's displacement (m) at factor 1; at pseudo-time `t` of a load path
+    /// the obstacle is translated by `factor(t) · motion` ([`ContactSpec::obstacle_at`]).
+    /// Without `[evolution]` it is applied in full. `None`: the obstacle stays.
+    pub motion: Option<[f64; 2]>,
+    /// `name`: the load name of the obstacle's motion, whose factor table multiplies it
+    /// ([`super::EvolutionSpec::factor`]); `None`: the proportional ramp.
+    pub name: Option<String>,
     /// Where `part = ...` is written, for errors found later (unknown part).
     pub at: Location,
 }
@@ -143,6 +151,33 @@ pub enum ContactSolverSpec {
     SnesVi,
     /// PETSc TAO bound-constrained QP (Tresca only).
     Tao,
+}
+
+impl ContactSpec {
+    /// The obstacle moved by `factor · motion` (unmoved without a `motion`): the obstacle at a
+    /// pseudo-time whose factor for this contact's load name is `factor`
+    /// ([`super::EvolutionSpec::factor`] with [`ContactSpec::name`]).
+    pub fn obstacle_at(&self, factor: f64) -> ObstacleSpec {
+        match self.motion {
+            Some(m) => self.obstacle.translated([factor * m[0], factor * m[1]]),
+            None => self.obstacle.clone(),
+        }
+    }
+}
+
+impl ObstacleSpec {
+    /// The obstacle translated by `d` (m): the line's point, the circle's centre, every
+    /// polyline point.
+    pub fn translated(&self, d: [f64; 2]) -> ObstacleSpec {
+        let shift = |p: [f64; 2]| [p[0] + d[0], p[1] + d[1]];
+        match self {
+            ObstacleSpec::Line { point, normal } => ObstacleSpec::Line { point: shift(*point), normal: *normal },
+            ObstacleSpec::Circle { center, radius } => ObstacleSpec::Circle { center: shift(*center), radius: *radius },
+            ObstacleSpec::Polyline { points } => {
+                ObstacleSpec::Polyline { points: points.iter().map(|&p| shift(p)).collect() }
+            }
+        }
+    }
 }
 
 impl ContactSolverSpec {
@@ -262,7 +297,17 @@ pub(super) fn contact_spec(
         ));
     }
 
-    Ok(ContactSpec { part, obstacle, gap, friction, solver, tolerance, max_iterations, at })
+    let motion = c.motion.as_ref().map(|v| src.vector(v, "motion")).transpose()?;
+    let name = load_name(src, &c.name)?;
+    if let (Some(name_v), None) = (&c.name, &c.motion) {
+        return Err(src.error(
+            &name_v.span(),
+            format!("{} names the obstacle's motion, but has no `motion`", scope.name("contact", false)),
+            "`name` names the obstacle's motion for [evolution.factor]: add motion = [dx, dy] (the obstacle's \
+             displacement at factor 1, m), or remove the name",
+        ));
+    }
+    Ok(ContactSpec { part, obstacle, gap, friction, solver, tolerance, max_iterations, motion, name, at })
 }
 
 fn obstacle_spec(src: &Source, c: &RawContact, table: &Table, kind: &str) -> Result<ObstacleSpec> {

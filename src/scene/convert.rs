@@ -6,6 +6,7 @@
 //! the right table.
 use super::contact::{contact_spec, ContactSpec};
 use super::diagnostic::{describe, Source};
+use super::evolution::load_name;
 use super::raw::{
     first_span, Leaf, RawContact, RawDirichlet, RawDiscretization, RawLoads, RawMaterial, RawMesh, RawRefine,
     RawTraction,
@@ -95,6 +96,7 @@ pub(super) struct BodyData {
     pub element: Element,
     pub material: MaterialSpec,
     pub body_force: [f64; 2],
+    pub body_force_name: Option<String>,
     pub tractions: Vec<TractionSpec>,
     pub dirichlet: Vec<DirichletSpec>,
     pub contact: Option<ContactSpec>,
@@ -141,6 +143,21 @@ pub(super) fn body_data(src: &Source, scope: &Scope, tables: &BodyTables, scene_
         Some(v) => src.vector(v, "body_force")?,
         None => [0.0; 2],
     };
+    let body_force_name = match tables.loads {
+        Some(loads) => {
+            let name = load_name(src, &loads.name)?;
+            if let (Some(name_v), None) = (&loads.name, &loads.body_force) {
+                return Err(src.error(
+                    &name_v.span(),
+                    format!("{} names its body force, but has no `body_force`", scope.name("loads", false)),
+                    "`name` names the body force for [evolution.factor]: add body_force = [fx, fy], or remove the \
+                     name",
+                ));
+            }
+            name
+        }
+        None => None,
+    };
     let tractions =
         tables.traction.iter().enumerate().map(|(i, t)| traction_spec(src, scope, t, i)).collect::<Result<Vec<_>>>()?;
     let dirichlet = tables
@@ -150,7 +167,7 @@ pub(super) fn body_data(src: &Source, scope: &Scope, tables: &BodyTables, scene_
         .map(|(i, d)| dirichlet_spec(src, scope, d, i))
         .collect::<Result<Vec<_>>>()?;
     let contact = tables.contact.map(|c| contact_spec(src, scope, c, &dirichlet)).transpose()?;
-    Ok(BodyData { mesh, order, element, material, body_force, tractions, dirichlet, contact })
+    Ok(BodyData { mesh, order, element, material, body_force, body_force_name, tractions, dirichlet, contact })
 }
 
 // ---- conversion, one function per table -------------------------------------------------------
@@ -406,7 +423,7 @@ fn part_name(src: &Source, table: &Table, leaf: &Leaf) -> Result<(String, Locati
 }
 
 fn traction_spec(src: &Source, scope: &Scope, t: &RawTraction, index: usize) -> Result<TractionSpec> {
-    let first = first_span(&[&t.part, &t.traction, &t.pressure]);
+    let first = first_span(&[&t.part, &t.traction, &t.pressure, &t.name]);
     let table = scope.table(src, "traction", true, index, first);
     let table = Table { name: format!("this {} table", table.name), ..table };
     let (part, at) = part_name(src, &table, &t.part)?;
@@ -429,11 +446,12 @@ fn traction_spec(src: &Source, scope: &Scope, t: &RawTraction, index: usize) -> 
             ))
         }
     };
-    Ok(TractionSpec { part, load, at })
+    let name = load_name(src, &t.name)?;
+    Ok(TractionSpec { part, load, name, at })
 }
 
 fn dirichlet_spec(src: &Source, scope: &Scope, d: &RawDirichlet, index: usize) -> Result<DirichletSpec> {
-    let first = first_span(&[&d.part, &d.point, &d.ux, &d.uy]);
+    let first = first_span(&[&d.part, &d.point, &d.ux, &d.uy, &d.name]);
     let table = scope.table(src, "dirichlet", true, index, first);
     let table = Table { name: format!("this {} table", table.name), ..table };
     let (target, at) = match (&d.part, &d.point) {
@@ -473,7 +491,8 @@ fn dirichlet_spec(src: &Source, scope: &Scope, d: &RawDirichlet, index: usize) -
             "add ux = 0.0 and/or uy = 0.0 (the prescribed displacement components, in m)",
         ));
     }
-    Ok(DirichletSpec { target, ux, uy, at })
+    let name = load_name(src, &d.name)?;
+    Ok(DirichletSpec { target, ux, uy, name, at })
 }
 
 pub(super) fn petsc_options(src: &Source, v: &Spanned<Value>) -> Result<Vec<String>> {

@@ -4,7 +4,9 @@
 //! load `t` on a body of size L and modulus E gives forces `t L`, displacements `t L / E` and
 //! energies `t² L² / E`; the contact checks multiply forces by displacements. A scene whose
 //! energy scale passes 1e280 (double precision ends near 1.8e308) cannot be solved reliably:
-//! it is refused by name before anything is solved, with the location of the value.
+//! it is refused by name before anything is solved, with the location of the value. Along a
+//! load path (`[evolution]`) each load counts with the largest |factor| it reaches
+//! ([`Scene::largest_factor`]).
 use super::{DirichletTarget, Load, Scene};
 use crate::error::{Error, Location, Result};
 use crate::mesh::Mesh;
@@ -34,6 +36,7 @@ impl Scene {
                 Load::Traction(v) => (v[0].abs().max(v[1].abs()), "traction"),
                 Load::Pressure(p) => (p.abs(), "pressure"),
             };
+            let value = value * self.largest_factor(t.name.as_deref());
             let energy = energy_of_traction(value);
             if !(energy.is_finite() && energy <= MAX_ENERGY) {
                 return Err(refuse(
@@ -42,14 +45,16 @@ impl Scene {
                 ));
             }
         }
-        let b = self.body_force[0].abs().max(self.body_force[1].abs());
+        let b = self.body_force[0].abs().max(self.body_force[1].abs())
+            * self.largest_factor(self.body_force_name.as_deref());
         let energy = energy_of_traction(b * size);
         if !(energy.is_finite() && energy <= MAX_ENERGY) {
             let at = Location { file: self.source.clone(), line: 1, column: 1 };
             return Err(refuse(&at, format!("body force {b:e} on a body of size {size:.3e} with E = {young:e}")));
         }
         for d in &self.dirichlet {
-            for u0 in [d.ux, d.uy].into_iter().flatten() {
+            let factor = self.largest_factor(d.name.as_deref());
+            for u0 in [d.ux, d.uy].into_iter().flatten().map(|u| u * factor) {
                 let energy = young * u0 * u0;
                 if !(energy.is_finite() && energy <= MAX_ENERGY) {
                     let target = match &d.target {
@@ -64,5 +69,16 @@ impl Scene {
             }
         }
         Ok(())
+    }
+
+    /// The largest |factor| a load named `name` (`None`: unnamed) reaches along the scene's load
+    /// path: the largest |value| of its table's rows (the extremes of a piecewise-linear
+    /// function), or of the ramp `t / t_end` at the path's ends; 1 without a load path.
+    pub fn largest_factor(&self, name: Option<&str>) -> f64 {
+        let Some(e) = &self.evolution else { return 1.0 };
+        match name.and_then(|n| e.function(n)) {
+            Some(f) => f.points.iter().map(|p| p[1].abs()).fold(0.0, f64::max),
+            None => e.factor(None, e.start).abs().max(e.factor(None, e.end()).abs()),
+        }
     }
 }

@@ -16,7 +16,10 @@
 //!   Signorini + friction          on a part      [contact] (see `contact`)
 //! ```
 //!
-//! with `n` the unit outward normal, so a positive pressure pushes into the body. Components
+//! with `n` the unit outward normal, so a positive pressure pushes into the body. With an
+//! `[evolution]` table (`evolution`, [`EvolutionSpec`]) the problem is solved along a load
+//! path: each load (traction, prescribed displacement, body force, the obstacle's `motion`)
+//! multiplied by a piecewise-linear factor of a pseudo-time, at a list of increments. Components
 //! `i` not listed in a `[[dirichlet]]` table stay free on that part. From Young's modulus `E`
 //! and Poisson's ratio `ν` (`[material]`), the Lamé constants are
 //!
@@ -59,6 +62,7 @@ mod builder;
 mod contact;
 mod convert;
 mod diagnostic;
+mod evolution;
 mod magnitudes;
 mod model;
 mod raw;
@@ -66,6 +70,7 @@ mod raw;
 pub use bodies::{BodySpec, ContactPairSpec, PartRef, Placement, SINGLE_BODY_NAME};
 pub use builder::{BodiesBuilder, SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
+pub use evolution::{EvolutionSpec, LoadFunction, MAX_STEPS, TIME_TOLERANCE};
 pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
 use crate::error::{Error, Location, Result};
@@ -113,6 +118,9 @@ pub struct Scene {
     pub material: MaterialSpec,
     /// Body force per unit volume (N/m³), e.g. `[0, -ρ g]`.
     pub body_force: [f64; 2],
+    /// `[loads] name`: the load name of the body force, whose factor table in
+    /// `[evolution.factor]` multiplies it (see [`EvolutionSpec::factor`]).
+    pub body_force_name: Option<String>,
     /// The `[[traction]]` tables, in file order.
     pub tractions: Vec<TractionSpec>,
     /// The `[[dirichlet]]` tables, in file order.
@@ -136,6 +144,9 @@ pub struct Scene {
     /// by the file: it replaces the `[contact]` table's `solver`, and with several bodies the
     /// solver of every contact (pairs included).
     pub contact_solver: Option<ContactSolverSpec>,
+    /// `[evolution]`: a load path (every load multiplied by a factor of a pseudo-time, solved at
+    /// a list of increments); `None`: one static solve with every load in full.
+    pub evolution: Option<EvolutionSpec>,
 }
 
 /// Which field the scene is solved for.
@@ -210,6 +221,9 @@ pub struct DirichletSpec {
     pub ux: Option<f64>,
     /// Prescribed y displacement (m); `None` leaves it free.
     pub uy: Option<f64>,
+    /// `name`: the load name whose factor table multiplies the prescribed components
+    /// ([`EvolutionSpec::factor`]); `None`: the proportional ramp.
+    pub name: Option<String>,
     /// Where `part = ...` or `point = ...` is written, for errors found later (unknown part, no
     /// node at the point).
     pub at: Location,
@@ -328,6 +342,9 @@ pub struct TractionSpec {
     pub part: String,
     /// The traction or pressure on it.
     pub load: Load,
+    /// `name`: the load name whose factor table multiplies it ([`EvolutionSpec::factor`]);
+    /// `None`: the proportional ramp.
+    pub name: Option<String>,
     /// Where `part = ...` is written, for errors found later (unknown part).
     pub at: Location,
 }
@@ -431,7 +448,15 @@ impl Scene {
             Some(v) => Some(PathBuf::from(src.nonempty_string(v, "dir")?)),
             None => None,
         };
-        let BodyData { mesh, order, element, material, body_force, tractions, dirichlet, contact } = data;
+        let evolution = match &raw.evolution {
+            Some(e) => {
+                let names: Vec<&str> = bodies.iter().map(|b: &BodySpec| b.name.as_str()).collect();
+                Some(evolution::evolution_spec(&src, e, &evolution::load_names(&raw), &names)?)
+            }
+            None => None,
+        };
+        let BodyData { mesh, order, element, material, body_force, body_force_name, tractions, dirichlet, contact } =
+            data;
         Ok(Scene {
             source: source.to_path_buf(),
             title,
@@ -443,6 +468,7 @@ impl Scene {
             estimate,
             material,
             body_force,
+            body_force_name,
             tractions,
             dirichlet,
             contact,
@@ -451,6 +477,7 @@ impl Scene {
             contact_solver: None,
             bodies,
             contact_pairs,
+            evolution,
         })
     }
 
@@ -469,9 +496,24 @@ impl Scene {
     }
 
     /// Check that every part named by the scene is a boundary (dimension-1) group of `mesh`,
-    /// and that every point condition's point is a node of `mesh`. For a scene with `[[body]]`
-    /// tables this checks the first body only: [`BodiesModel::on_meshes`] checks them all.
+    /// and that every point condition's point is a node of `mesh`; and the `[evolution]`
+    /// `monitor` part of a single-body scene. For a scene with `[[body]]` tables this checks the
+    /// first body only: [`BodiesModel::on_meshes`] checks them all, and the monitor.
     pub fn check_against_mesh(&self, mesh: &Mesh) -> Result<()> {
-        bodies::check_named_against_mesh(mesh, &self.tractions, &self.dirichlet, self.contact.as_ref())
+        bodies::check_named_against_mesh(mesh, &self.tractions, &self.dirichlet, self.contact.as_ref())?;
+        if let Some(EvolutionSpec { monitor: Some(part), monitor_at, .. }) = &self.evolution {
+            if !self.has_body_tables() {
+                boundary_group(mesh, part, monitor_at.as_ref().unwrap_or(&self.evolution_location()))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Where `[evolution]` is written (the start of the file without one).
+    fn evolution_location(&self) -> Location {
+        match &self.evolution {
+            Some(e) => e.at.clone(),
+            None => Location { file: self.source.clone(), line: 1, column: 1 },
+        }
     }
 }

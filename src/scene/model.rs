@@ -86,6 +86,15 @@ impl BodiesModel {
                 boundary_group(&body_meshes[b], &side.part, &side.at).map_err(|e| in_body(e, &side.body))?;
             }
         }
+        if let Some(super::EvolutionSpec { monitor: Some(monitor), monitor_at, at, .. }) = &scene.evolution {
+            // "body.part", the body checked by the reader.
+            if let Some((body, part)) = monitor.split_once('.') {
+                if let Some(b) = bodies.iter().position(|x| x.name == body) {
+                    boundary_group(&body_meshes[b], part, monitor_at.as_ref().unwrap_or(at))
+                        .map_err(|e| in_body(e, body))?;
+                }
+            }
+        }
         check_overlaps(&bodies, &scene.contact_pairs, &body_meshes)?;
         let named: Vec<(&str, &Mesh)> = bodies.iter().map(|b| b.name.as_str()).zip(&body_meshes).collect();
         let (mesh, layout) = disjoint_union(&named)?;
@@ -111,6 +120,7 @@ fn one_body_scene(scene: &Scene, body: &BodySpec) -> Scene {
         element: body.element,
         material: body.material,
         body_force: body.body_force,
+        body_force_name: body.body_force_name.clone(),
         tractions: body.tractions.clone(),
         dirichlet: body.dirichlet.clone(),
         contact: body.contact.clone(),

@@ -10,6 +10,7 @@
 //! To add a section: add a `Raw...` struct here, its field in [`RawScene`],
 //! its key list in [`TABLE_KEYS`], and a conversion function in the parent module.
 use serde::Deserialize;
+use std::collections::BTreeMap;
 use std::ops::Range;
 use toml::{Spanned, Value};
 
@@ -36,6 +37,20 @@ pub(super) struct RawScene {
     pub body: Vec<RawBody>,
     #[serde(default)]
     pub contact_pair: Vec<RawContactPair>,
+    pub evolution: Option<RawEvolution>,
+}
+
+/// `[evolution]`: a load path. Its `[evolution.factor]` table maps load names (any key) to
+/// their tables `[[t, factor], ...]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "the [evolution] table")]
+pub(super) struct RawEvolution {
+    pub steps: Leaf,
+    pub times: Leaf,
+    pub start: Leaf,
+    pub monitor: Leaf,
+    pub profiles: Leaf,
+    pub factor: Option<BTreeMap<String, Spanned<Value>>>,
 }
 
 /// One `[[body]]` table: a name, a placement, and the tables of a single-body scene under
@@ -119,6 +134,7 @@ pub(super) struct RawMaterial {
 #[serde(deny_unknown_fields, expecting = "the [loads] table")]
 pub(super) struct RawLoads {
     pub body_force: Leaf,
+    pub name: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -127,6 +143,7 @@ pub(super) struct RawTraction {
     pub part: Leaf,
     pub traction: Leaf,
     pub pressure: Leaf,
+    pub name: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -136,6 +153,7 @@ pub(super) struct RawDirichlet {
     pub point: Leaf,
     pub ux: Leaf,
     pub uy: Leaf,
+    pub name: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -156,6 +174,8 @@ pub(super) struct RawContact {
     pub tolerance: Leaf,
     pub max_iterations: Leaf,
     pub omega: Leaf,
+    pub motion: Leaf,
+    pub name: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -191,6 +211,7 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "estimate",
             "body",
             "contact_pair",
+            "evolution",
         ],
     ),
     (
@@ -214,9 +235,9 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
     ("[discretization]", &["order", "element", "formulation", "dual_constraints"]),
     ("[estimate]", &["enabled"]),
     ("[material]", &["young", "poisson", "plane"]),
-    ("[loads]", &["body_force"]),
-    ("[[traction]]", &["part", "traction", "pressure"]),
-    ("[[dirichlet]]", &["part", "point", "ux", "uy"]),
+    ("[loads]", &["body_force", "name"]),
+    ("[[traction]]", &["part", "traction", "pressure", "name"]),
+    ("[[dirichlet]]", &["part", "point", "ux", "uy", "name"]),
     (
         "[contact]",
         &[
@@ -235,10 +256,13 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "tolerance",
             "max_iterations",
             "omega",
+            "motion",
+            "name",
         ],
     ),
     ("[solver]", &["petsc_options"]),
     ("[output]", &["dir"]),
+    ("[evolution]", &["steps", "times", "start", "monitor", "profiles", "factor"]),
 ];
 
 fn span_of(leaf: &Leaf) -> Option<Range<usize>> {
@@ -317,6 +341,8 @@ impl RawContact {
             ("tolerance", &self.tolerance),
             ("max_iterations", &self.max_iterations),
             ("omega", &self.omega),
+            ("motion", &self.motion),
+            ("name", &self.name),
         ]
         .into_iter()
         .filter_map(|(k, leaf)| span_of(leaf).map(|s| (k, s)))

@@ -6,6 +6,7 @@ mod edit;
 mod builder;
 mod contact;
 mod element_and_formulation;
+mod evolution;
 mod examples;
 mod mesh_parts;
 mod obstacles;

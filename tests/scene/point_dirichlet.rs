@@ -17,6 +17,7 @@ fn dirichlet_at_a_point() {
             target: DirichletTarget::Point([0.0, 0.2]),
             ux: Some(0.0),
             uy: Some(0.0),
+            name: None,
             at: Location { file: "test.toml".into(), line: line_of(&text, "point ="), column: "point = ".len() + 1 }
         }
     );

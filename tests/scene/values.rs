@@ -202,7 +202,7 @@ fn dirichlet_without_components() {
     let s = parse(&base_with("ux = 0.0\n", "")).unwrap();
     assert_eq!(
         s.dirichlet[0],
-        DirichletSpec { target: part("left"), ux: None, uy: Some(0.0), at: s.dirichlet[0].at.clone() }
+        DirichletSpec { target: part("left"), ux: None, uy: Some(0.0), name: None, at: s.dirichlet[0].at.clone() }
     );
 }
 
