@@ -182,18 +182,18 @@ struct State {
 }
 
 /// The key of the loads of a `[[traction]]`, of the body force, of a `[[dirichlet]]` and of
-/// the obstacle's motion.
-fn traction_key(_t: &crate::scene::TractionSpec) -> Option<&str> {
-    None
+/// the obstacle's motion: their `name` (`None`: ramped).
+fn traction_key(t: &crate::scene::TractionSpec) -> Option<&str> {
+    t.name.as_deref()
 }
-fn body_force_key(_scene: &crate::scene::Scene) -> Option<&str> {
-    None
+fn body_force_key(scene: &crate::scene::Scene) -> Option<&str> {
+    scene.body_force_name.as_deref()
 }
-fn dirichlet_key(_d: &crate::scene::DirichletSpec) -> Option<&str> {
-    None
+fn dirichlet_key(d: &crate::scene::DirichletSpec) -> Option<&str> {
+    d.name.as_deref()
 }
-fn motion_of(_spec: &crate::scene::ContactSpec) -> Option<([f64; 2], Option<&str>)> {
-    None
+fn motion_of(spec: &crate::scene::ContactSpec) -> Option<([f64; 2], Option<&str>)> {
+    spec.motion.map(|d| (d, spec.name.as_deref()))
 }
 
 impl<'s> ElasticityProblem<'s> {
@@ -402,7 +402,7 @@ impl<'s> ElasticityProblem<'s> {
         let mut steps: Vec<StepRecord> = Vec::new();
         let mut profiles = Vec::new();
         let mut halvings_total = 0;
-        let profile_times: Vec<f64> = if path.profiles.is_empty() { vec![path.end()] } else { path.profiles.clone() };
+        let profile_times = path.profiles.clone();
         let mut x = matrix.create_vector()?;
         let mut e = matrix.create_vector()?;
         // Targets still to reach, the next last; each with how often it was halved.

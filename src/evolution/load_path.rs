@@ -27,8 +27,11 @@ pub struct LoadPath {
     /// The boundary part whose mean displacement the history records (the contact part if
     /// `None`).
     pub monitor: Option<String>,
-    /// The times at which the contact profiles are kept (the end of the path if empty).
+    /// The times at which the contact profiles are kept (none if empty).
     pub profiles: Vec<f64>,
+    /// The `t_end` of the unnamed loads' ramp `t / t_end` (the last table time; the path's end
+    /// if `None`).
+    pub ramp_end: Option<f64>,
 }
 
 impl LoadPath {
@@ -40,9 +43,11 @@ impl LoadPath {
         Self::at_times(0.0, (1..=steps).map(|k| k as f64 / steps as f64).collect())
     }
 
-    /// Increments ending at `times` (strictly increasing, after `start`), loads ramped.
+    /// Increments ending at `times` (strictly increasing, after `start`), loads ramped, the
+    /// profile kept at the end.
     pub fn at_times(start: f64, times: Vec<f64>) -> Result<LoadPath> {
-        let path = LoadPath { start, times, tables: BTreeMap::new(), monitor: None, profiles: Vec::new() };
+        let profiles = times.last().copied().into_iter().collect();
+        let path = LoadPath { start, times, tables: BTreeMap::new(), monitor: None, profiles, ramp_end: None };
         path.validated()
     }
 
@@ -81,10 +86,19 @@ impl LoadPath {
         Ok(self)
     }
 
-    /// The load path a scene asks for (`[evolution]`), `None` for a single static solve.
+    /// The load path a scene asks for (`[evolution]`, checked when the scene was read), `None`
+    /// for a single static solve.
     pub fn of_scene(scene: &crate::scene::Scene) -> Result<Option<LoadPath>> {
-        let _ = scene;
-        Ok(None)
+        let Some(e) = &scene.evolution else { return Ok(None) };
+        let path = LoadPath {
+            start: e.start(),
+            times: e.times.clone(),
+            tables: e.factors.iter().map(|f| (f.name.clone(), f.points.clone())).collect(),
+            monitor: e.monitor.clone(),
+            profiles: e.profiles.clone(),
+            ramp_end: Some(e.ramp_end()),
+        };
+        path.validated().map(Some)
     }
 
     /// The last time of the path.
@@ -92,13 +106,14 @@ impl LoadPath {
         *self.times.last().expect("a validated path has an increment")
     }
 
-    /// The factor of the loads named `name` (`None`: unnamed, ramped `t / t_end`) at `t`.
+    /// The factor of the loads named `name` (`None`: unnamed, ramped `t / t_end`) at `t`
+    /// (the rules of `[evolution]`: [`crate::scene::EvolutionSpec::factor`]).
     /// A named load without a table is ramped too; outside its table a factor stays at the
     /// table's first or last value.
     pub fn factor(&self, name: Option<&str>, t: f64) -> f64 {
         match name.and_then(|n| self.tables.get(n)) {
             Some(rows) => piecewise_linear(rows, t),
-            None => t / self.end(),
+            None => t / self.ramp_end.unwrap_or_else(|| self.end()),
         }
     }
 }
