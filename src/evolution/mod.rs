@@ -5,6 +5,7 @@
 //! memory: at each increment Coulomb's and Tresca's laws act on the slip *increment* since the
 //! last converged state (the backward-Euler time discretisation of the rate law, see
 //! `../shared/reference/SCIENCE.md`, "the incremental problem").
+pub mod history;
 pub mod record;
 
 pub use record::{ContactProfile, StepRecord};

@@ -1,4 +1,5 @@
-//! Result files: `.vtu` meshes with fields ([`vtu`]), log-log SVG plots ([`plot`]), JSON reports.
+//! Result files: `.vtu` meshes with fields ([`vtu`]), ParaView collections of them ([`pvd`]),
+//! SVG plots ([`plot`]), JSON reports.
 //!
 //! Every file goes through [`write_atomically`], so a reader (ParaView, a script polling a run
 //! directory, the next run of the program) never sees a half-written file:
@@ -23,6 +24,7 @@
 pub mod contact_plots;
 pub mod mesh_plot;
 pub mod plot;
+pub mod pvd;
 pub mod vtu;
 
 use std::cell::RefCell;
