@@ -240,7 +240,7 @@ mod tests {
             halvings: 0,
             contact_resultant: [0.0, 0.0],
             normal_resultant: -2e6,
-            tangential_resultant: if step % 2 == 0 { -1234.5 } else { 5.0e5 },
+            tangential_resultant: if step.is_multiple_of(2) { -1234.5 } else { 5.0e5 },
             open,
             stick,
             slip,

@@ -406,7 +406,8 @@ mod tests {
     #[test]
     fn non_finite_numbers_are_refused_naming_step_and_field() {
         let dir = scratch("nan");
-        let cases: [(usize, fn(&mut StepRecord), &str, &str); 4] = [
+        type Spoil = fn(&mut StepRecord);
+        let cases: [(usize, Spoil, &str, &str); 4] = [
             (2, |s| s.worst_residual = f64::NAN, "worst_residual", "NaN"),
             (0, |s| s.contact_resultant[1] = f64::INFINITY, "contact_resultant[1]", "inf"),
             (10, |s| s.monitor_displacement = f64::NEG_INFINITY, "monitor_displacement", "-inf"),
