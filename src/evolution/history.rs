@@ -29,6 +29,10 @@ pub const HYSTERESIS_SVG: &str = "hysteresis.svg";
 /// The contact profiles plot's name in the output directory.
 pub const CONTACT_PROFILES_SVG: &str = "contact_profiles.svg";
 
+/// The files [`write_load_path_outputs`] may write in the output directory (for clearing a
+/// previous run's results).
+pub const LOAD_PATH_FILES: [&str; 3] = [HISTORY_CSV, HYSTERESIS_SVG, CONTACT_PROFILES_SVG];
+
 /// The columns of `history.csv`, in order (one per field of [`StepRecord`], the contact
 /// resultant split into x and y).
 pub const HISTORY_CSV_HEADER: &str = "step,time,halvings,contact_x_N_per_m,contact_y_N_per_m,normal_N_per_m,\

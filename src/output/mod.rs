@@ -245,7 +245,7 @@ fn collection_members(dir: &Path) -> Vec<String> {
 
 /// Is `name` the temporary file of [`write_atomically`] for one of `targets`
 /// (`.TARGET.PID.N.tmp`)?
-fn is_temporary_of(name: &str, targets: &[String]) -> bool {
+pub(crate) fn is_temporary_of(name: &str, targets: &[String]) -> bool {
     let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else { return false };
     targets.iter().any(|t| {
         inner.strip_prefix(t.as_str()).and_then(|r| r.strip_prefix('.')).is_some_and(|r| {

@@ -17,7 +17,7 @@
 //! decimal that reads back to the same `f64`), file names as given, escaped for an XML
 //! attribute. (meshio reads time series from XDMF only, not from `.pvd`; the tests parse the
 //! collection with an XML parser instead.)
-use std::path::{Component, Path};
+use std::path::{Component, Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::output::vtu::escape_attribute;
@@ -27,7 +27,66 @@ use crate::output::write_atomically;
 /// `steps/solution_0001.vtu`, the number zero-padded to 4 digits (wider from 10000 on, so that
 /// the names of a path of fewer than 10000 increments sort in order).
 pub fn step_file_name(step: usize) -> String {
-    format!("steps/solution_{step:04}.vtu")
+    format!("{STEPS_DIR}/solution_{step:04}.vtu")
+}
+
+/// The directory of the step files, inside the output directory.
+pub const STEPS_DIR: &str = "steps";
+
+/// Is `name` (in [`STEPS_DIR`]) a step file of [`step_file_name`], `solution_NNNN.vtu` with at
+/// least 4 digits?
+fn is_step_file(name: &str) -> bool {
+    name.strip_prefix("solution_")
+        .and_then(|n| n.strip_suffix(".vtu"))
+        .is_some_and(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Remove a previous load path's step files from `dir/steps` (the names of [`step_file_name`]
+/// and the temporaries a killed writer left of them), then `dir/steps` itself if nothing else
+/// is in it; returns the paths removed, sorted. Other files are left alone. (The run files of
+/// [`crate::output::clear_previous_run`] are plain names in `dir`: it does not look into
+/// `steps/`.) If a step file cannot be removed, [`Error::Output`] names each one still there.
+pub fn clear_step_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let steps = dir.join(STEPS_DIR);
+    let mut removed = Vec::new();
+    let Ok(entries) = std::fs::read_dir(&steps) else {
+        return Ok(removed); // no steps directory: nothing to clear
+    };
+    let names: Vec<String> = entries.flatten().map(|e| e.file_name().to_string_lossy().to_string()).collect();
+    let mut stale = Vec::new();
+    for name in &names {
+        if is_step_file(name) || is_step_temporary(name) {
+            let path = steps.join(name);
+            match std::fs::remove_file(&path) {
+                Ok(()) => removed.push(path),
+                Err(e) => stale.push((path, e.to_string())),
+            }
+        }
+    }
+    removed.sort();
+    stale.sort();
+    if let Some((first, reason)) = stale.first() {
+        let names: Vec<String> = stale.iter().map(|(p, _)| p.display().to_string()).collect();
+        return Err(Error::Output {
+            path: first.clone(),
+            message: format!(
+                "removing the previous load path's step files failed ({reason}): {} still there, from an earlier \
+                 run, not results of this one; remove them and run again",
+                names.join(", ")
+            ),
+        });
+    }
+    // Best effort: a directory holding other files stays.
+    let _ = std::fs::remove_dir(&steps);
+    Ok(removed)
+}
+
+/// Is `name` the temporary file of a step file (`.solution_0003.vtu.PID.N.tmp`, see
+/// [`crate::output::write_atomically`]), whether that step file exists or not?
+fn is_step_temporary(name: &str) -> bool {
+    name.strip_prefix('.').and_then(|n| n.split_once(".vtu.")).is_some_and(|(stem, _)| {
+        is_step_file(&format!("{stem}.vtu")) && crate::output::is_temporary_of(name, &[format!("{stem}.vtu")])
+    })
 }
 
 /// Write the collection `path` listing `entries` (time, file relative to `path`'s directory),
@@ -140,6 +199,50 @@ mod tests {
         write_pvd(&path, &[(0.5, "r&d/\"x\"<1>.vtu".into())]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.contains("file=\"r&amp;d/&quot;x&quot;&lt;1&gt;.vtu\""), "{text}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_previous_runs_step_files_are_cleared_and_nothing_else() {
+        let dir = scratch("clear");
+        assert!(clear_step_files(&dir).unwrap().is_empty(), "no directory: nothing to do");
+        let steps = dir.join(STEPS_DIR);
+        std::fs::create_dir_all(&steps).unwrap();
+        let ours = ["solution_0001.vtu", "solution_0002.vtu", "solution_12345.vtu", ".solution_0003.vtu.4711.2.tmp"];
+        let theirs = ["notes.txt", "solution_01.vtu", "solution_0001.vtu.bak", ".solution_0003.vtu.x.2.tmp"];
+        for name in ours.iter().chain(&theirs) {
+            std::fs::write(steps.join(name), "x").unwrap();
+        }
+        let removed = clear_step_files(&dir).unwrap();
+        let mut expected: Vec<PathBuf> = ours.iter().map(|n| steps.join(n)).collect();
+        expected.sort();
+        assert_eq!(removed, expected);
+        let mut left: Vec<String> =
+            std::fs::read_dir(&steps).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_string()).collect();
+        left.sort();
+        let mut theirs: Vec<String> = theirs.iter().map(|s| s.to_string()).collect();
+        theirs.sort();
+        assert_eq!(left, theirs);
+        // Only step files: the directory goes too.
+        for name in &theirs {
+            std::fs::remove_file(steps.join(name)).unwrap();
+        }
+        std::fs::write(steps.join(step_file_name(1).trim_start_matches("steps/")), "x").unwrap();
+        assert_eq!(clear_step_files(&dir).unwrap(), [dir.join(step_file_name(1))]);
+        assert!(!steps.exists());
+
+        // A step file that cannot be removed (here a directory of that name) is named as stale;
+        // the others are removed all the same.
+        std::fs::create_dir_all(steps.join("solution_0009.vtu")).unwrap();
+        std::fs::write(steps.join("solution_0002.vtu"), "x").unwrap();
+        match clear_step_files(&dir) {
+            Err(Error::Output { path, message }) => {
+                assert_eq!(path, steps.join("solution_0009.vtu"));
+                assert!(message.contains("solution_0009.vtu still there, from an earlier run"), "{message}");
+            }
+            other => panic!("expected an output error, got {other:?}"),
+        }
+        assert!(!steps.join("solution_0002.vtu").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
