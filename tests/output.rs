@@ -10,10 +10,14 @@ use std::process::Command;
 
 use serde_json::Value;
 use signorini::error::Error;
+use signorini::evolution::history::{write_load_path_outputs, CONTACT_PROFILES_SVG, HISTORY_CSV, HYSTERESIS_SVG};
+use signorini::evolution::{ContactProfile, StepRecord};
 use signorini::mesh::{Mesh, Order, PhysicalGroup, NO_GROUP};
-use signorini::output::plot::{write_loglog_svg, Series};
+use signorini::output::plot::{write_linear_styled_svg, write_linear_svg, write_loglog_svg, Series, Style};
+use signorini::output::pvd::{step_file_name, write_pvd};
 use signorini::output::vtu::{write_vtu, Field};
 use signorini::output::{all_or_nothing, write_atomically, write_atomically_by_name, write_json};
+use signorini::report::contact::ContactState;
 use signorini::resources::{current_memory_bytes, peak_memory_bytes, Timings};
 
 /// A fresh, empty directory for one test.
@@ -640,5 +644,190 @@ fn loglog_svg_is_well_formed_with_labels_and_legend() {
     assert!(texts.iter().any(|t| t == "no positive data to plot"));
     write_loglog_svg(&empty, "", "", "", &[]).unwrap();
     parse_svg(&empty);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Parse `file` with Python's XML parser; returns the root's tag, its attributes and the texts
+/// of its `<text>` elements (SVG) or the attributes of its `<DataSet>` elements (a collection).
+fn parse_xml(file: &Path) -> Value {
+    const SCRIPT: &str = r#"
+import json, sys
+import xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+ns = "{http://www.w3.org/2000/svg}"
+print(json.dumps({"root": root.tag, "attributes": dict(root.attrib),
+                  "texts": ["".join(t.itertext()) for t in root.iter(ns + "text")],
+                  "data_sets": [dict(d.attrib) for d in root.iter("DataSet")],
+                  "collections": len(root.findall("Collection"))}))
+"#;
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(SCRIPT)
+        .arg(file)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run python3 ({e}): needed to parse {}", file.display()));
+    assert!(
+        out.status.success(),
+        "{} is not well-formed XML: {}",
+        file.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// A load path's `solution.pvd`: an XML collection (Python's parser reads it) with one data set
+/// per increment, its exact time and the relative name of a `.vtu` file that exists and that
+/// meshio reads with that increment's field (meshio has no `.pvd` reader: it reads time series
+/// from XDMF only).
+#[test]
+fn load_path_collection_lists_each_increment_and_its_file() {
+    let dir = scratch_dir("pvd");
+    let mesh = p1_mesh();
+    let times = [0.025, 0.05, 0.1 + 0.2, 1.0 / 3.0, 2.0];
+    let fields: Vec<Vec<f64>> = times.iter().map(|t| values(3 * mesh.num_nodes(), *t)).collect();
+    let collection = dir.join("solution.pvd");
+    all_or_nothing(|| {
+        let mut entries = Vec::new();
+        for (k, (t, u)) in times.iter().zip(&fields).enumerate() {
+            let name = step_file_name(k + 1);
+            write_vtu(
+                &dir.join(&name),
+                &mesh,
+                &[Field { name: "displacement", components: 3, values: u }],
+                &[],
+                false,
+            )?;
+            entries.push((*t, name));
+        }
+        write_pvd(&collection, &entries)
+    })
+    .unwrap();
+    assert_eq!(dir_entries(&dir), BTreeSet::from(["solution.pvd".to_string(), "steps".to_string()]));
+
+    let parsed = parse_xml(&collection);
+    assert_eq!(parsed["root"], "VTKFile");
+    assert_eq!(parsed["attributes"]["type"], "Collection");
+    assert_eq!(parsed["collections"], 1);
+    let sets = parsed["data_sets"].as_array().unwrap();
+    assert_eq!(sets.len(), times.len());
+    for (k, set) in sets.iter().enumerate() {
+        let time: f64 = set["timestep"].as_str().unwrap().parse().unwrap();
+        assert_eq!(time.to_bits(), times[k].to_bits(), "{set}");
+        let file = set["file"].as_str().unwrap();
+        assert_eq!(file, format!("steps/solution_{:04}.vtu", k + 1));
+        assert_eq!(set["part"], "0");
+        let m = read_with_meshio(&dir.join(file));
+        assert_eq!(as_u64s(&m["point_data"]["displacement"]["bits"]), bits_of(&fields[k]), "{file}");
+    }
+    assert_eq!(dir_entries(&dir.join("steps")).len(), times.len(), "a temporary left behind");
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The history files of a load path are well-formed (Python's parser) and say what they show.
+#[test]
+fn load_path_history_files_parse_and_carry_their_labels() {
+    let dir = scratch_dir("history");
+    let steps: Vec<StepRecord> = (1..=6)
+        .map(|k| {
+            let phase = k as f64 * std::f64::consts::FRAC_PI_3;
+            StepRecord {
+                step: k,
+                time: k as f64 / 6.0,
+                halvings: 0,
+                contact_resultant: [1e5 * phase.sin(), -2e6],
+                normal_resultant: -2e6,
+                tangential_resultant: 1e5 * phase.sin(),
+                open: 4,
+                stick: 3,
+                slip: 1,
+                closed: 0,
+                iterations: 4,
+                worst_residual: 1e-12,
+                dissipation: 0.5,
+                total_dissipation: 0.5 * k as f64,
+                work: 2.0 * k as f64,
+                stored_energy: 1.0,
+                monitor_displacement: 1e-6 * (phase - 0.3).sin(),
+                estimate_percent: None,
+                seconds: 0.01,
+            }
+        })
+        .collect();
+    let abscissa = vec![0.0, 0.5, 1.0];
+    let profiles = [2, 5].map(|k| ContactProfile {
+        step: k,
+        time: k as f64 / 6.0,
+        abscissa: abscissa.clone(),
+        pressure: vec![1e6, 2e6, 1e6],
+        traction: vec![-1e5, 0.0, 1e5 * k as f64],
+        state: vec![ContactState::Slip, ContactState::Stick, ContactState::Slip],
+    });
+    let written = write_load_path_outputs(&dir, &steps, &profiles, "cycle & <load>").unwrap();
+    assert_eq!(written, [dir.join(HISTORY_CSV), dir.join(HYSTERESIS_SVG), dir.join(CONTACT_PROFILES_SVG)]);
+    assert_eq!(fs::read_to_string(&written[0]).unwrap().lines().count(), 1 + steps.len());
+
+    let hysteresis = parse_xml(&written[1]);
+    assert_eq!(hysteresis["root"], "{http://www.w3.org/2000/svg}svg");
+    let texts: Vec<&str> = hysteresis["texts"].as_array().unwrap().iter().map(|t| t.as_str().unwrap()).collect();
+    for expected in [
+        "cycle & <load>: tangential load against displacement",
+        "increments 1 to 6, in order",
+        "tangential contact force (N/m)",
+    ] {
+        assert!(texts.contains(&expected), "missing {expected:?} in {texts:?}");
+    }
+    let profiles_svg = parse_xml(&written[2]);
+    assert_eq!(profiles_svg["attributes"]["width"], "1600");
+    let texts: Vec<&str> = profiles_svg["texts"].as_array().unwrap().iter().map(|t| t.as_str().unwrap()).collect();
+    for expected in [
+        "cycle & <load>: contact pressure",
+        "cycle & <load>: tangential traction",
+        "t = 0.333333 (increment 2)",
+        "t = 0.833333 (increment 5)",
+    ] {
+        assert!(texts.contains(&expected), "missing {expected:?} in {texts:?}");
+    }
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `write_linear_svg` draws lines or markers as before; the styled variant also draws both, and
+/// neither sorts the points (a path back and forth in x is drawn as given).
+#[test]
+fn linear_svg_keeps_the_point_order_and_its_styles() {
+    let dir = scratch_dir("linear");
+    let back_and_forth = vec![(0.0, 0.0), (2.0, 1.0), (1.0, 2.0), (3.0, 3.0)];
+    let series = [
+        Series { label: "line".into(), points: back_and_forth.clone() },
+        Series { label: "samples".into(), points: back_and_forth.clone() },
+    ];
+    // The groups of the two series, in order (the legend's groups come after them).
+    let groups = |svg: &str| -> Vec<String> {
+        svg.split("<g fill=").skip(1).take(2).map(|g| g.split("</g>").next().unwrap().to_string()).collect()
+    };
+    let xs = |group: &str| -> Vec<f64> {
+        let d = group.split("<path d=\"").nth(1).unwrap().split('"').next().unwrap();
+        d.split(['M', 'L'])
+            .filter(|p| !p.trim().is_empty())
+            .map(|p| p.split(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let plain = dir.join("plain.svg");
+    write_linear_svg(&plain, "t", "x", "y", &series, &[true, false]).unwrap();
+    let svg = fs::read_to_string(&plain).unwrap();
+    let g = groups(&svg);
+    assert_eq!((g[0].matches("<path").count(), g[0].matches("<circle").count()), (1, 0), "{}", g[0]);
+    assert_eq!((g[1].matches("<path").count(), g[1].matches("<rect").count()), (0, 4), "{}", g[1]);
+    let x = xs(&g[0]);
+    assert!(x[0] < x[2] && x[2] < x[1] && x[1] < x[3], "points reordered: {x:?}");
+
+    let styled = dir.join("styled.svg");
+    write_linear_styled_svg(&styled, "t", "x", "y", &series, &[Style::LineAndMarkers, Style::Markers]).unwrap();
+    let svg = fs::read_to_string(&styled).unwrap();
+    let g = groups(&svg);
+    assert_eq!((g[0].matches("<path").count(), g[0].matches("<circle").count()), (1, 4), "{}", g[0]);
+    assert_eq!((g[1].matches("<path").count(), g[1].matches("<rect").count()), (0, 4), "{}", g[1]);
+    assert_eq!(xs(&g[0]), x);
+    parse_xml(&plain);
+    parse_xml(&styled);
     fs::remove_dir_all(&dir).unwrap();
 }

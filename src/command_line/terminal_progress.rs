@@ -11,6 +11,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use signorini::evolution::StepRecord;
 use signorini::problem::{Phase, Progress};
 
 /// Work shorter than this shows no spinner (unless `SIGNORINI_PROGRESS_DELAY_MS` says else).
@@ -100,6 +101,15 @@ impl Spinner {
         });
     }
 
+    /// Print `line` on stderr above the spinner (which is redrawn after it); nothing when
+    /// disabled.
+    pub fn print_line(&self, line: &str) {
+        self.with(|current| match current.as_ref() {
+            Some(c) if c.shown => c.bar.suspend(|| eprintln!("{line}")),
+            _ => eprintln!("{line}"),
+        });
+    }
+
     /// The current task ended: its spinner disappears.
     pub fn finish(&self) {
         self.with(|current| {
@@ -165,5 +175,124 @@ impl Progress for TerminalProgress {
 
     fn note(&self, text: &str) {
         self.spinner.set_message(format!("{}: {}", self.phase_name(), text.trim()));
+    }
+
+    fn increment_finished(&self, step: &StepRecord, total: usize) {
+        self.spinner.print_line(&increment_line(step, total));
+    }
+}
+
+/// Decimal digits of `n`.
+fn digits(n: usize) -> usize {
+    n.max(1).ilog10() as usize + 1
+}
+
+/// A time with 6 significant digits at most and no trailing zeros (`0.075`, not
+/// `0.07500000000000001`), e-notation outside `[1e-4, 1e6)`.
+fn short_time(t: f64) -> String {
+    let rounded: f64 = format!("{t:.5e}").parse().unwrap_or(t);
+    if rounded == 0.0 || (1e-4..1e6).contains(&rounded.abs()) {
+        format!("{rounded}")
+    } else {
+        format!("{rounded:e}")
+    }
+}
+
+/// The line of a converged increment, its columns aligned from one increment of the path to
+/// the next: `increment  3/40  t = 0.075     Q = -1.234e3 N/m  stick/slip/open 12/ 4/30 …`.
+/// The counts are `closed/open` where closed points have no friction, and all four where both
+/// kinds are closed; cut increments say how many times they were halved.
+pub fn increment_line(step: &StepRecord, total: usize) -> String {
+    let width = digits(total.max(step.step));
+    let points = digits(step.open + step.stick + step.slip + step.closed);
+    let (names, counts) = match (step.closed > 0, step.stick + step.slip > 0) {
+        (false, _) => ("stick/slip/open", vec![step.stick, step.slip, step.open]),
+        (true, false) => ("closed/open", vec![step.closed, step.open]),
+        (true, true) => ("stick/slip/closed/open", vec![step.stick, step.slip, step.closed, step.open]),
+    };
+    let counts: Vec<String> = counts.iter().map(|c| format!("{c:>points$}")).collect();
+    let mut line = format!(
+        "increment {:>width$}/{total}  t = {:<9}  Q = {:>9} N/m  {names} {}  {:>3} iterations  residual {:<8}  {:>7.2} s",
+        step.step,
+        short_time(step.time),
+        format!("{:.3e}", step.tangential_resultant),
+        counts.join("/"),
+        step.iterations,
+        format!("{:.1e}", step.worst_residual),
+        step.seconds,
+    );
+    match step.halvings {
+        0 => {}
+        1 => line.push_str("  (halved once)"),
+        n => line.push_str(&format!("  (halved {n} times)")),
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(step: usize, stick: usize, slip: usize, closed: usize, open: usize) -> StepRecord {
+        StepRecord {
+            step,
+            time: step as f64 * 0.025,
+            halvings: 0,
+            contact_resultant: [0.0, 0.0],
+            normal_resultant: -2e6,
+            tangential_resultant: if step.is_multiple_of(2) { -1234.5 } else { 5.0e5 },
+            open,
+            stick,
+            slip,
+            closed,
+            iterations: step % 12 + 1,
+            worst_residual: 3.2e-11 * 10f64.powi(step as i32 % 3),
+            dissipation: 0.0,
+            total_dissipation: 0.0,
+            work: 0.0,
+            stored_energy: 0.0,
+            monitor_displacement: 0.0,
+            estimate_percent: None,
+            seconds: 0.08 * step as f64,
+        }
+    }
+
+    #[test]
+    fn increment_lines_say_what_converged() {
+        let line = increment_line(&record(3, 12, 4, 0, 30), 40);
+        assert_eq!(
+            line,
+            "increment  3/40  t = 0.075      Q =   5.000e5 N/m  stick/slip/open 12/ 4/30    4 iterations  residual \
+             3.2e-11      0.24 s"
+        );
+        let mut cut = record(7, 0, 0, 20, 26);
+        cut.halvings = 2;
+        let line = increment_line(&cut, 9);
+        assert!(line.contains("closed/open 20/26"), "{line}");
+        assert!(line.ends_with("  (halved 2 times)"), "{line}");
+        let mixed = increment_line(&record(1, 3, 2, 5, 0), 1);
+        assert!(mixed.contains("stick/slip/closed/open  3/ 2/ 5/ 0"), "{mixed}");
+        assert!(!line.contains('\u{1b}') && !mixed.contains('\u{1b}'), "no escape codes");
+    }
+
+    #[test]
+    fn increment_lines_are_aligned() {
+        // Steps of 1 to 3 digits, counts of 1 and 2 digits, residuals of both exponent widths.
+        let lines: Vec<String> = [1, 2, 9, 10, 99, 100, 120]
+            .iter()
+            .map(|&k| increment_line(&record(k, k % 17, 3, 0, 60 - k % 17 - 3), 120))
+            .collect();
+        for marker in ["t = ", "Q = ", "stick/slip/open", "iterations", "residual", " s"] {
+            let columns: Vec<usize> = lines.iter().map(|l| l.find(marker).unwrap()).collect();
+            assert!(columns.iter().all(|c| *c == columns[0]), "{marker:?} at {columns:?}:\n{}", lines.join("\n"));
+        }
+        assert!(lines.iter().all(|l| l.len() == lines[0].len()), "{}", lines.join("\n"));
+    }
+
+    #[test]
+    fn times_are_short() {
+        assert_eq!(short_time(0.07500000000000001), "0.075");
+        assert_eq!(short_time(1.0), "1");
+        assert_eq!(short_time(2.5e-7), "2.5e-7");
     }
 }

@@ -610,6 +610,7 @@ impl<'s> ElasticityProblem<'s> {
                 estimated?;
                 record.estimate_percent = self.estimate.as_ref().map(|e| e.estimate.relative_percent);
             }
+            self.progress.increment_finished(&record, path.times.len());
             on_step(self, &record)?;
             steps.push(record);
         }

@@ -6,6 +6,7 @@
 //! last converged state (the backward-Euler time discretisation of the rate law, see
 //! `../shared/reference/SCIENCE.md`, "the incremental problem").
 mod driver;
+pub mod history;
 pub mod load_path;
 pub mod record;
 

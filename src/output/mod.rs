@@ -1,4 +1,5 @@
-//! Result files: `.vtu` meshes with fields ([`vtu`]), log-log SVG plots ([`plot`]), JSON reports.
+//! Result files: `.vtu` meshes with fields ([`vtu`]), ParaView collections of them ([`pvd`]),
+//! SVG plots ([`plot`]), JSON reports.
 //!
 //! Every file goes through [`write_atomically`], so a reader (ParaView, a script polling a run
 //! directory, the next run of the program) never sees a half-written file:
@@ -23,6 +24,7 @@
 pub mod contact_plots;
 pub mod mesh_plot;
 pub mod plot;
+pub mod pvd;
 pub mod vtu;
 
 use std::cell::RefCell;
@@ -240,21 +242,6 @@ pub const RUN_FILES: [&str; 9] = [
     "contact_profiles.svg",
 ];
 
-/// The increments a previous load path left in `dir/steps` (`solution_NNNN.vtu`, and their
-/// temporaries).
-fn previous_increments(dir: &Path) -> Vec<PathBuf> {
-    let Ok(entries) = fs::read_dir(dir.join("steps")) else { return Vec::new() };
-    entries
-        .flatten()
-        .filter(|e| {
-            let name = e.file_name().to_string_lossy().to_string();
-            let plain = name.trim_start_matches('.');
-            plain.starts_with("solution_") && (plain.ends_with(".vtu") || plain.ends_with(".tmp"))
-        })
-        .map(|e| e.path())
-        .collect()
-}
-
 /// The `.vtu` files a previous run's `solution.pvd` in `dir` lists (plain names in `dir` only).
 fn collection_members(dir: &Path) -> Vec<String> {
     let Ok(text) = fs::read_to_string(dir.join("solution.pvd")) else { return Vec::new() };
@@ -268,7 +255,7 @@ fn collection_members(dir: &Path) -> Vec<String> {
 
 /// Is `name` the temporary file of [`write_atomically`] for one of `targets`
 /// (`.TARGET.PID.N.tmp`)?
-fn is_temporary_of(name: &str, targets: &[String]) -> bool {
+pub(crate) fn is_temporary_of(name: &str, targets: &[String]) -> bool {
     let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else { return false };
     targets.iter().any(|t| {
         inner.strip_prefix(t.as_str()).and_then(|r| r.strip_prefix('.')).is_some_and(|r| {
@@ -293,13 +280,8 @@ pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut targets: Vec<String> = RUN_FILES.iter().map(|f| f.to_string()).collect();
     targets.extend(collection_members(dir));
     let mut stale: Vec<(PathBuf, String)> = Vec::new();
-    for path in previous_increments(dir) {
-        match fs::remove_file(&path) {
-            Ok(()) => removed.push(path),
-            Err(e) => stale.push((path, e.to_string())),
-        }
-    }
-    let _ = fs::remove_dir(dir.join("steps")); // only when empty
+    // A previous load path's increments (`steps/solution_NNNN.vtu`).
+    removed.extend(pvd::clear_step_files(dir)?);
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().to_string();
         if targets.contains(&name) || is_temporary_of(&name, &targets) {

@@ -1,4 +1,6 @@
-//! Dependency-free SVG log-log line plots, for benchmark results (time or error against size).
+//! Dependency-free SVG line plots: log-log, for benchmark results (time or error against size),
+//! and linear ([`write_linear_styled_svg`]), for fields along a line and load paths (a
+//! hysteresis loop: the line joins the points in the order given, never sorted).
 //!
 //! A value `v > 0` is placed on an axis spanning the decades `10^lo .. 10^hi` at
 //!
@@ -480,22 +482,38 @@ pub struct Panel<'a> {
 /// Write log-log plots side by side in one SVG file (each 800×560, as
 /// [`write_loglog_svg`] draws it), atomically.
 pub fn write_loglog_panels_svg(path: &Path, panels: &[Panel]) -> Result<()> {
+    let svg = side_by_side(panels.iter().map(|p| render(p.title, p.x_label, p.y_label, p.series)).collect());
+    write_atomically(path, |w| w.write_all(svg.as_bytes()))
+}
+
+/// One SVG document holding `plots` (each a whole 800×560 document) side by side.
+fn side_by_side(plots: Vec<String>) -> String {
     let mut svg = String::new();
-    let width = WIDTH * panels.len().max(1) as f64;
+    let width = WIDTH * plots.len().max(1) as f64;
     let _ = writeln!(
         svg,
         r#"<?xml version="1.0" encoding="UTF-8"?>
 <svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width}" height="{HEIGHT}" viewBox="0 0 {width} {HEIGHT}">"#
     );
-    for (k, p) in panels.iter().enumerate() {
-        let one = render(p.title, p.x_label, p.y_label, p.series);
+    for (k, one) in plots.iter().enumerate() {
         // Drop the XML declaration and place the panel's own <svg> at its offset.
         let body = one.split_once("?>").map_or(one.as_str(), |(_, rest)| rest).trim_start();
         let placed = body.replacen("<svg ", &format!("<svg x=\"{}\" y=\"0\" ", k as f64 * WIDTH), 1);
         svg.push_str(&placed);
     }
     svg.push_str("</svg>\n");
-    write_atomically(path, |w| w.write_all(svg.as_bytes()))
+    svg
+}
+
+/// How a linear plot draws a series ([`write_linear_styled_svg`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    /// A line through the points in the order given, never sorted (a loop stays a loop).
+    Line,
+    /// A marker at each point, no line (measured or computed samples).
+    Markers,
+    /// The line of [`Style::Line`] and a marker at each point on top of it.
+    LineAndMarkers,
 }
 
 /// Write a plot with linear axes. `lines[i]` says whether series `i` is drawn as a line (true)
@@ -508,11 +526,41 @@ pub fn write_linear_svg(
     series: &[Series],
     lines: &[bool],
 ) -> Result<()> {
-    let text = render_linear(title, x_label, y_label, series, lines);
+    let styles: Vec<Style> = (0..series.len())
+        .map(|i| if lines.get(i).copied().unwrap_or(true) { Style::Line } else { Style::Markers })
+        .collect();
+    write_linear_styled_svg(path, title, x_label, y_label, series, &styles)
+}
+
+/// Write a plot with linear axes (800×560), atomically; series `i` is drawn as `styles[i]`
+/// says ([`Style::Line`] where `styles` has no entry). Lines join the points in the order
+/// given, so a path that goes back and forth in x (a hysteresis loop) is drawn as it went;
+/// a non-finite point is skipped and breaks the line there.
+pub fn write_linear_styled_svg(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    styles: &[Style],
+) -> Result<()> {
+    let text = render_linear(title, x_label, y_label, series, styles);
     write_atomically(path, |w| w.write_all(text.as_bytes()))
 }
 
-fn render_linear(title: &str, x_label: &str, y_label: &str, series: &[Series], lines: &[bool]) -> String {
+/// Write linear plots side by side in one SVG file (each 800×560, as
+/// [`write_linear_styled_svg`] draws it, every series as `style`), atomically.
+pub fn write_linear_panels_svg(path: &Path, panels: &[Panel], style: Style) -> Result<()> {
+    let svg = side_by_side(
+        panels
+            .iter()
+            .map(|p| render_linear(p.title, p.x_label, p.y_label, p.series, &vec![style; p.series.len()]))
+            .collect(),
+    );
+    write_atomically(path, |w| w.write_all(svg.as_bytes()))
+}
+
+fn render_linear(title: &str, x_label: &str, y_label: &str, series: &[Series], styles: &[Style]) -> String {
     let finite = || series.iter().flat_map(|s| s.points.iter()).filter(|p| p.0.is_finite() && p.1.is_finite());
     let bounds = finite().fold((f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY), |b, p| {
         (b.0.min(p.0), b.1.max(p.0), b.2.min(p.1), b.3.max(p.1))
@@ -574,7 +622,8 @@ fn render_linear(title: &str, x_label: &str, y_label: &str, series: &[Series], l
             .map(|p| if p.0.is_finite() && p.1.is_finite() { Some((px(p.0), py(p.1))) } else { None })
             .collect();
         let _ = writeln!(s, r#"<g fill="{colour}" stroke="{colour}">"#);
-        if lines.get(i).copied().unwrap_or(true) {
+        let style = styles.get(i).copied().unwrap_or(Style::Line);
+        if style != Style::Markers {
             let mut d = String::new();
             let mut pen_down = false;
             for p in &pts {
@@ -587,7 +636,8 @@ fn render_linear(title: &str, x_label: &str, y_label: &str, series: &[Series], l
                 }
             }
             let _ = writeln!(s, r#"<path d="{}" fill="none" stroke-width="2"/>"#, d.trim_end());
-        } else {
+        }
+        if style != Style::Line {
             for (x, y) in pts.iter().flatten() {
                 draw_marker(&mut s, MARKERS[i % MARKERS.len()], *x, *y);
             }

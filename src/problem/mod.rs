@@ -251,7 +251,7 @@ impl<'s> ElasticityProblem<'s> {
     /// phase of the run.
     pub fn setup_system_with_progress(session: &'s Session, scene: Scene, progress: Box<dyn Progress>) -> Result<Self> {
         // Every scene gets the checks of a scene file, also one built in Rust.
-        let scene = scene.validated()?;
+        let scene = moved_obstacles(scene.validated()?);
         // Under MPI, a linear solver of one process is refused before the mesh is made.
         session.refuse_one_process_solver(&scene.petsc_options)?;
         let mut timings = Timings::default();
@@ -296,7 +296,7 @@ impl<'s> ElasticityProblem<'s> {
     /// adaptation, or a level of a convergence study): the mesh must carry the scene's
     /// boundary parts and be of the scene's order.
     pub fn setup_with_mesh(session: &'s Session, scene: Scene, mesh: Mesh) -> Result<Self> {
-        let scene = scene.validated()?;
+        let scene = moved_obstacles(scene.validated()?);
         refuse_several_bodies(&scene)?;
         session.refuse_one_process_solver(&scene.petsc_options)?;
         Self::setup_on_mesh(session, scene, mesh, None, Timings::default(), Box::new(NoProgress))
@@ -716,6 +716,23 @@ impl<'s> ElasticityProblem<'s> {
             warnings,
         })
     }
+}
+
+/// A scene solved once (no `[evolution]`) takes its obstacles where their `motion` puts them
+/// (in full); a load path moves them itself, increment by increment.
+fn moved_obstacles(mut scene: Scene) -> Scene {
+    if scene.evolution.is_some() {
+        return scene;
+    }
+    let mut contacts: Vec<&mut scene::ContactSpec> = scene.contact.iter_mut().collect();
+    contacts.extend(scene.bodies.iter_mut().filter_map(|b| b.contact.as_mut()));
+    for c in contacts {
+        if c.motion.is_some() {
+            c.obstacle = c.obstacle_at(1.0);
+            c.motion = None;
+        }
+    }
+    scene
 }
 
 /// Every connected piece of the mesh must be held by a Dirichlet condition or a contact part:

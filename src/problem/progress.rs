@@ -9,6 +9,8 @@
 //! Order of the events of a primal run: `Mesh`, `Assemble`, `Solve` (with `iteration` events
 //! while the contact iterates), `Postprocess`, then `Dual` and `Estimate` when asked for,
 //! and `Output`; each `phase_started` is followed by its `phase_finished` (not after a failure).
+//! A load path (`crate::evolution`) also sends `increment_finished` after each converged
+//! increment.
 
 /// A phase of a run, named as in the report's `timings`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -54,6 +56,9 @@ pub trait Progress {
     fn iteration(&self, _phase: Phase, _step: usize, _residual: f64) {}
     /// A remark on what the current phase is doing (e.g. "factorising K").
     fn note(&self, _text: &str) {}
+    /// Increment `step.step` of a load path of `total` increments has converged, with the
+    /// record `step` (what `history.csv` writes of it).
+    fn increment_finished(&self, _step: &crate::evolution::StepRecord, _total: usize) {}
 }
 
 /// The observer that ignores everything (the default).

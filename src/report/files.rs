@@ -183,7 +183,7 @@ impl ElasticityProblem<'_> {
     /// Write the current increment of a load path as `dir/steps/solution_NNNN.vtu` (rank 0;
     /// the problem post-processed at that increment). Returns the path written (on rank 0).
     pub fn write_step_output(&self, dir: &Path, step: usize) -> Result<PathBuf> {
-        let path = dir.join(format!("steps/solution_{step:04}.vtu"));
+        let path = dir.join(crate::output::pvd::step_file_name(step));
         let wrote = if self.session.rank() == 0 {
             let steps = dir.join("steps");
             std::fs::create_dir_all(&steps)
@@ -215,7 +215,25 @@ impl ElasticityProblem<'_> {
                 let fields = self.solution_fields(&path, &[])?;
                 fields.write(&path, &self.mesh)?;
                 written.push(path);
-                self.write_body_files(dir, &fields, written)?;
+                match &self.load_path {
+                    // A load path: solution.pvd is its time series (the increments' files were
+                    // written as they converged), with its history and plots; no body files.
+                    Some(path) => {
+                        let entries: Vec<(f64, String)> =
+                            path.steps.iter().map(|s| (s.time, crate::output::pvd::step_file_name(s.step))).collect();
+                        let pvd = dir.join("solution.pvd");
+                        crate::output::pvd::write_pvd(&pvd, &entries)?;
+                        written.push(pvd);
+                        let title = self.scene.title.clone().unwrap_or_else(|| "load path".into());
+                        written.extend(crate::evolution::history::write_load_path_outputs(
+                            dir,
+                            &path.steps,
+                            &path.profiles,
+                            &title,
+                        )?);
+                    }
+                    None => self.write_body_files(dir, &fields, written)?,
+                }
                 self.write_contact_files(dir, written)?;
             }
             Ok(())

@@ -79,7 +79,10 @@ fn load_path_estimate_at_every_increment() {
 fn load_path_refusals_name_what_to_do() {
     let dir = scratch("load-path-refusals");
     let scene_file = press_then_push(&dir.join("scene"));
-    let err = run_err(bin().arg("run").arg(&scene_file).args(["--quiet", "--formulation", "dual", "--out"]).arg(dir.join("a")), 1);
+    let err = run_err(
+        bin().arg("run").arg(&scene_file).args(["--quiet", "--formulation", "dual", "--out"]).arg(dir.join("a")),
+        1,
+    );
     assert!(err.contains("load path") && err.contains("primal"), "{err}");
     let text = std::fs::read_to_string(&scene_file).unwrap().replace("solver = \"newton\"", "solver = \"snes_vi\"");
     let vi = dir.join("vi.toml");
@@ -95,7 +98,8 @@ fn mpirun_two_ranks_load_path_equals_serial() {
     let serial = dir.join("serial");
     run_ok(bin().arg("run").arg(&scene_file).args(["--quiet", "--out"]).arg(&serial));
     let parallel = dir.join("parallel");
-    let out = mpirun_two().arg("run").arg(&scene_file).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
+    let out =
+        mpirun_two().arg("run").arg(&scene_file).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     for k in [4, 8] {
         let name = format!("steps/solution_{k:04}.vtu");
