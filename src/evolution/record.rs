@@ -32,9 +32,10 @@ pub struct StepRecord {
     pub iterations: usize,
     /// The independent check's worst relative residual at the end of the increment.
     pub worst_residual: f64,
-    /// Frictional dissipation of the increment, `≥ 0` (J/m).
+    /// The friction law's dissipation in the increment, `−Σ rT·Δs ≥ 0` (J/m; the force at
+    /// the end of the increment, the slip increment).
     pub dissipation: f64,
-    /// Frictional dissipation since the start of the path (J/m).
+    /// The same since the start of the path (J/m).
     pub total_dissipation: f64,
     /// Work of the loads since the start of the path (J/m).
     pub work: f64,
