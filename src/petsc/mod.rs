@@ -184,20 +184,44 @@ impl Comm {
     /// other ranks' `bytes` are not read). The length goes first, then the bytes in pieces of
     /// at most `i32::MAX` (MPI counts are `int`). Nothing on a single rank.
     pub fn broadcast_from_rank_0(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        self.broadcast_from(0, bytes)
+    }
+
+    /// Every rank's `bytes` on every rank, in rank order (collective; one broadcast per rank,
+    /// so each rank receives the others' whole messages: meant for a few ranks).
+    pub fn all_gather_bytes(self, bytes: Vec<u8>) -> Result<Vec<Vec<u8>>> {
+        let (size, rank) = (self.size()?, self.rank()?);
+        let mut mine = Some(bytes);
+        let mut all = Vec::with_capacity(size);
+        for root in 0..size {
+            let sent = if root == rank { mine.take().unwrap_or_default() } else { Vec::new() };
+            all.push(self.broadcast_from(root, sent)?);
+        }
+        Ok(all)
+    }
+
+    /// Rank `root`'s `bytes` on every rank (as [`Comm::broadcast_from_rank_0`]).
+    pub fn broadcast_from(self, root: usize, bytes: Vec<u8>) -> Result<Vec<u8>> {
         if self.size()? == 1 {
             return Ok(bytes);
         }
-        let root = self.rank()? == 0;
+        let root_rank = c_int::try_from(root).map_err(|_| Error::PetscUsage(format!("MPI_Bcast: no rank {root}")))?;
+        let is_root = self.rank()? == root;
         let mut length = (bytes.len() as u64).to_le_bytes();
         // SAFETY: the buffer holds the 8 bytes broadcast.
-        mpi_check(unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, 0) }, "MPI_Bcast")?;
+        mpi_check(
+            unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, root_rank) },
+            "MPI_Bcast",
+        )?;
         let length = usize::try_from(u64::from_le_bytes(length))
             .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
-        let mut buffer = if root { bytes } else { vec![0u8; length] };
+        let mut buffer = if is_root { bytes } else { vec![0u8; length] };
         for piece in buffer.chunks_mut(i32::MAX as usize) {
             // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
             mpi_check(
-                unsafe { sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, 0) },
+                unsafe {
+                    sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, root_rank)
+                },
                 "MPI_Bcast",
             )?;
         }
@@ -256,9 +280,11 @@ pub struct Session {
     /// argv strings handed to PetscInitialize: PETSc keeps pointers into them until finalise.
     _args: Vec<CString>,
     _argv: Vec<*mut c_char>,
-    world: Comm,
-    rank: usize,
-    size: usize,
+    /// The communicator of every driver: `PETSC_COMM_WORLD`, or `PETSC_COMM_SELF` inside
+    /// [`Session::alone`] (with `rank` 0 and `size` 1 then).
+    world: std::cell::Cell<Comm>,
+    rank: std::cell::Cell<usize>,
+    size: std::cell::Cell<usize>,
     /// PETSc is not thread safe in this build: keep the session on its thread.
     _not_send: PhantomData<*const ()>,
     /// Options the program set as its own defaults (not the user's choices).
@@ -394,17 +420,42 @@ impl Session {
         Ok(Session {
             _args: c_args,
             _argv: argv,
-            world,
-            rank,
-            size,
+            world: std::cell::Cell::new(world),
+            rank: std::cell::Cell::new(rank),
+            size: std::cell::Cell::new(size),
             _not_send: PhantomData,
             program_options: Default::default(),
         })
     }
 
-    /// `PETSC_COMM_WORLD`.
+    /// `PETSC_COMM_WORLD` (`PETSC_COMM_SELF` inside [`Session::alone`]).
     pub fn world(&self) -> Comm {
-        self.world
+        self.world.get()
+    }
+
+    /// Run `work` as if this process were alone: inside it [`Session::world`] is
+    /// `PETSC_COMM_SELF`, [`Session::rank`] 0 and [`Session::size`] 1, so every object it
+    /// creates and every agreement it makes stays on this process (no other rank takes part,
+    /// whatever each does). The options database is the same. Restored afterwards, also if
+    /// `work` panics.
+    pub fn alone<R>(&self, work: impl FnOnce(&Session) -> R) -> R {
+        struct Restore<'a> {
+            session: &'a Session,
+            saved: (Comm, usize, usize),
+        }
+        impl Drop for Restore<'_> {
+            fn drop(&mut self) {
+                let (world, rank, size) = self.saved;
+                self.session.world.set(world);
+                self.session.rank.set(rank);
+                self.session.size.set(size);
+            }
+        }
+        let _restore = Restore { session: self, saved: (self.world.get(), self.rank.get(), self.size.get()) };
+        self.world.set(self.self_comm());
+        self.rank.set(0);
+        self.size.set(1);
+        work(self)
     }
     /// `PETSC_COMM_SELF`.
     pub fn self_comm(&self) -> Comm {
@@ -413,19 +464,19 @@ impl Session {
     }
     /// This process's MPI rank (0 without MPI).
     pub fn rank(&self) -> usize {
-        self.rank
+        self.rank.get()
     }
     /// The number of MPI processes (1 without MPI).
     pub fn size(&self) -> usize {
-        self.size
+        self.size.get()
     }
 
     /// [`Comm::agree`] over `PETSC_COMM_WORLD`, the communicator of every driver: collective.
     pub fn agree<T>(&self, outcome: Result<T>, during: &'static str) -> Result<T> {
-        if self.size == 1 {
+        if self.size() == 1 {
             return outcome;
         }
-        self.world.agree(outcome, during)
+        self.world().agree(outcome, during)
     }
 
     /// Is `-name` (with its leading dash) in the options database?
@@ -477,7 +528,7 @@ impl Session {
     /// default MUMPS Cholesky). The command line's options come first, then `scene_defaults`
     /// (a scene's `[solver] petsc_options`, which the command line overrides).
     pub fn refuse_one_process_solver(&self, scene_defaults: &[String]) -> Result<()> {
-        if self.size == 1 {
+        if self.size() == 1 {
             return Ok(());
         }
         let value = |name: &str| -> Result<Option<String>> {
@@ -512,7 +563,7 @@ impl Session {
         };
         Err(Error::SingleProcess {
             feature: option,
-            reason: format!("started on {} MPI processes: {reason}", self.size),
+            reason: format!("started on {} MPI processes: {reason}", self.size()),
         })
     }
 

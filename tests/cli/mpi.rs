@@ -50,6 +50,57 @@ fn mpirun_two_ranks_contact_equals_serial() {
     }
 }
 
+/// Under `mpirun -n 2` the cost model takes the gathered dense route on the square block (K
+/// gathered on every rank, each runs the one-process dense Schur route), as does
+/// `-contact_route dense_schur`; the distributed sparse LU stays available by name. All three
+/// give the serial answer: displacements, contact forces and Newton steps.
+#[test]
+fn mpirun_two_ranks_gathered_dense_route_equals_serial() {
+    let path = scene("examples/scenes/square_block.toml");
+    let serial = scratch("mpi-gathered-serial");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+    let s = report(&serial);
+    assert_eq!(s["contact"]["route"], "dense_schur", "{}", s["contact"]["route_reason"]);
+    for (name, extra, route) in [
+        ("auto", &[][..], "dense_schur_gathered"),
+        ("named-dense", &["-contact_route", "dense_schur"][..], "dense_schur_gathered"),
+        ("named-sparse", &["-contact_route", "sparse_lu"][..], "sparse_lu"),
+    ] {
+        let parallel = scratch(&format!("mpi-gathered-{name}"));
+        let out = mpirun_two()
+            .arg("run")
+            .arg(&path)
+            .args(["--quiet", "--out"])
+            .arg(&parallel)
+            .args(extra)
+            .output()
+            .expect("mpirun");
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let p = report(&parallel);
+        assert_eq!(p["mpi_ranks"], 2);
+        assert_eq!(p["contact"]["route"], route, "{name}: {}", p["contact"]["route_reason"]);
+        let reason = p["contact"]["route_reason"].as_str().unwrap();
+        if route == "dense_schur_gathered" {
+            assert!(reason.contains("2 MPI ranks") && reason.contains("on each rank alone: "), "{name}: {reason}");
+        } else {
+            assert!(reason.contains("asked for (-contact_route sparse_lu)"), "{name}: {reason}");
+        }
+        let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+        assert!(d < 1e-10, "{name}: MPI differs from serial by {d:e}");
+        for key in ["resultant"] {
+            for c in 0..2 {
+                let (a, b) = (s["contact"][key][c].as_f64().unwrap(), p["contact"][key][c].as_f64().unwrap());
+                assert!((a - b).abs() <= 1e-10 * a.abs().max(1.0), "{name}: {key}[{c}] {a} against {b}");
+            }
+        }
+        for key in ["stick", "slip", "open"] {
+            assert_eq!(p["contact"][key], s["contact"][key], "{name}: {key}");
+        }
+        let steps = |r: &serde_json::Value| r["contact"]["iterations"].as_i64().unwrap();
+        assert!((steps(&p) - steps(&s)).abs() <= 1, "{name}: {} Newton steps against {}", steps(&p), steps(&s));
+    }
+}
+
 /// A failure on rank 0 alone stops every rank with an error, within a timeout, instead of
 /// leaving rank 1 waiting in the next collective operation: clearing the previous results
 /// fails (a directory named solution.vtu in the output directory), or writing them fails (the
