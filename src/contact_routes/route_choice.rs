@@ -14,10 +14,10 @@
 //!                 the kept factors); any number of ranks.
 //!                                                    time ≈ f · T_LU(n + c m)
 //!                                                    memory ≈ 2 M_K(n) + GMRES basis
-//!   dense_schur_gathered   under MPI (p ranks): K and the load gathered on every rank, each
-//!                 rank runs dense_schur alone on the whole problem (`full_space/gathered.rs`).
-//!                                                    time ≈ dense_schur + g · 9 n (the gather)
-//!                                                    memory ≈ that of dense_schur, on every rank
+//!   dense_schur_gathered   under MPI (p ranks): K and the load gathered on rank 0, which
+//!                 runs dense_schur alone on the whole problem and sends the answer
+//!                 (`full_space/gathered.rs`).        time ≈ dense_schur + g · 9 n (the gather)
+//!                                                    memory ≈ that of dense_schur, on rank 0
 //! ```
 //!
 //! Under MPI the sparse route's factorisations are distributed: its time is divided by
@@ -25,7 +25,7 @@
 //! mixed LU measured here gained 0.7–1.25× on two shared cores). The dense route cannot be
 //! distributed through PETSc 3.18 (it computes MUMPS's Schur complement on one process only,
 //! and the centralised Schur complement on two ranks took 2× the serial time at 2e5 dofs,
-//! more than 20× at 1e6: `petsc/inverse_block.rs`), so it runs whole on every rank. Before
+//! more than 20× at 1e6: `petsc/inverse_block.rs`), so it runs whole on rank 0. Before
 //! this route, two ranks took the square block at 2e5 dofs from 1.0–1.9 s (dense_schur, one
 //! rank) to 4.4–9.9 s (8 distributed LUs); the distributed LU's statistics are those of the
 //! serial one (`full_space/gathered.rs`), so the loss was the route, not MUMPS.
@@ -67,8 +67,8 @@ use crate::petsc::Session;
 /// 2e5 dofs, 8 MUMPS LUs of the mixed Jacobian: 4.4–4.8 s on one rank, 3.6–6.8 s on two
 /// (MUMPS's statistics are the same on both: see the module documentation).
 const SPARSE_SPEEDUP_PER_DOUBLING: f64 = 1.3;
-/// Seconds per stored entry of `K` gathered on every rank (one broadcast per rank of its rows,
-/// 16 bytes an entry): 0.05 s for the 1.8e6 entries of 2e5 dofs, measured on two ranks.
+/// Seconds per stored entry of `K` gathered on rank 0 (one broadcast per other rank of its
+/// rows, 16 bytes an entry): 0.05 s for the 1.8e6 entries of 2e5 dofs, measured on two ranks.
 const GATHER_SECONDS: f64 = 3e-8;
 /// Stored entries of `K` per displacement dof (P1 triangles: 9 on a structured mesh's rows).
 const ENTRIES_PER_DOF: f64 = 9.0;
@@ -98,8 +98,8 @@ pub enum Route {
     DenseSchur,
     /// MUMPS LU of the mixed Jacobian, kept across steps while few rows change.
     SparseLu,
-    /// Under MPI: `K` and the load gathered on every rank, and each rank runs the one-process
-    /// route (the dense Schur route) alone on the whole problem.
+    /// Under MPI: `K` and the load gathered on rank 0, which runs the one-process route (the
+    /// dense Schur route) alone on the whole problem and sends the answer to the other ranks.
     DenseSchurGathered,
     /// The inner solver the options name (`-contact_ksp_type`, `-contact_pc_type`).
     FromOptions,
@@ -177,7 +177,7 @@ pub fn sparse_prediction(inputs: &RouteInputs) -> f64 {
     expected_steps(inputs) * LU_SECONDS * n.powf(1.5) / speedup
 }
 
-/// Predicted seconds of gathering `K` on every rank (the gathered dense route's extra cost).
+/// Predicted seconds of gathering `K` on rank 0 (the gathered dense route's extra cost).
 pub fn gather_prediction(inputs: &RouteInputs) -> f64 {
     if inputs.ranks > 1 {
         GATHER_SECONDS * ENTRIES_PER_DOF * inputs.dofs as f64
@@ -254,8 +254,8 @@ pub fn choose_among(
                     route: Route::DenseSchurGathered,
                     reason: format!(
                         "asked for (-contact_route dense_schur) on {} MPI ranks: the Schur complement of MUMPS is \
-                         computed on one process, so K is gathered on every rank and each runs the dense route \
-                         alone; the cost model predicted {:.2} s for it and {sparse_seconds:.2} s for sparse_lu \
+                         computed on one process, so K is gathered on rank 0, which runs the dense route alone \
+                         and sends the answer; the cost model predicted {:.2} s for it and {sparse_seconds:.2} s for sparse_lu \
                          on {} ranks",
                         inputs.ranks,
                         dense_seconds + gather_prediction(inputs),
@@ -286,8 +286,8 @@ pub fn choose_among(
             route,
             reason: format!(
                 "{} contact unknowns on {} dofs, {} MPI ranks: predicted {gathered_seconds:.2} s for \
-                 dense_schur_gathered (K gathered on every rank, each runs the one-process dense Schur route \
-                 alone: the Schur complement of MUMPS is computed on one process) and {sparse_seconds:.2} s for \
+                 dense_schur_gathered (K gathered on rank 0, which runs the one-process dense Schur route \
+                 alone and sends the answer: the Schur complement of MUMPS is computed on one process) and {sparse_seconds:.2} s for \
                  sparse_lu (distributed)",
                 unknowns, inputs.dofs, inputs.ranks
             ),

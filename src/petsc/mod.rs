@@ -187,15 +187,49 @@ impl Comm {
         self.broadcast_from(0, bytes)
     }
 
-    /// Every rank's `bytes` on every rank, in rank order (collective; one broadcast per rank,
-    /// so each rank receives the others' whole messages: meant for a few ranks).
-    pub fn all_gather_bytes(self, bytes: Vec<u8>) -> Result<Vec<Vec<u8>>> {
+    /// [`Comm::broadcast_from_rank_0`] for a message rank 0 sends after a long piece of work
+    /// of its own: the other ranks wait for its length without spinning (they test for it
+    /// every millisecond and sleep in between, instead of keeping a core busy), then receive
+    /// the bytes.
+    pub fn broadcast_from_rank_0_sleeping(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        if self.size()? == 1 {
+            return Ok(bytes);
+        }
+        let mut length = (bytes.len() as u64).to_le_bytes();
+        // SAFETY: the buffer holds the 8 bytes broadcast.
+        mpi_check(
+            unsafe { sys::signorini_bcast_bytes_sleeping(self.raw, length.as_mut_ptr().cast(), 8, 0, 1000) },
+            "MPI_Ibcast",
+        )?;
+        let length = usize::try_from(u64::from_le_bytes(length))
+            .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
+        let mut buffer = if self.rank()? == 0 { bytes } else { vec![0u8; length] };
+        for piece in buffer.chunks_mut(i32::MAX as usize) {
+            // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
+            mpi_check(
+                unsafe { sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, 0) },
+                "MPI_Bcast",
+            )?;
+        }
+        Ok(buffer)
+    }
+
+    /// Every rank's `bytes` on rank 0, in rank order (collective; the other ranks get an empty
+    /// list). One broadcast per rank other than 0, so a rank also receives the messages of the
+    /// ranks after it: meant for a few ranks.
+    pub fn gather_bytes_to_rank_0(self, bytes: Vec<u8>) -> Result<Vec<Vec<u8>>> {
         let (size, rank) = (self.size()?, self.rank()?);
         let mut mine = Some(bytes);
-        let mut all = Vec::with_capacity(size);
-        for root in 0..size {
+        let mut all = Vec::with_capacity(if rank == 0 { size } else { 0 });
+        if rank == 0 {
+            all.push(mine.take().unwrap_or_default());
+        }
+        for root in 1..size {
             let sent = if root == rank { mine.take().unwrap_or_default() } else { Vec::new() };
-            all.push(self.broadcast_from(root, sent)?);
+            let received = self.broadcast_from(root, sent)?;
+            if rank == 0 {
+                all.push(received);
+            }
         }
         Ok(all)
     }

@@ -51,7 +51,7 @@ fn mpirun_two_ranks_contact_equals_serial() {
 }
 
 /// Under `mpirun -n 2` the cost model takes the gathered dense route on the square block (K
-/// gathered on every rank, each runs the one-process dense Schur route), as does
+/// gathered on rank 0, which runs the one-process dense Schur route and sends the answer), as does
 /// `-contact_route dense_schur`; the distributed sparse LU stays available by name. All three
 /// give the serial answer: displacements, contact forces and Newton steps.
 #[test]
@@ -81,7 +81,7 @@ fn mpirun_two_ranks_gathered_dense_route_equals_serial() {
         assert_eq!(p["contact"]["route"], route, "{name}: {}", p["contact"]["route_reason"]);
         let reason = p["contact"]["route_reason"].as_str().unwrap();
         if route == "dense_schur_gathered" {
-            assert!(reason.contains("2 MPI ranks") && reason.contains("on each rank alone: "), "{name}: {reason}");
+            assert!(reason.contains("2 MPI ranks") && reason.contains("on rank 0 alone: "), "{name}: {reason}");
         } else {
             assert!(reason.contains("asked for (-contact_route sparse_lu)"), "{name}: {reason}");
         }

@@ -21,8 +21,8 @@
 //! cost model's `sparse_lu` route, or `-contact_ksp_type`, `-contact_pc_type`,
 //! `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian in `(u, λ)` (MUMPS LU by
 //! default, distributed under MPI): one sparse LU per step. Under MPI the cost model may also
-//! take `dense_schur_gathered` (`gathered.rs`): `K` gathered on every rank and the
-//! one-process route run by each rank alone, the serial answer at the serial cost.
+//! take `dense_schur_gathered` (`gathered.rs`): `K` gathered on rank 0, which runs the
+//! one-process route alone and sends the answer: the serial answer at the serial cost.
 //!
 //! ## Unknowns and equations
 //!
@@ -655,9 +655,10 @@ impl ContactSetup {
         Ok(Ok((u, ContactOutcome { force, status, report }, stats)))
     }
 
-    /// The gathered dense route under MPI (`gathered.rs`): `K` and the load on every rank, and
-    /// each rank runs the one-process route on them alone. The answer is the serial one on
-    /// every rank; the report names the route and why, then the one-process run's own reason.
+    /// The gathered dense route under MPI (`gathered.rs`): `K` and the load gathered on rank 0,
+    /// which runs the one-process route on them alone and sends the answer to the other ranks.
+    /// The answer is the serial one on every rank; the report names the route and why, then
+    /// the one-process run's own reason.
     #[allow(clippy::too_many_arguments)]
     fn gathered_run(
         &self,
@@ -671,17 +672,62 @@ impl ContactSetup {
     ) -> Result<Solved> {
         let n = 2 * mesh.num_nodes();
         let whole = gathered::gather_system(session, system, n);
-        let whole = session.agree(whole, "gathering the stiffness on every rank")?;
+        let whole = session.agree(whole, "gathering the stiffness on rank 0")?;
+        let world = session.world();
+        let Some(whole) = whole else {
+            // The other ranks: rank 0's answer, or its failure.
+            let bytes = world.broadcast_from_rank_0_sleeping(Vec::new())?;
+            let (ok, answer) = bytes
+                .split_first()
+                .ok_or_else(|| Error::PetscUsage("the gathered contact route: rank 0 sent an empty answer".into()))?;
+            if *ok == 0 {
+                return Err(Error::OtherRank { rank: 0, during: "the gathered contact solve" });
+            }
+            let answer = gathered::decode_answer(answer)?;
+            let residuals = answer.report.contact_residuals();
+            let solution = ContactSolution {
+                force: answer.force.clone(),
+                displacement: self.boundary.gather(&answer.u),
+                iterations: answer.report.iterations,
+                history: Vec::new(),
+                status: answer.status.clone(),
+                residuals,
+                solver: String::new(),
+                notes: Vec::new(),
+            };
+            let mut report = self.report(
+                &answer.force,
+                &answer.status,
+                &answer.u,
+                &residuals,
+                answer.report.linear_solves,
+                &solution,
+            );
+            answer.report.apply(&mut report);
+            return Ok((answer.u, ContactOutcome { force: answer.force, status: answer.status, report }, answer.stats));
+        };
         let solved = session.alone(|alone| {
             self.solve_full_space(alone, mesh, materials, constraints, &whole, &gathered::whole(n), progress)
         });
-        let (u, mut outcome, stats) = session.agree(solved, "the gathered contact solve")?;
-        let report = &mut outcome.report;
-        if report.route == Route::DenseSchur.name() {
-            report.route = Route::DenseSchurGathered.name().into();
-        }
-        report.route_reason = format!("{}; on each rank alone: {}", choice.reason, report.route_reason);
-        Ok((u, outcome, stats))
+        drop(whole);
+        let solved = solved.map(|(u, mut outcome, stats)| {
+            let report = &mut outcome.report;
+            if report.route == Route::DenseSchur.name() {
+                report.route = Route::DenseSchurGathered.name().into();
+            }
+            report.route_reason = format!("{}; on rank 0 alone: {}", choice.reason, report.route_reason);
+            (u, outcome, stats)
+        });
+        let message = match &solved {
+            Ok((u, outcome, stats)) => {
+                let mut m = vec![1u8];
+                m.extend(gathered::encode_answer(u, outcome, stats));
+                m
+            }
+            Err(_) => vec![0u8],
+        };
+        world.broadcast_from_rank_0_sleeping(message)?;
+        solved
     }
 
     /// The error for a body that the contact does not hold (see the module documentation).
