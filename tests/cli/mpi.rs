@@ -176,8 +176,8 @@ mu = 0.3
 #[test]
 fn mpirun_two_ranks_bodies_equal_serial() {
     // Two bodies (mortar contact pair, Coulomb): the same answer on two processes as on one,
-    // on the full-space Newton (its mortar rows read master dofs of the other rank) and on the
-    // condensed route.
+    // on the full-space Newton (gathered on rank 0, or distributed: its mortar rows read master
+    // dofs of the other rank) and on the condensed route.
     let dir = scratch("mpi-bodies-scenes");
     let block_on_block = scene("examples/scenes/block_on_block.toml");
     // Every body held by its Dirichlet conditions: the block pressed by a prescribed
@@ -193,10 +193,14 @@ fn mpirun_two_ranks_bodies_equal_serial() {
         ("held", &held, &[][..], true),
         ("sideways", &sideways, &[][..], true),
         // The block held vertically by the contact alone: the full-space Newton (the floating
-        // elimination in serial, SNES's LU of the mixed Jacobian on two ranks), and the
+        // elimination, on rank 0 alone under the gathered route on two ranks), and the
         // condensed route when asked for.
         ("floating", &block_on_block, &[][..], true),
         ("condensed", &block_on_block, &["--contact-solver", "newton"][..], false),
+        // SNES's LU of the mixed Jacobian distributed over both ranks, by name (the cost
+        // model takes the gathered route on these scenes).
+        ("held-distributed", &held, &["-contact_route", "sparse_lu"][..], true),
+        ("floating-distributed", &block_on_block, &["-contact_route", "sparse_lu"][..], true),
     ] {
         let serial = scratch(&format!("mpi-bodies-serial-{name}"));
         run_ok(bin().arg("run").arg(path).args(["--quiet", "--out"]).arg(&serial).args(options));
@@ -415,8 +419,9 @@ fn mpirun_two_ranks_adapt_and_study_of_contact_equal_serial() {
 /// Two elastic cylinders pressed together (a mortar contact pair, frictionless; the upper one
 /// held sideways at its centre only, vertically by the contact), meshed coarser than
 /// examples/scenes/two_cylinders.toml: on two ranks the full-space Newton runs (SNES's LU of
-/// the mixed Jacobian; in serial the floating elimination), never the condensed route, and
-/// gives the serial answer: the same Newton steps, the contact resultant to 1e-10, each body's
+/// the mixed Jacobian, asked for with `-contact_route sparse_lu`, and the cost model's gathered
+/// route, rank 0 running the floating elimination as in serial), never the condensed route, and
+/// each gives the serial answer: the same Newton steps, the contact resultant to 1e-10, each body's
 /// displacement to 1e-10 once its rigid motion is taken out, and to 1e-9 with it. Frictionless
 /// contact leaves the upper cylinder's rotation about its centre free (every arc point moves
 /// along the arc): the two routes fix that mode differently in round-off (measured: a rotation
@@ -432,8 +437,30 @@ fn mpirun_two_ranks_bodies_full_space_route() {
     let dir = scratch("mpi-two-cylinders-scene");
     let path = dir.join("two_cylinders_coarse.toml");
     std::fs::write(&path, coarse).unwrap();
-    let (serial, parallel) = serial_and_two_ranks("two-cylinders", "run", &path, &[]);
-    let (rs, rp) = (report(&serial), report(&parallel));
+    let (serial, gathered) = serial_and_two_ranks("two-cylinders", "run", &path, &[]);
+    // The distributed route by name: SNES's LU of the mixed Jacobian over both ranks, whose
+    // mortar rows read master dofs of the other rank.
+    let distributed = scratch("mpi-two-cylinders-two-ranks-sparse-lu");
+    let out = mpirun_two()
+        .arg("run")
+        .arg(&path)
+        .args(["-contact_route", "sparse_lu", "--quiet", "--out"])
+        .arg(&distributed)
+        .env("SIGNORINI_CACHE_DIR", Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache"))
+        .output()
+        .expect("mpirun");
+    assert!(out.status.success(), "sparse_lu: {}", String::from_utf8_lossy(&out.stderr));
+    for (parallel, route) in [(&gathered, "dense_schur_gathered"), (&distributed, "sparse_lu")] {
+        let rp = report(parallel);
+        assert_eq!(rp["contact"]["route"], route, "{}", rp["contact"]["route_reason"]);
+        two_cylinders_agree(&serial, parallel);
+    }
+}
+
+/// The two-rank run in `parallel` gives the serial answer of `serial` (see
+/// [`mpirun_two_ranks_bodies_full_space_route`]).
+fn two_cylinders_agree(serial: &Path, parallel: &Path) {
+    let (rs, rp) = (report(serial), report(parallel));
     assert_eq!(rp["mpi_ranks"], 2);
     for r in [&rs, &rp] {
         let solver = r["contact"]["solver"].as_str().unwrap();
