@@ -69,7 +69,7 @@ pub fn gather_system(session: &Session, system: &LinearSystem, n: usize) -> Resu
 
 /// The dof ranges of one process holding every row.
 pub fn whole(n: usize) -> Vec<Range<usize>> {
-    vec![0..n]
+    std::iter::once(0..n).collect()
 }
 
 /// What rank 0 sends of the report beyond what the other ranks rebuild from the forces and
@@ -369,7 +369,7 @@ fn decode(bytes: &[u8], matrix: &mut CsrRows, rhs: &mut Vec<f64>) -> std::result
         a.copy_from_slice(w);
         a
     });
-    if bytes.len() % 8 != 0 {
+    if !bytes.len().is_multiple_of(8) {
         return Err(format!("{} bytes, not a whole number of words", bytes.len()));
     }
     let mut next = || words.next().ok_or_else(|| "the message ends early".to_string());
