@@ -16,7 +16,7 @@
 //!                                                    memory ≈ 2 M_K(n) + GMRES basis
 //!   dense_schur_gathered   under MPI (p ranks): K and the load gathered on rank 0, which
 //!                 runs dense_schur alone on the whole problem and sends the answer
-//!                 (`full_space/gathered.rs`).        time ≈ dense_schur + g · 9 n (the gather)
+//!                 (`full_space/gathered.rs`).        time ≈ dense_schur + g · 14 n (the gather)
 //!                                                    memory ≈ that of dense_schur, on rank 0
 //! ```
 //!
@@ -68,10 +68,12 @@ use crate::petsc::Session;
 /// (MUMPS's statistics are the same on both: see the module documentation).
 const SPARSE_SPEEDUP_PER_DOUBLING: f64 = 1.3;
 /// Seconds per stored entry of `K` gathered on rank 0 (one broadcast per other rank of its
-/// rows, 16 bytes an entry): 0.05 s for the 1.8e6 entries of 2e5 dofs, measured on two ranks.
-const GATHER_SECONDS: f64 = 3e-8;
-/// Stored entries of `K` per displacement dof (P1 triangles: 9 on a structured mesh's rows).
-const ENTRIES_PER_DOF: f64 = 9.0;
+/// rows, 16 bytes an entry, encoded and decoded): 0.81 s for the 1.4e7 entries of the square
+/// block at 1e6 dofs on two ranks.
+const GATHER_SECONDS: f64 = 6e-8;
+/// Stored entries of `K` per displacement dof (P1 triangles on a structured mesh: 7 nodes a
+/// row, 2 components).
+const ENTRIES_PER_DOF: f64 = 14.0;
 
 /// The option naming the route (`auto`, `dense_schur`, `sparse_lu`).
 pub const ROUTE_OPTION: &str = "-contact_route";

@@ -25,6 +25,12 @@
 //! (3.4 s each against 1.5 s alone): the two cores are not two cores' worth of throughput for
 //! two factorisations at once.
 //!
+//! Measured (`mpirun -n 1` and `-n 2 target/release/signorini run`, square block, Coulomb,
+//! report.json `timings.solve`, load 2–2.5 from other work): 2e5 dofs 1.16–1.47 s on one rank,
+//! 1.34–1.56 s on two (4.4–9.9 s before, 8 distributed LUs); 1e6 dofs 9.2 s on one rank, 10.5–
+//! 11.9 s on two, of which the gather took 0.81 s (1.4e7 entries; the issue measured 52 s
+//! before). The report's notes say how long the gather and rank 0's run took.
+//!
 //! Rank 0 holds the whole factor of `K` (the memory of one process). The answer is sent
 //! exactly (`f64` bits): the displacements, the contact forces and statuses, the solver's
 //! statistics and what the report says of the run (solver, route and why, notes, history,
