@@ -22,6 +22,26 @@ int signorini_bcast_bytes(MPI_Comm comm, void *buf, int n, int root)
   return MPI_Bcast(buf, n, MPI_BYTE, root, comm);
 }
 
+#include <time.h>
+/* MPI_Bcast that waits without spinning: MPI_Ibcast, then MPI_Test every `sleep_us`
+ * microseconds (Open MPI's blocking collectives poll and keep a core busy while they wait,
+ * which on a shared machine takes that core from the rank doing the work). */
+int signorini_bcast_bytes_sleeping(MPI_Comm comm, void *buf, int n, int root, int sleep_us)
+{
+  MPI_Request request;
+  int done = 0, code = MPI_Ibcast(buf, n, MPI_BYTE, root, comm, &request);
+  if (code != MPI_SUCCESS) return code;
+  while (!done) {
+    code = MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (code != MPI_SUCCESS) return code;
+    if (!done) {
+      struct timespec pause = {0, (long)sleep_us * 1000L};
+      nanosleep(&pause, NULL);
+    }
+  }
+  return MPI_SUCCESS;
+}
+
 PetscReal signorini_petsc_infinity(void) { return PETSC_INFINITY; }
 
 PetscBool signorini_mpi_initialized(void)

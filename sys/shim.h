@@ -12,6 +12,7 @@ int signorini_allreduce_f64(MPI_Comm comm, const double *in, double *out, int n,
 int signorini_allreduce_i64(MPI_Comm comm, const long long *in, long long *out, int n, int op);
 /* MPI_Bcast of n bytes from root. Returns an MPI error code. */
 int signorini_bcast_bytes(MPI_Comm comm, void *buf, int n, int root);
+int signorini_bcast_bytes_sleeping(MPI_Comm comm, void *buf, int n, int root, int sleep_us);
 PetscReal signorini_petsc_infinity(void);
 PetscBool signorini_mpi_initialized(void);
 int signorini_release_free_memory(void);

@@ -14,7 +14,21 @@
 //!                 the kept factors); any number of ranks.
 //!                                                    time ≈ f · T_LU(n + c m)
 //!                                                    memory ≈ 2 M_K(n) + GMRES basis
+//!   dense_schur_gathered   under MPI (p ranks): K and the load gathered on rank 0, which
+//!                 runs dense_schur alone on the whole problem and sends the answer
+//!                 (`full_space/gathered.rs`).        time ≈ dense_schur + g · 14 n (the gather)
+//!                                                    memory ≈ that of dense_schur, on rank 0
 //! ```
+//!
+//! Under MPI the sparse route's factorisations are distributed: its time is divided by
+//! `1.3^{log₂ p}` (`p e(p)` with the parallel efficiency `e(2) = 0.65` of `docs/scaling.md`; the
+//! mixed LU measured here gained 0.7–1.25× on two shared cores). The dense route cannot be
+//! distributed through PETSc 3.18 (it computes MUMPS's Schur complement on one process only,
+//! and the centralised Schur complement on two ranks took 2× the serial time at 2e5 dofs,
+//! more than 20× at 1e6: `petsc/inverse_block.rs`), so it runs whole on rank 0. Before
+//! this route, two ranks took the square block at 2e5 dofs from 1.0–1.9 s (dense_schur, one
+//! rank) to 4.4–9.9 s (8 distributed LUs); the distributed LU's statistics are those of the
+//! serial one (`full_space/gathered.rs`), so the loss was the route, not MUMPS.
 //!
 //! `T_LU(n) = γ n^{3/2}` is the nested-dissection cost of a 2D mesh's factorisation (A. George,
 //! "Nested dissection of a regular finite element mesh", SIAM J. Numer. Anal. 10 (1973)
@@ -48,6 +62,19 @@
 use crate::error::{Error, Result};
 use crate::petsc::Session;
 
+/// The sparse LU route's gain from doubling the ranks (`p e(p)` at `p = 2`; `e(p) = e(2)^{log₂ p}`
+/// for more, as in `docs/scaling.md`). Measured on this project's machine, the square block at
+/// 2e5 dofs, 8 MUMPS LUs of the mixed Jacobian: 4.4–4.8 s on one rank, 3.6–6.8 s on two
+/// (MUMPS's statistics are the same on both: see the module documentation).
+const SPARSE_SPEEDUP_PER_DOUBLING: f64 = 1.3;
+/// Seconds per stored entry of `K` gathered on rank 0 (one broadcast per other rank of its
+/// rows, 16 bytes an entry, encoded and decoded): 0.81 s for the 1.4e7 entries of the square
+/// block at 1e6 dofs on two ranks.
+const GATHER_SECONDS: f64 = 6e-8;
+/// Stored entries of `K` per displacement dof (P1 triangles on a structured mesh: 7 nodes a
+/// row, 2 components).
+const ENTRIES_PER_DOF: f64 = 14.0;
+
 /// The option naming the route (`auto`, `dense_schur`, `sparse_lu`).
 pub const ROUTE_OPTION: &str = "-contact_route";
 /// The option capping the memory a route may plan for, in MB (default: the memory available).
@@ -73,6 +100,9 @@ pub enum Route {
     DenseSchur,
     /// MUMPS LU of the mixed Jacobian, kept across steps while few rows change.
     SparseLu,
+    /// Under MPI: `K` and the load gathered on rank 0, which runs the one-process route (the
+    /// dense Schur route) alone on the whole problem and sends the answer to the other ranks.
+    DenseSchurGathered,
     /// The inner solver the options name (`-contact_ksp_type`, `-contact_pc_type`).
     FromOptions,
 }
@@ -83,6 +113,7 @@ impl Route {
         match self {
             Route::DenseSchur => "dense_schur",
             Route::SparseLu => "sparse_lu",
+            Route::DenseSchurGathered => "dense_schur_gathered",
             Route::FromOptions => "options",
         }
     }
@@ -141,10 +172,20 @@ pub fn megabytes(bytes: f64) -> String {
     }
 }
 
-/// Predicted seconds of the sparse LU route.
+/// Predicted seconds of the sparse LU route (on `inputs.ranks` ranks).
 pub fn sparse_prediction(inputs: &RouteInputs) -> f64 {
     let n = (inputs.dofs + inputs.per_point * inputs.points) as f64;
-    expected_steps(inputs) * LU_SECONDS * n.powf(1.5)
+    let speedup = SPARSE_SPEEDUP_PER_DOUBLING.powf((inputs.ranks.max(1) as f64).log2());
+    expected_steps(inputs) * LU_SECONDS * n.powf(1.5) / speedup
+}
+
+/// Predicted seconds of gathering `K` on rank 0 (the gathered dense route's extra cost).
+pub fn gather_prediction(inputs: &RouteInputs) -> f64 {
+    if inputs.ranks > 1 {
+        GATHER_SECONDS * ENTRIES_PER_DOF * inputs.dofs as f64
+    } else {
+        0.0
+    }
 }
 
 fn expected_steps(inputs: &RouteInputs) -> f64 {
@@ -202,22 +243,26 @@ pub fn choose_among(
             })
         }
         Some("dense_schur") => {
-            if inputs.ranks > 1 {
-                return Err(Error::SingleProcess {
-                    feature: "-contact_route dense_schur".into(),
-                    reason: format!(
-                        "started on {} MPI processes: the Schur complement of MUMPS is computed on one process; \
-                         use -contact_route sparse_lu (or auto) under mpirun",
-                        inputs.ranks
-                    ),
-                });
-            }
             if let (false, Some(limit)) = (fits, inputs.memory_limit) {
                 return Err(Error::RouteMemory {
                     route: Route::DenseSchur.name().into(),
                     needed_mb: dense_bytes / 1e6,
                     available_mb: limit / 1e6,
                     instead: Route::SparseLu.name().into(),
+                });
+            }
+            if inputs.ranks > 1 {
+                return Ok(RouteChoice {
+                    route: Route::DenseSchurGathered,
+                    reason: format!(
+                        "asked for (-contact_route dense_schur) on {} MPI ranks: the Schur complement of MUMPS is \
+                         computed on one process, so K is gathered on rank 0, which runs the dense route alone \
+                         and sends the answer; the cost model predicted {:.2} s for it and {sparse_seconds:.2} s for sparse_lu \
+                         on {} ranks",
+                        inputs.ranks,
+                        dense_seconds + gather_prediction(inputs),
+                        inputs.ranks
+                    ),
                 });
             }
             return Ok(RouteChoice {
@@ -233,14 +278,22 @@ pub fn choose_among(
         }
     }
     let unknowns = inputs.per_point * inputs.points;
-    if inputs.ranks > 1 {
-        return Ok(RouteChoice {
-            route: Route::SparseLu,
-            reason: format!("{} MPI ranks: the dense Schur elimination runs on one process", inputs.ranks),
-        });
-    }
     if let (false, Some(limit)) = (fits, inputs.memory_limit) {
         return Ok(RouteChoice { route: Route::SparseLu, reason: memory_words(limit) });
+    }
+    if inputs.ranks > 1 {
+        let gathered_seconds = dense_seconds + gather_prediction(inputs);
+        let route = if gathered_seconds <= sparse_seconds { Route::DenseSchurGathered } else { Route::SparseLu };
+        return Ok(RouteChoice {
+            route,
+            reason: format!(
+                "{} contact unknowns on {} dofs, {} MPI ranks: predicted {gathered_seconds:.2} s for \
+                 dense_schur_gathered (K gathered on rank 0, which runs the one-process dense Schur route \
+                 alone and sends the answer: the Schur complement of MUMPS is computed on one process) and {sparse_seconds:.2} s for \
+                 sparse_lu (distributed)",
+                unknowns, inputs.dofs, inputs.ranks
+            ),
+        });
     }
     let route = if dense_seconds <= sparse_seconds { Route::DenseSchur } else { Route::SparseLu };
     Ok(RouteChoice {
@@ -307,13 +360,26 @@ mod tests {
     }
 
     #[test]
-    fn mpi_takes_the_sparse_route_and_refuses_the_dense_one_by_name() {
-        let s = RouteInputs { ranks: 2, ..square_block(200_000) };
-        let choice = choose_among(None, false, false, &s).unwrap();
-        assert_eq!(choice.route, Route::SparseLu);
-        assert!(choice.reason.contains("2 MPI ranks"), "{}", choice.reason);
-        let e = choose_among(Some("dense_schur"), false, false, &s).unwrap_err();
-        assert!(matches!(&e, Error::SingleProcess { feature, .. } if feature == "-contact_route dense_schur"), "{e}");
+    fn under_mpi_the_square_block_gathers_k_and_long_interfaces_stay_distributed() {
+        for dofs in [200_000, 1_000_000] {
+            let s = RouteInputs { ranks: 2, ..square_block(dofs) };
+            let choice = choose_among(None, false, false, &s).unwrap();
+            assert_eq!(choice.route, Route::DenseSchurGathered, "{dofs}: {}", choice.reason);
+            assert!(choice.reason.contains("2 MPI ranks") && choice.reason.contains("gathered"), "{}", choice.reason);
+            let named = choose_among(Some("dense_schur"), false, false, &s).unwrap();
+            assert_eq!(named.route, Route::DenseSchurGathered, "{}", named.reason);
+            assert_eq!(choose_among(Some("sparse_lu"), false, false, &s).unwrap().route, Route::SparseLu);
+        }
+        for points in [4001, 20_001] {
+            let s = RouteInputs { ranks: 2, ..strip(points) };
+            let choice = choose_among(None, false, false, &s).unwrap();
+            assert_eq!(choice.route, Route::SparseLu, "{points}: {}", choice.reason);
+        }
+        // The distributed LU's predicted time falls with the ranks, the gathered route's not.
+        let one = square_block(1_000_000);
+        let four = RouteInputs { ranks: 4, ..one };
+        assert!(sparse_prediction(&four) < 0.6 * sparse_prediction(&one));
+        assert!(gather_prediction(&four) > 0.0 && gather_prediction(&one) == 0.0);
     }
 
     #[test]

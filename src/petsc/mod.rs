@@ -184,20 +184,78 @@ impl Comm {
     /// other ranks' `bytes` are not read). The length goes first, then the bytes in pieces of
     /// at most `i32::MAX` (MPI counts are `int`). Nothing on a single rank.
     pub fn broadcast_from_rank_0(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        self.broadcast_from(0, bytes)
+    }
+
+    /// [`Comm::broadcast_from_rank_0`] for a message rank 0 sends after a long piece of work
+    /// of its own: the other ranks wait for its length without spinning (they test for it
+    /// every millisecond and sleep in between, instead of keeping a core busy), then receive
+    /// the bytes.
+    pub fn broadcast_from_rank_0_sleeping(self, bytes: Vec<u8>) -> Result<Vec<u8>> {
         if self.size()? == 1 {
             return Ok(bytes);
         }
-        let root = self.rank()? == 0;
         let mut length = (bytes.len() as u64).to_le_bytes();
         // SAFETY: the buffer holds the 8 bytes broadcast.
-        mpi_check(unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, 0) }, "MPI_Bcast")?;
+        mpi_check(
+            unsafe { sys::signorini_bcast_bytes_sleeping(self.raw, length.as_mut_ptr().cast(), 8, 0, 1000) },
+            "MPI_Ibcast",
+        )?;
         let length = usize::try_from(u64::from_le_bytes(length))
             .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
-        let mut buffer = if root { bytes } else { vec![0u8; length] };
+        let mut buffer = if self.rank()? == 0 { bytes } else { vec![0u8; length] };
         for piece in buffer.chunks_mut(i32::MAX as usize) {
             // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
             mpi_check(
                 unsafe { sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, 0) },
+                "MPI_Bcast",
+            )?;
+        }
+        Ok(buffer)
+    }
+
+    /// Every rank's `bytes` on rank 0, in rank order (collective; the other ranks get an empty
+    /// list). One broadcast per rank other than 0, so a rank also receives the messages of the
+    /// ranks after it: meant for a few ranks.
+    pub fn gather_bytes_to_rank_0(self, bytes: Vec<u8>) -> Result<Vec<Vec<u8>>> {
+        let (size, rank) = (self.size()?, self.rank()?);
+        let mut mine = Some(bytes);
+        let mut all = Vec::with_capacity(if rank == 0 { size } else { 0 });
+        if rank == 0 {
+            all.push(mine.take().unwrap_or_default());
+        }
+        for root in 1..size {
+            let sent = if root == rank { mine.take().unwrap_or_default() } else { Vec::new() };
+            let received = self.broadcast_from(root, sent)?;
+            if rank == 0 {
+                all.push(received);
+            }
+        }
+        Ok(all)
+    }
+
+    /// Rank `root`'s `bytes` on every rank (as [`Comm::broadcast_from_rank_0`]).
+    pub fn broadcast_from(self, root: usize, bytes: Vec<u8>) -> Result<Vec<u8>> {
+        if self.size()? == 1 {
+            return Ok(bytes);
+        }
+        let root_rank = c_int::try_from(root).map_err(|_| Error::PetscUsage(format!("MPI_Bcast: no rank {root}")))?;
+        let is_root = self.rank()? == root;
+        let mut length = (bytes.len() as u64).to_le_bytes();
+        // SAFETY: the buffer holds the 8 bytes broadcast.
+        mpi_check(
+            unsafe { sys::signorini_bcast_bytes(self.raw, length.as_mut_ptr().cast(), 8, root_rank) },
+            "MPI_Bcast",
+        )?;
+        let length = usize::try_from(u64::from_le_bytes(length))
+            .map_err(|_| Error::PetscUsage("MPI_Bcast: rank 0's message is too long for this rank".into()))?;
+        let mut buffer = if is_root { bytes } else { vec![0u8; length] };
+        for piece in buffer.chunks_mut(i32::MAX as usize) {
+            // SAFETY: `piece` holds `piece.len()` (≤ i32::MAX) bytes, the same count on every rank.
+            mpi_check(
+                unsafe {
+                    sys::signorini_bcast_bytes(self.raw, piece.as_mut_ptr().cast(), piece.len() as c_int, root_rank)
+                },
                 "MPI_Bcast",
             )?;
         }
@@ -256,9 +314,11 @@ pub struct Session {
     /// argv strings handed to PetscInitialize: PETSc keeps pointers into them until finalise.
     _args: Vec<CString>,
     _argv: Vec<*mut c_char>,
-    world: Comm,
-    rank: usize,
-    size: usize,
+    /// The communicator of every driver: `PETSC_COMM_WORLD`, or `PETSC_COMM_SELF` inside
+    /// [`Session::alone`] (with `rank` 0 and `size` 1 then).
+    world: std::cell::Cell<Comm>,
+    rank: std::cell::Cell<usize>,
+    size: std::cell::Cell<usize>,
     /// PETSc is not thread safe in this build: keep the session on its thread.
     _not_send: PhantomData<*const ()>,
     /// Options the program set as its own defaults (not the user's choices).
@@ -394,17 +454,42 @@ impl Session {
         Ok(Session {
             _args: c_args,
             _argv: argv,
-            world,
-            rank,
-            size,
+            world: std::cell::Cell::new(world),
+            rank: std::cell::Cell::new(rank),
+            size: std::cell::Cell::new(size),
             _not_send: PhantomData,
             program_options: Default::default(),
         })
     }
 
-    /// `PETSC_COMM_WORLD`.
+    /// `PETSC_COMM_WORLD` (`PETSC_COMM_SELF` inside [`Session::alone`]).
     pub fn world(&self) -> Comm {
-        self.world
+        self.world.get()
+    }
+
+    /// Run `work` as if this process were alone: inside it [`Session::world`] is
+    /// `PETSC_COMM_SELF`, [`Session::rank`] 0 and [`Session::size`] 1, so every object it
+    /// creates and every agreement it makes stays on this process (no other rank takes part,
+    /// whatever each does). The options database is the same. Restored afterwards, also if
+    /// `work` panics.
+    pub fn alone<R>(&self, work: impl FnOnce(&Session) -> R) -> R {
+        struct Restore<'a> {
+            session: &'a Session,
+            saved: (Comm, usize, usize),
+        }
+        impl Drop for Restore<'_> {
+            fn drop(&mut self) {
+                let (world, rank, size) = self.saved;
+                self.session.world.set(world);
+                self.session.rank.set(rank);
+                self.session.size.set(size);
+            }
+        }
+        let _restore = Restore { session: self, saved: (self.world.get(), self.rank.get(), self.size.get()) };
+        self.world.set(self.self_comm());
+        self.rank.set(0);
+        self.size.set(1);
+        work(self)
     }
     /// `PETSC_COMM_SELF`.
     pub fn self_comm(&self) -> Comm {
@@ -413,19 +498,19 @@ impl Session {
     }
     /// This process's MPI rank (0 without MPI).
     pub fn rank(&self) -> usize {
-        self.rank
+        self.rank.get()
     }
     /// The number of MPI processes (1 without MPI).
     pub fn size(&self) -> usize {
-        self.size
+        self.size.get()
     }
 
     /// [`Comm::agree`] over `PETSC_COMM_WORLD`, the communicator of every driver: collective.
     pub fn agree<T>(&self, outcome: Result<T>, during: &'static str) -> Result<T> {
-        if self.size == 1 {
+        if self.size() == 1 {
             return outcome;
         }
-        self.world.agree(outcome, during)
+        self.world().agree(outcome, during)
     }
 
     /// Is `-name` (with its leading dash) in the options database?
@@ -477,7 +562,7 @@ impl Session {
     /// default MUMPS Cholesky). The command line's options come first, then `scene_defaults`
     /// (a scene's `[solver] petsc_options`, which the command line overrides).
     pub fn refuse_one_process_solver(&self, scene_defaults: &[String]) -> Result<()> {
-        if self.size == 1 {
+        if self.size() == 1 {
             return Ok(());
         }
         let value = |name: &str| -> Result<Option<String>> {
@@ -512,7 +597,7 @@ impl Session {
         };
         Err(Error::SingleProcess {
             feature: option,
-            reason: format!("started on {} MPI processes: {reason}", self.size),
+            reason: format!("started on {} MPI processes: {reason}", self.size()),
         })
     }
 

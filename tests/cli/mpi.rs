@@ -50,6 +50,57 @@ fn mpirun_two_ranks_contact_equals_serial() {
     }
 }
 
+/// Under `mpirun -n 2` the cost model takes the gathered dense route on the square block (K
+/// gathered on rank 0, which runs the one-process dense Schur route and sends the answer), as does
+/// `-contact_route dense_schur`; the distributed sparse LU stays available by name. All three
+/// give the serial answer: displacements, contact forces and Newton steps.
+#[test]
+fn mpirun_two_ranks_gathered_dense_route_equals_serial() {
+    let path = scene("examples/scenes/square_block.toml");
+    let serial = scratch("mpi-gathered-serial");
+    run_ok(bin().arg("run").arg(&path).args(["--quiet", "--out"]).arg(&serial));
+    let s = report(&serial);
+    assert_eq!(s["contact"]["route"], "dense_schur", "{}", s["contact"]["route_reason"]);
+    for (name, extra, route) in [
+        ("auto", &[][..], "dense_schur_gathered"),
+        ("named-dense", &["-contact_route", "dense_schur"][..], "dense_schur_gathered"),
+        ("named-sparse", &["-contact_route", "sparse_lu"][..], "sparse_lu"),
+    ] {
+        let parallel = scratch(&format!("mpi-gathered-{name}"));
+        let out = mpirun_two()
+            .arg("run")
+            .arg(&path)
+            .args(["--quiet", "--out"])
+            .arg(&parallel)
+            .args(extra)
+            .output()
+            .expect("mpirun");
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let p = report(&parallel);
+        assert_eq!(p["mpi_ranks"], 2);
+        assert_eq!(p["contact"]["route"], route, "{name}: {}", p["contact"]["route_reason"]);
+        let reason = p["contact"]["route_reason"].as_str().unwrap();
+        if route == "dense_schur_gathered" {
+            assert!(reason.contains("2 MPI ranks") && reason.contains("on rank 0 alone: "), "{name}: {reason}");
+        } else {
+            assert!(reason.contains("asked for (-contact_route sparse_lu)"), "{name}: {reason}");
+        }
+        let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
+        assert!(d < 1e-10, "{name}: MPI differs from serial by {d:e}");
+        for key in ["resultant"] {
+            for c in 0..2 {
+                let (a, b) = (s["contact"][key][c].as_f64().unwrap(), p["contact"][key][c].as_f64().unwrap());
+                assert!((a - b).abs() <= 1e-10 * a.abs().max(1.0), "{name}: {key}[{c}] {a} against {b}");
+            }
+        }
+        for key in ["stick", "slip", "open"] {
+            assert_eq!(p["contact"][key], s["contact"][key], "{name}: {key}");
+        }
+        let steps = |r: &serde_json::Value| r["contact"]["iterations"].as_i64().unwrap();
+        assert!((steps(&p) - steps(&s)).abs() <= 1, "{name}: {} Newton steps against {}", steps(&p), steps(&s));
+    }
+}
+
 /// A failure on rank 0 alone stops every rank with an error, within a timeout, instead of
 /// leaving rank 1 waiting in the next collective operation: clearing the previous results
 /// fails (a directory named solution.vtu in the output directory), or writing them fails (the
@@ -125,8 +176,8 @@ mu = 0.3
 #[test]
 fn mpirun_two_ranks_bodies_equal_serial() {
     // Two bodies (mortar contact pair, Coulomb): the same answer on two processes as on one,
-    // on the full-space Newton (its mortar rows read master dofs of the other rank) and on the
-    // condensed route.
+    // on the full-space Newton (gathered on rank 0, or distributed: its mortar rows read master
+    // dofs of the other rank) and on the condensed route.
     let dir = scratch("mpi-bodies-scenes");
     let block_on_block = scene("examples/scenes/block_on_block.toml");
     // Every body held by its Dirichlet conditions: the block pressed by a prescribed
@@ -142,10 +193,14 @@ fn mpirun_two_ranks_bodies_equal_serial() {
         ("held", &held, &[][..], true),
         ("sideways", &sideways, &[][..], true),
         // The block held vertically by the contact alone: the full-space Newton (the floating
-        // elimination in serial, SNES's LU of the mixed Jacobian on two ranks), and the
+        // elimination, on rank 0 alone under the gathered route on two ranks), and the
         // condensed route when asked for.
         ("floating", &block_on_block, &[][..], true),
         ("condensed", &block_on_block, &["--contact-solver", "newton"][..], false),
+        // SNES's LU of the mixed Jacobian distributed over both ranks, by name (the cost
+        // model takes the gathered route on these scenes).
+        ("held-distributed", &held, &["-contact_route", "sparse_lu"][..], true),
+        ("floating-distributed", &block_on_block, &["-contact_route", "sparse_lu"][..], true),
     ] {
         let serial = scratch(&format!("mpi-bodies-serial-{name}"));
         run_ok(bin().arg("run").arg(path).args(["--quiet", "--out"]).arg(&serial).args(options));
@@ -364,8 +419,9 @@ fn mpirun_two_ranks_adapt_and_study_of_contact_equal_serial() {
 /// Two elastic cylinders pressed together (a mortar contact pair, frictionless; the upper one
 /// held sideways at its centre only, vertically by the contact), meshed coarser than
 /// examples/scenes/two_cylinders.toml: on two ranks the full-space Newton runs (SNES's LU of
-/// the mixed Jacobian; in serial the floating elimination), never the condensed route, and
-/// gives the serial answer: the same Newton steps, the contact resultant to 1e-10, each body's
+/// the mixed Jacobian, asked for with `-contact_route sparse_lu`, and the cost model's gathered
+/// route, rank 0 running the floating elimination as in serial), never the condensed route, and
+/// each gives the serial answer: the same Newton steps, the contact resultant to 1e-10, each body's
 /// displacement to 1e-10 once its rigid motion is taken out, and to 1e-9 with it. Frictionless
 /// contact leaves the upper cylinder's rotation about its centre free (every arc point moves
 /// along the arc): the two routes fix that mode differently in round-off (measured: a rotation
@@ -381,8 +437,30 @@ fn mpirun_two_ranks_bodies_full_space_route() {
     let dir = scratch("mpi-two-cylinders-scene");
     let path = dir.join("two_cylinders_coarse.toml");
     std::fs::write(&path, coarse).unwrap();
-    let (serial, parallel) = serial_and_two_ranks("two-cylinders", "run", &path, &[]);
-    let (rs, rp) = (report(&serial), report(&parallel));
+    let (serial, gathered) = serial_and_two_ranks("two-cylinders", "run", &path, &[]);
+    // The distributed route by name: SNES's LU of the mixed Jacobian over both ranks, whose
+    // mortar rows read master dofs of the other rank.
+    let distributed = scratch("mpi-two-cylinders-two-ranks-sparse-lu");
+    let out = mpirun_two()
+        .arg("run")
+        .arg(&path)
+        .args(["-contact_route", "sparse_lu", "--quiet", "--out"])
+        .arg(&distributed)
+        .env("SIGNORINI_CACHE_DIR", Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh-cache"))
+        .output()
+        .expect("mpirun");
+    assert!(out.status.success(), "sparse_lu: {}", String::from_utf8_lossy(&out.stderr));
+    for (parallel, route) in [(&gathered, "dense_schur_gathered"), (&distributed, "sparse_lu")] {
+        let rp = report(parallel);
+        assert_eq!(rp["contact"]["route"], route, "{}", rp["contact"]["route_reason"]);
+        two_cylinders_agree(&serial, parallel);
+    }
+}
+
+/// The two-rank run in `parallel` gives the serial answer of `serial` (see
+/// [`mpirun_two_ranks_bodies_full_space_route`]).
+fn two_cylinders_agree(serial: &Path, parallel: &Path) {
+    let (rs, rp) = (report(serial), report(parallel));
     assert_eq!(rp["mpi_ranks"], 2);
     for r in [&rs, &rp] {
         let solver = r["contact"]["solver"].as_str().unwrap();

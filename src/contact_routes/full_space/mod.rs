@@ -17,9 +17,12 @@
 //! make it definite, it is factorised once the same way, and the springs are removed inside
 //! every Newton step by a low-rank correction of the small system (`floating_elimination.rs`);
 //! the SNES then iterates on `(v, λ)` too, with no solve per step after the first (and again in
-//! `(u, λ)`, one solve per step, if that answer fails the independent check). Otherwise (MPI,
-//! or `-contact_ksp_type`, `-contact_pc_type`, `-contact_full_space_lu`) SNES's KSP solves
-//! the mixed Jacobian in `(u, λ)` (MUMPS LU by default): one sparse LU per step.
+//! `(u, λ)`, one solve per step, if that answer fails the independent check). Otherwise (the
+//! cost model's `sparse_lu` route, or `-contact_ksp_type`, `-contact_pc_type`,
+//! `-contact_full_space_lu`) SNES's KSP solves the mixed Jacobian in `(u, λ)` (MUMPS LU by
+//! default, distributed under MPI): one sparse LU per step. Under MPI the cost model may also
+//! take `dense_schur_gathered` (`gathered.rs`): `K` gathered on rank 0, which runs the
+//! one-process route alone and sends the answer: the serial answer at the serial cost.
 //!
 //! ## Unknowns and equations
 //!
@@ -187,6 +190,7 @@
 //! then verified independently, as on the other routes: the contact residuals of `(λ, B u)`
 //! with `u` from the solve, and the equilibrium of the force rows recomputed from the gathered
 //! solution.
+mod gathered;
 mod layout;
 mod mixed_system;
 mod pattern;
@@ -360,6 +364,9 @@ impl ContactSetup {
         };
         let choice = session.agree(route_choice::choose(session, &inputs), "the contact route")?;
         progress.note(&format!("contact: route {} ({})", choice.route.name(), choice.reason));
+        if choice.route == Route::DenseSchurGathered {
+            return self.gathered_run(session, mesh, materials, constraints, system, progress, &choice).map(Ok);
+        }
         let eliminations_apply = choice.route == Route::DenseSchur && m > 0;
         let block_elimination = eliminations_apply && self.free_motions.is_none();
         let pins = match (&rigid, eliminations_apply && !block_elimination) {
@@ -646,6 +653,90 @@ impl ContactSetup {
             stats.factor_package = Some("mumps (Cholesky of K, Schur complement on the contact dofs)".into());
         }
         Ok(Ok((u, ContactOutcome { force, status, report }, stats)))
+    }
+
+    /// The gathered dense route under MPI (`gathered.rs`): `K` and the load gathered on rank 0,
+    /// which runs the one-process route on them alone and sends the answer to the other ranks.
+    /// The answer is the serial one on every rank; the report names the route and why, then
+    /// the one-process run's own reason.
+    #[allow(clippy::too_many_arguments)]
+    fn gathered_run(
+        &self,
+        session: &Session,
+        mesh: &Mesh,
+        materials: &CellMaterials,
+        constraints: &Constraints,
+        system: &LinearSystem,
+        progress: &dyn crate::problem::Progress,
+        choice: &route_choice::RouteChoice,
+    ) -> Result<Solved> {
+        let n = 2 * mesh.num_nodes();
+        let gather_start = std::time::Instant::now();
+        let whole = gathered::gather_system(session, system, n);
+        let whole = session.agree(whole, "gathering the stiffness on rank 0")?;
+        let world = session.world();
+        let Some(whole) = whole else {
+            // The other ranks: rank 0's answer, or its failure.
+            let bytes = world.broadcast_from_rank_0_sleeping(Vec::new())?;
+            let (ok, answer) = bytes
+                .split_first()
+                .ok_or_else(|| Error::PetscUsage("the gathered contact route: rank 0 sent an empty answer".into()))?;
+            if *ok == 0 {
+                return Err(Error::OtherRank { rank: 0, during: "the gathered contact solve" });
+            }
+            let answer = gathered::decode_answer(answer)?;
+            let residuals = answer.report.contact_residuals();
+            let solution = ContactSolution {
+                force: answer.force.clone(),
+                displacement: self.boundary.gather(&answer.u),
+                iterations: answer.report.iterations,
+                history: Vec::new(),
+                status: answer.status.clone(),
+                residuals,
+                solver: String::new(),
+                notes: Vec::new(),
+            };
+            let mut report = self.report(
+                &answer.force,
+                &answer.status,
+                &answer.u,
+                &residuals,
+                answer.report.linear_solves,
+                &solution,
+            );
+            answer.report.apply(&mut report);
+            return Ok((answer.u, ContactOutcome { force: answer.force, status: answer.status, report }, answer.stats));
+        };
+        let gather_seconds = gather_start.elapsed().as_secs_f64();
+        let entries = whole.matrix.nnz();
+        let solve_start = std::time::Instant::now();
+        let solved = session.alone(|alone| {
+            self.solve_full_space(alone, mesh, materials, constraints, &whole, &gathered::whole(n), progress)
+        });
+        drop(whole);
+        let solved = solved.map(|(u, mut outcome, stats)| {
+            let report = &mut outcome.report;
+            if report.route == Route::DenseSchur.name() {
+                report.route = Route::DenseSchurGathered.name().into();
+            }
+            report.route_reason = format!("{}; on rank 0 alone: {}", choice.reason, report.route_reason);
+            report.notes.push(format!(
+                "K ({entries} entries) gathered on rank 0 in {gather_seconds:.2} s; the one-process route there took \
+                 {:.2} s",
+                solve_start.elapsed().as_secs_f64()
+            ));
+            (u, outcome, stats)
+        });
+        let message = match &solved {
+            Ok((u, outcome, stats)) => {
+                let mut m = vec![1u8];
+                m.extend(gathered::encode_answer(u, outcome, stats));
+                m
+            }
+            Err(_) => vec![0u8],
+        };
+        world.broadcast_from_rank_0_sleeping(message)?;
+        solved
     }
 
     /// The error for a body that the contact does not hold (see the module documentation).
