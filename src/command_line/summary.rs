@@ -164,6 +164,24 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     if let Some(c) = &r.contact {
         out.add("route", &format!("{}: {}", c.route, c.route_reason));
     }
+    if let (Some(path), Some(first), Some(last)) = (&r.load_path, r.steps.first(), r.steps.last()) {
+        let e = &path.energy;
+        out.add(
+            "path",
+            &format!(
+                "{} increments, t = {} to {}, {} halving(s), {} contact iterations in all; dissipation {:.4e} J/m, \
+                 energy balance {:.1e} of the work; the results below are the last increment's; {}",
+                path.increments,
+                first.time,
+                last.time,
+                path.halvings,
+                r.steps.iter().map(|s| s.iterations).sum::<usize>(),
+                last.total_dissipation,
+                e.relative_residual,
+                path.route
+            ),
+        );
+    }
     let cached = r.mesh_cache.as_ref().is_some_and(|c| c.status == signorini::mesh::cache::CacheStatus::Hit);
     let phases: Vec<String> = r
         .timings
