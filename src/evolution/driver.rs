@@ -627,6 +627,7 @@ impl<'s> ElasticityProblem<'s> {
             on_step(self, &record)?;
             steps.push(record);
         }
+        self.timings.add("increments", steps.iter().map(|r| r.seconds).sum());
         let scale = energy.work.abs().max(energy.stored_energy).max(f64::MIN_POSITIVE);
         energy.relative_residual =
             (energy.work - energy.stored_energy - energy.dissipation - energy.normal_contact_loss).abs() / scale;

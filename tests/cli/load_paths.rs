@@ -116,3 +116,28 @@ fn mpirun_two_ranks_load_path_equals_serial() {
         assert!((da - db).abs() <= 1e-10 * total, "increment {}: dissipation {da} / {db}", k + 1);
     }
 }
+
+/// `examples/scenes/fretting_cylinder.toml` as shipped: the tangential load goes through its
+/// cycle (Q at the two positive peaks equal, at the negative one opposite, within 1 %), the
+/// cycle dissipates, and the loop and the profiles are drawn.
+#[test]
+fn example_fretting_cylinder_runs_its_cycle() {
+    let out = scratch("fretting-example");
+    run_ok(bin().arg("run").arg(scene("examples/scenes/fretting_cylinder.toml")).args(["--quiet", "--out"]).arg(&out));
+    let r = report(&out);
+    let steps = r["steps"].as_array().unwrap();
+    let q = |t: f64| {
+        let s = steps.iter().find(|s| (s["time"].as_f64().unwrap() - t).abs() < 1e-12).expect("a peak increment");
+        s["tangential_resultant"].as_f64().unwrap()
+    };
+    let (first, reversed, again) = (q(2.0), q(4.0), q(6.0));
+    assert!(first.abs() > 0.0 && ((again - first) / first).abs() < 0.01, "Q* {first}, again {again}");
+    assert!(((reversed + first) / first).abs() < 0.01, "Q* {first}, reversed {reversed}");
+    assert!(steps.last().unwrap()["total_dissipation"].as_f64().unwrap() > 0.0);
+    let svg = std::fs::read_to_string(out.join("hysteresis.svg")).unwrap();
+    assert!(svg.contains("<svg"), "hysteresis.svg");
+    let profiles = std::fs::read_to_string(out.join("contact_profiles.svg")).unwrap();
+    for t in ["t = 2", "t = 3", "t = 4", "t = 6"] {
+        assert!(profiles.contains(t), "profile {t} missing");
+    }
+}
