@@ -557,7 +557,15 @@ impl ContactSetup {
                 }
             }
         }
-        Ok(CondensedOperator { w, linear, solves })
+        let b = &self.boundary;
+        let problem = CondensedProblem::new(
+            Delassus::Dense(w),
+            vec![0.0; 2 * m],
+            b.gap.clone(),
+            self.friction_law(),
+            Some(b.weight.clone()),
+        )?;
+        Ok(CondensedOperator { problem, linear, solves })
     }
 
     /// Solve the contact problem for the owned load `f` on a condensed operator: the
@@ -579,7 +587,6 @@ impl ContactSetup {
         let n = matrix.global_size();
         let rows = matrix.owned_rows();
         let mut x = matrix.create_vector()?;
-        let friction = self.friction_law();
         let mut e = matrix.create_vector()?;
         let zero_shift = vec![0.0; 2 * m];
         let shift = increment.shift.as_deref().unwrap_or(&zero_shift);
@@ -594,20 +601,22 @@ impl ContactSetup {
         let mut step_iterations = Vec::new();
         loop {
             let rk = self.anchored_load(f, &anchor, rows.clone());
-            e.set_owned(&rk)?;
-            operator.linear.solve(matrix, &e, &mut x)?;
-            operator.solves += 2;
-            let mut u_free = b.gather(&x.gather_all()?);
+            let mut u_free = match (&increment.free_field, self.spring) {
+                (Some(field), None) => {
+                    operator.solves += 1;
+                    b.gather(field)
+                }
+                _ => {
+                    e.set_owned(&rk)?;
+                    operator.linear.solve(matrix, &e, &mut x)?;
+                    operator.solves += 2;
+                    b.gather(&x.gather_all()?)
+                }
+            };
             for (v, s) in u_free.iter_mut().zip(shift) {
                 *v -= s;
             }
-            let problem = CondensedProblem::new(
-                Delassus::Dense(operator.w.clone()),
-                u_free,
-                b.gap.clone(),
-                friction.clone(),
-                Some(b.weight.clone()),
-            )?;
+            let problem = operator.problem.with_free_displacement(u_free)?;
             settings.initial_force = initial_force.clone();
             // A warm-started solve accepts the previous force as it is when its residual is
             // below the tolerance: the force then stays frozen, the springs take up its error
@@ -905,7 +914,9 @@ impl ContactSetup {
 /// flexibility `W = B K⁻¹ Bᵀ` in the contact frames (its tangential block zero without
 /// friction) and the factorised stiffness, with the number of linear solves so far.
 pub(crate) struct CondensedOperator<'a, 's> {
-    pub(crate) w: DMatrix<f64>,
+    /// The contact problem on `W` with a zero free displacement (validated once; every load
+    /// solved on the operator replaces the free displacement).
+    pub(crate) problem: CondensedProblem<'static>,
     pub(crate) linear: Factorised<'a, 's>,
     pub(crate) solves: usize,
 }
@@ -923,6 +934,10 @@ pub(crate) struct Increment {
     pub(crate) start_displacement: Option<Vec<f64>>,
     /// The force the contact solver starts from (the last converged one); zero if `None`.
     pub(crate) start_force: Option<Vec<f64>>,
+    /// `K⁻¹ f` (the whole vector), when the caller has it (a load path combines its load
+    /// cases' fields): the free displacement then costs no solve. Ignored with stabilisation
+    /// springs (their anchored load changes at every proximal iteration).
+    pub(crate) free_field: Option<Vec<f64>>,
 }
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two

@@ -7,7 +7,8 @@
 //! factorise    K (+ springs), W once (ContactSetup::condense)
 //! increment n  f(t_n); the obstacle at d(t_n) = φ(t_n) d; the law sees B u − shift with
 //!                shift_N = d·n,  shift_T = d·t + s^(n−1)   (s = (B u)_T − d·t, the slip so far)
-//!              condensed solve warm-started from (u, r)^(n−1), recovery, independent check
+//!              u_free from the load cases' fields K⁻¹ f_k (computed once: no solve), the
+//!              condensed solve warm-started from (u, r)^(n−1), recovery (one solve), independent check
 //!              on the increment; failed: cut in two (at most MAX_HALVINGS times)
 //! record       counts, resultants, energies (below), the profile at the asked times
 //! ```
@@ -391,6 +392,17 @@ impl<'s> ElasticityProblem<'s> {
             Some(c) => Some(c.condense(session, matrix, &mut ksp, &*self.progress)?),
             None => None,
         };
+        // Each load case's field K⁻¹ f_k, once: an increment's free displacement is their
+        // combination (no solve), its recovery one solve.
+        let mut fields = Vec::new();
+        if let Some(op) = operator.as_mut() {
+            let (mut x, mut e) = (matrix.create_vector()?, matrix.create_vector()?);
+            for case in cases {
+                e.set_owned(&case.rhs)?;
+                op.linear.solve(matrix, &e, &mut x)?;
+                fields.push(x.gather_all()?);
+            }
+        }
         self.timings.add("condense", start.elapsed().as_secs_f64());
         let tangent = contact.map_or([1.0, 0.0], |c| c.boundary.tangent.first().copied().unwrap_or([1.0, 0.0]));
         let monitor = self.monitor_nodes(path)?;
@@ -446,10 +458,18 @@ impl<'s> ElasticityProblem<'s> {
                         shift[2 * i] = dot(d, nn);
                         shift[2 * i + 1] = dot(d, tt) + slip_so_far;
                     }
+                    let mut free_field = vec![0.0; n];
+                    for (case, field) in cases.iter().zip(&fields) {
+                        let phi = factor(&case.key);
+                        if phi != 0.0 {
+                            free_field.iter_mut().zip(field).for_each(|(a, b)| *a += phi * b);
+                        }
+                    }
                     let increment = Increment {
                         shift: Some(shift),
                         start_displacement: Some(state.u.clone()),
                         start_force: Some(state.force.clone()),
+                        free_field: Some(free_field),
                     };
                     c.solve_condensed_load(session, op, matrix, &f, &increment, &*self.progress)
                         .map(|(u, outcome)| (u, Some(outcome)))
