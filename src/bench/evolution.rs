@@ -131,9 +131,9 @@ fn scene_text(index: usize, target_dofs: usize, with_path: bool) -> Result<Strin
     match index {
         // 2 (c + 1)² dofs for c cells per side.
         0 => Ok(square_block(((target_dofs as f64 / 2.0).sqrt() as usize).max(8) - 1, increments)),
-        // About 3.1e5 dofs at (0.005, 1.25e-4); the dofs grow as the inverse square of the sizes.
+        // At (0.005, 1.25e-4) scaled by s, about 4.5e5 / s² dofs.
         1 => {
-            let scale = (310_000.0 / target_dofs as f64).sqrt();
+            let scale = (452_000.0 / target_dofs as f64).sqrt();
             Ok(fretting(0.005 * scale, 1.25e-4 * scale, increments))
         }
         _ => Err(Error::Usage(format!("no load path case {index}"))),
