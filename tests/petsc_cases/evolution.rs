@@ -612,3 +612,45 @@ pub fn estimate_at_every_increment(s: &Session) -> Result<(), String> {
     })?;
     Ok(())
 }
+
+/// An increment that does not converge is cut in two (at most `MAX_HALVINGS` times each): the
+/// square block pressed then pushed in one increment per phase, the Newton iterations limited
+/// to 2. The path converges through halvings (the report counts them, the notes say where),
+/// and its answer is the answer of the same increments listed from the start with no limit
+/// (the same discrete path, to 1e-10). With 1 iteration even 5 halvings are not enough: the
+/// error says so.
+pub fn load_path_halves_failed_increments(s: &Session) -> Result<(), String> {
+    use signorini::evolution::EachIncrement;
+    let (text, file) = square_block_path("press-then-push", 16, 1);
+    let limited = |n: usize| text.replace("tolerance = 1e-12", &format!("tolerance = 1e-12\nmax_iterations = {n}"));
+    let run = |text: &str| -> Result<ElasticityProblem<'_>, String> {
+        let scene = Scene::from_str(text, &file).map_err(|e| e.to_string())?;
+        let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
+        let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+        p.assemble().map_err(|e| e.to_string())?;
+        p.solve_load_path(&path, EachIncrement::Solve, &mut |_, _| Ok(())).map_err(|e| e.to_string())?;
+        Ok(p)
+    };
+    let halved = run(&limited(2))?;
+    let report = halved.load_path.as_ref().unwrap();
+    let times: Vec<f64> = report.steps.iter().map(|r| r.time).collect();
+    eprintln!(
+        "    2 Newton steps at most: {} halvings, increments at {times:?}, depths {:?}",
+        report.halvings,
+        report.steps.iter().map(|r| r.halvings).collect::<Vec<_>>()
+    );
+    ensure(report.halvings > 0 && times.len() > 2, || format!("no halving: {times:?}"))?;
+    ensure(report.notes.iter().any(|n| n.contains("cut in two at t =")), || format!("notes {:?}", report.notes))?;
+    // The same increments, listed, without the limit.
+    let listed: Vec<String> = times.iter().map(|t| format!("{t:e}")).collect();
+    let steps_line = "steps = 2\n";
+    ensure(text.contains(steps_line), || "test bug: the path's steps line".into())?;
+    let reference = run(&text.replace(steps_line, &format!("times = [{}]\n", listed.join(", "))))?;
+    let d = relative_difference(reference.displacement.as_ref().unwrap(), halved.displacement.as_ref().unwrap());
+    eprintln!("    against the same increments listed: {d:.2e}");
+    ensure(d < 1e-10, || format!("the halved path differs from its increments listed by {d:e}"))?;
+    match run(&limited(1)) {
+        Err(e) => ensure(e.contains("even cut in two 5 times"), || format!("wrong error: {e}")),
+        Ok(_) => Err("one Newton step per increment converged: the limit is not exercised".into()),
+    }
+}

@@ -40,6 +40,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("mindlin_deresiewicz_fretting_cycle", evolution::mindlin_deresiewicz_fretting_cycle),
     ("stick_patch_exact_at_every_increment", evolution::stick_patch_exact_at_every_increment),
     ("estimate_at_every_increment", evolution::estimate_at_every_increment),
+    ("load_path_halves_failed_increments", evolution::load_path_halves_failed_increments),
     ("square_block_path_dependence", evolution::square_block_path_dependence),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
