@@ -653,7 +653,7 @@ impl<'s> ElasticityProblem<'s> {
             (energy.work - energy.stored_energy - energy.dissipation - energy.normal_contact_loss).abs() / scale;
         let route = match &self.contact {
             Some(c) => format!(
-                "condensed route, solver {} (K factorised and W formed once; each increment: 2 solves per proximal iteration)",
+                "condensed route, solver {} (K factorised and W formed once; each increment: one solve, two per proximal iteration for a body held by the contact alone)",
                 c.spec.solver.scene_name()
             ),
             None => "linear: K factorised once, one solve per increment".into(),
@@ -663,19 +663,21 @@ impl<'s> ElasticityProblem<'s> {
         Ok(())
     }
 
-    /// The nodes of the monitored part (the path's, else the contact part), empty without one.
+    /// The nodes of the monitored part: the path's `monitor`, else the contact points' nodes
+    /// (the slave sides between bodies); empty without either.
     fn monitor_nodes(&self, path: &LoadPath) -> Result<Vec<usize>> {
         let part = match (&path.monitor, &self.contact) {
             (Some(p), _) => p.clone(),
-            (None, Some(c)) => c.spec.part.clone(),
+            (None, Some(c)) => {
+                let mut nodes = c.boundary.nodes.clone();
+                nodes.sort_unstable();
+                nodes.dedup();
+                return Ok(nodes);
+            }
             (None, None) => return Ok(Vec::new()),
         };
-        let Some(group) = self.mesh.group_index(&part, 1) else {
-            return match &path.monitor {
-                Some(_) => Err(self.mesh.require_group(&part, 1).err().expect("the group is absent")),
-                None => Ok(Vec::new()),
-            };
-        };
+        // A monitor asked for by name must exist (the error names the parts there are).
+        let group = self.mesh.require_group(&part, 1)?;
         let mut nodes: Vec<usize> = self.mesh.edges_in_group(group).flat_map(|e| self.mesh.edge(e).to_vec()).collect();
         nodes.sort_unstable();
         nodes.dedup();
