@@ -412,15 +412,7 @@ pub fn contact_case(session: &Session, target_dofs: usize, solver: &str) -> Resu
         contact_seconds,
         linear_seconds,
         peak_memory_mb: mb(resources::peak_memory_bytes()),
-        worst_residual: [
-            r.max_penetration,
-            r.max_wrong_sign_pressure,
-            r.max_cone_violation,
-            r.normal_complementarity,
-            r.tangential_complementarity,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max),
+        worst_residual: r.worst(),
         stick: o.report.stick,
         slip: o.report.slip,
     })

@@ -587,7 +587,7 @@ impl<'s> ElasticityProblem<'s> {
                         slip: counts.slip,
                         closed: counts.closed,
                         iterations: r.iterations,
-                        worst_residual: worst_of(&r.residuals),
+                        worst_residual: r.residuals.worst(),
                         dissipation: law_dissipation,
                         total_dissipation: energy.law_dissipation,
                         work: energy.work,
@@ -691,19 +691,6 @@ fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 fn first_line(s: &str) -> &str {
     s.lines().next().unwrap_or(s)
-}
-
-fn worst_of(r: &crate::report::contact::ContactResidualsReport) -> f64 {
-    [
-        r.max_penetration,
-        r.max_wrong_sign_pressure,
-        r.max_cone_violation,
-        r.normal_complementarity,
-        r.tangential_complementarity,
-    ]
-    .into_iter()
-    .map(|v| if v.is_nan() { f64::INFINITY } else { v })
-    .fold(0.0, f64::max)
 }
 
 /// The contact tractions along the contact part, sorted by their position along `tangent`.

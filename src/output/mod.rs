@@ -282,16 +282,13 @@ pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut stale: Vec<(PathBuf, String)> = Vec::new();
     // A previous load path's increments (`steps/solution_NNNN.vtu`).
     removed.extend(pvd::clear_step_files(dir)?);
-    for entry in entries.flatten() {
+    let previous = entries.flatten().filter_map(|entry| {
         let name = entry.file_name().to_string_lossy().to_string();
-        if targets.contains(&name) || is_temporary_of(&name, &targets) {
-            let path = entry.path();
-            match fs::remove_file(&path) {
-                Ok(()) => removed.push(path),
-                Err(e) => stale.push((path, e.to_string())),
-            }
-        }
-    }
+        (targets.contains(&name) || is_temporary_of(&name, &targets)).then(|| entry.path())
+    });
+    let (gone, left) = remove_each(previous);
+    removed.extend(gone);
+    stale.extend(left);
     removed.sort();
     stale.sort();
     if let Some((first, reason)) = stale.first() {
@@ -313,6 +310,21 @@ pub fn clear_previous_run(dir: &Path) -> Result<Vec<PathBuf>> {
         });
     }
     Ok(removed)
+}
+
+/// Remove every file of `paths`: those removed, and those that could not be with the reason,
+/// both sorted.
+pub(crate) fn remove_each(paths: impl IntoIterator<Item = PathBuf>) -> (Vec<PathBuf>, Vec<(PathBuf, String)>) {
+    let (mut removed, mut stale) = (Vec::new(), Vec::new());
+    for path in paths {
+        match fs::remove_file(&path) {
+            Ok(()) => removed.push(path),
+            Err(e) => stale.push((path, e.to_string())),
+        }
+    }
+    removed.sort();
+    stale.sort();
+    (removed, stale)
 }
 
 /// Write `value` as pretty-printed JSON (two-space indent, trailing newline), atomically.

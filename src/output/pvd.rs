@@ -53,18 +53,10 @@ pub fn clear_step_files(dir: &Path) -> Result<Vec<PathBuf>> {
         return Ok(removed); // no steps directory: nothing to clear
     };
     let names: Vec<String> = entries.flatten().map(|e| e.file_name().to_string_lossy().to_string()).collect();
-    let mut stale = Vec::new();
-    for name in &names {
-        if is_step_file(name) || is_step_temporary(name) {
-            let path = steps.join(name);
-            match std::fs::remove_file(&path) {
-                Ok(()) => removed.push(path),
-                Err(e) => stale.push((path, e.to_string())),
-            }
-        }
-    }
-    removed.sort();
-    stale.sort();
+    let (gone, stale) = crate::output::remove_each(
+        names.iter().filter(|n| is_step_file(n) || is_step_temporary(n)).map(|n| steps.join(n)),
+    );
+    removed.extend(gone);
     if let Some((first, reason)) = stale.first() {
         let names: Vec<String> = stale.iter().map(|(p, _)| p.display().to_string()).collect();
         return Err(Error::Output {

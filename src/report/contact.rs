@@ -189,6 +189,23 @@ pub struct ContactResidualsReport {
     pub displacement_scale: f64,
 }
 
+impl ContactResidualsReport {
+    /// The largest of the five relative residuals (`+∞` if any is not a number), as
+    /// [`crate::contact::ContactResiduals::worst`].
+    pub fn worst(&self) -> f64 {
+        [
+            self.max_penetration,
+            self.max_wrong_sign_pressure,
+            self.max_cone_violation,
+            self.normal_complementarity,
+            self.tangential_complementarity,
+        ]
+        .into_iter()
+        .map(|v| if v.is_nan() { f64::INFINITY } else { v })
+        .fold(0.0, f64::max)
+    }
+}
+
 impl From<&crate::contact::ContactResiduals> for ContactResidualsReport {
     fn from(r: &crate::contact::ContactResiduals) -> Self {
         ContactResidualsReport {
