@@ -249,6 +249,20 @@ impl<'s> ElasticityProblem<'s> {
                 hint: "remove `formulation = \"dual\"` (or the [evolution] table)".into(),
             });
         }
+        if let Some(model) = &self.bodies {
+            if let Some(body) = model.bodies.iter().find(|b| b.contact.as_ref().is_some_and(|c| c.motion.is_some())) {
+                return Err(Error::Formulation {
+                    message: format!(
+                        "the rigid obstacle of body `{}` moves (`motion`): on a load path an obstacle moves only in \
+                         a scene of one body",
+                        body.name
+                    ),
+                    hint: "hold the obstacle still on the path (remove `motion`), or move the body through its \
+                           supports (a named [[body.dirichlet]] with a table)"
+                        .into(),
+                });
+            }
+        }
         if let Some(c) = &self.contact {
             if c.spec.solver == ContactSolverSpec::SnesVi {
                 return Err(Error::Formulation {

@@ -89,6 +89,19 @@ fn load_path_refusals_name_what_to_do() {
     std::fs::write(&vi, text.replace("friction = \"coulomb\"\nmu = 1.0", "friction = \"none\"")).unwrap();
     let err = run_err(bin().arg("run").arg(&vi).args(["--quiet", "--out"]).arg(dir.join("b")), 1);
     assert!(err.contains("snes_vi") && err.contains("newton"), "{err}");
+    // A moving rigid obstacle of one of several bodies.
+    let base = std::fs::read_to_string(scene("examples/scenes/block_on_block.toml")).unwrap();
+    let at = base.find("[[contact_pair]]").expect("block_on_block.toml has a pair");
+    let moving = format!(
+        "{}[body.contact]\npart = \"left\"\nobstacle = \"line\"\npoint = [-0.03, 0.0]\nnormal = [1.0, 0.0]\n\
+         motion = [1e-5, 0.0]\nname = \"slide\"\n\n{}\n[evolution]\nsteps = 2\n[evolution.factor]\nslide = [[0, 0], [1, 1]]\n",
+        &base[..at],
+        &base[at..]
+    );
+    let bodies = dir.join("moving_obstacle.toml");
+    std::fs::write(&bodies, moving).unwrap();
+    let err = run_err(bin().arg("run").arg(&bodies).args(["--quiet", "--out"]).arg(dir.join("c")), 1);
+    assert!(err.contains("moves (`motion`)") && err.contains("one body"), "{err}");
 }
 
 #[test]
