@@ -112,26 +112,10 @@ impl LoadPath {
     /// table's first or last value.
     pub fn factor(&self, name: Option<&str>, t: f64) -> f64 {
         match name.and_then(|n| self.tables.get(n)) {
-            Some(rows) => piecewise_linear(rows, t),
+            Some(rows) => crate::scene::piecewise_linear(rows, t),
             None => t / self.ramp_end.unwrap_or_else(|| self.end()),
         }
     }
-}
-
-/// The piecewise-linear interpolation of `rows` (`[t, value]`, t increasing) at `t`, constant
-/// beyond the ends.
-pub fn piecewise_linear(rows: &[[f64; 2]], t: f64) -> f64 {
-    let first = rows[0];
-    let last = rows[rows.len() - 1];
-    if t <= first[0] {
-        return first[1];
-    }
-    if t >= last[0] {
-        return last[1];
-    }
-    let k = rows.partition_point(|r| r[0] <= t);
-    let (a, b) = (rows[k - 1], rows[k]);
-    a[1] + (b[1] - a[1]) * (t - a[0]) / (b[0] - a[0])
 }
 
 #[cfg(test)]

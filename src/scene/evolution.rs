@@ -88,21 +88,7 @@ impl LoadFunction {
     /// The factor at `t`: linear interpolation between the rows, the first (last) factor before
     /// the first (after the last) time. NaN for a table without rows (never read from a scene).
     pub fn value(&self, t: f64) -> f64 {
-        let p = &self.points;
-        let (Some(&first), Some(&last)) = (p.first(), p.last()) else { return f64::NAN };
-        if t <= first[0] {
-            return first[1];
-        }
-        if t >= last[0] {
-            return last[1];
-        }
-        // The row i with t_i ≤ t < t_{i+1}.
-        let i = p.partition_point(|q| q[0] <= t) - 1;
-        let ([t0, f0], [t1, f1]) = (p[i], p[i + 1]);
-        if t == t0 {
-            return f0;
-        }
-        f0 + (f1 - f0) * ((t - t0) / (t1 - t0))
+        piecewise_linear(&self.points, t)
     }
 
     /// The first time of the table (NaN without rows).
@@ -147,6 +133,25 @@ impl EvolutionSpec {
     pub fn ramp_end(&self) -> f64 {
         ramp_end(&self.factors)
     }
+}
+
+/// The piecewise-linear interpolation of `rows` (`[t, value]`, t increasing) at `t`, constant
+/// beyond the first and last rows (NaN without rows).
+pub fn piecewise_linear(rows: &[[f64; 2]], t: f64) -> f64 {
+    let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else { return f64::NAN };
+    if t <= first[0] {
+        return first[1];
+    }
+    if t >= last[0] {
+        return last[1];
+    }
+    // The row i with t_i ≤ t < t_{i+1}.
+    let i = rows.partition_point(|q| q[0] <= t) - 1;
+    let ([t0, f0], [t1, f1]) = (rows[i], rows[i + 1]);
+    if t == t0 {
+        return f0;
+    }
+    f0 + (f1 - f0) * ((t - t0) / (t1 - t0))
 }
 
 fn ramp_end(factors: &[LoadFunction]) -> f64 {

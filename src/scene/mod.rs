@@ -70,7 +70,7 @@ mod raw;
 pub use bodies::{BodySpec, ContactPairSpec, PartRef, Placement, SINGLE_BODY_NAME};
 pub use builder::{BodiesBuilder, SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
-pub use evolution::{EvolutionSpec, LoadFunction, MAX_STEPS, TIME_TOLERANCE};
+pub use evolution::{piecewise_linear, EvolutionSpec, LoadFunction, MAX_STEPS, TIME_TOLERANCE};
 pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
 use crate::error::{Error, Location, Result};
