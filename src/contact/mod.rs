@@ -502,21 +502,18 @@ impl<'a> CondensedProblem<'a> {
         Ok(residuals::compute(self, force, &u))
     }
 
-    /// The same problem with `shift` (`2m` finite values) subtracted from the free
-    /// displacement: the law then acts on `u − shift` (an increment of a load path: the
-    /// obstacle's motion, and the slip so far along the tangent, see [`crate::evolution`]).
-    pub fn shifted(mut self, shift: &[f64]) -> Result<Self> {
-        if shift.len() != self.free_displacement.len() || shift.iter().any(|v| !v.is_finite()) {
+    /// The same problem with `shift` (`2m` values) subtracted from the free displacement: the
+    /// law then acts on `u − shift` (an increment of a load path: the obstacle's motion, and the
+    /// slip so far along the tangent, see [`crate::evolution`]). Shares `W`.
+    pub fn shifted(&self, shift: &[f64]) -> Result<Self> {
+        if shift.len() != self.free_displacement.len() {
             return Err(Error::Usage(format!(
-                "a shift of the contact displacements needs {} finite values, got {}",
+                "a shift of the contact displacements needs {} values, got {}",
                 self.free_displacement.len(),
                 shift.len()
             )));
         }
-        for (u, s) in self.free_displacement.iter_mut().zip(shift) {
-            *u -= s;
-        }
-        Ok(self)
+        self.with_free_displacement(self.free_displacement.iter().zip(shift).map(|(u, s)| u - s).collect())
     }
 
     /// The residuals of a force against displacements obtained some other way — e.g. `B u` of

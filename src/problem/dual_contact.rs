@@ -135,8 +135,7 @@ impl ElasticityProblem<'_> {
             values
         });
         if let Some(shift) = &shift {
-            let problem = std::mem::replace(&mut condensed.problem, placeholder_problem()?);
-            condensed.problem = problem.shifted(shift)?;
+            condensed.problem = condensed.problem.shifted(shift)?;
         }
         let settings = crate::contact_routes::condensation::solver_settings(spec);
         let start = std::time::Instant::now();
@@ -309,17 +308,6 @@ impl ElasticityProblem<'_> {
         let admissible = terms.all_nonnegative(1e-6);
         Ok(Some((terms, admissible)))
     }
-}
-
-/// An empty condensed problem, to move the real one out of its owner for a moment.
-fn placeholder_problem() -> Result<crate::contact::CondensedProblem<'static>> {
-    crate::contact::CondensedProblem::new(
-        crate::contact::Delassus::Dense(nalgebra::DMatrix::identity(2, 2)),
-        vec![0.0; 2],
-        vec![0.0],
-        FrictionLaw::None,
-        None,
-    )
 }
 
 /// The note of a Schur condensation that could not take the local parametrisation of the
