@@ -209,7 +209,7 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
         if let Err(e) = solved {
             // No increments left behind by a path that did not finish.
             if session.rank() == 0 {
-                let _ = std::fs::remove_dir_all(out.join("steps"));
+                let _ = signorini::output::pvd::clear_step_files(&out);
             }
             return Err(e.into());
         }

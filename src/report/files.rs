@@ -185,7 +185,7 @@ impl ElasticityProblem<'_> {
     pub fn write_step_output(&self, dir: &Path, step: usize) -> Result<PathBuf> {
         let path = dir.join(crate::output::pvd::step_file_name(step));
         let wrote = if self.session.rank() == 0 {
-            let steps = dir.join("steps");
+            let steps = dir.join(crate::output::pvd::STEPS_DIR);
             std::fs::create_dir_all(&steps)
                 .map_err(|e| crate::Error::io(steps, "creating the directory of the increments", e))
                 .and_then(|()| self.solution_fields(&path, &[]))
