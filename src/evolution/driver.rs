@@ -233,7 +233,7 @@ impl<'s> ElasticityProblem<'s> {
         if self.system.is_none() {
             self.assemble()?;
         }
-        let (cases, stiffness) = self.load_cases(path)?;
+        let (cases, stiffness) = self.load_cases()?;
         let (matrix, rhs) =
             self.system.take().ok_or(Error::CallOrder { call: "solve_load_path()", needs: "assemble()" })?;
         let outcome = self.run_increments(path, &cases, &stiffness, &matrix, &mut notes, each, on_step);
@@ -278,7 +278,7 @@ impl<'s> ElasticityProblem<'s> {
 
     /// One right-hand side per load key, with that key's loads at factor 1, the others at 0,
     /// and the Dirichlet values of that key's conditions (the others' at 0).
-    fn load_cases(&mut self, path: &LoadPath) -> Result<(Vec<LoadCase>, assembly::CsrRows)> {
+    fn load_cases(&mut self) -> Result<(Vec<LoadCase>, assembly::CsrRows)> {
         let mut keys: Vec<Option<String>> = Vec::new();
         let mut add = |k: Option<&str>| {
             let k = k.map(str::to_string);
@@ -301,7 +301,6 @@ impl<'s> ElasticityProblem<'s> {
         if keys.is_empty() {
             keys.push(None);
         }
-        let _ = path;
         // Which condition gives each fixed dof its value: the last one listing it.
         let mut owner: Vec<Option<(Option<String>, f64)>> = vec![None; self.num_dofs()];
         for (d, nodes) in &dirichlet {
@@ -323,19 +322,11 @@ impl<'s> ElasticityProblem<'s> {
                     constraints.fix(dof, if *k == key { *v } else { 0.0 });
                 }
             }
-            let bf = if body_force_key(&self.scene).map(str::to_string) == key { 1.0 } else { 0.0 };
-            let traction = self
-                .scene
-                .tractions
-                .iter()
-                .map(|t| if traction_key(t).map(str::to_string) == key { 1.0 } else { 0.0 })
-                .collect();
-            let dirichlet = self
-                .scene
-                .dirichlet
-                .iter()
-                .map(|d| if dirichlet_key(d).map(str::to_string) == key { 1.0 } else { 0.0 })
-                .collect();
+            // Factor 1 for the loads of this key, 0 for the others.
+            let of_key = |k: Option<&str>| if k == key.as_deref() { 1.0 } else { 0.0 };
+            let bf = of_key(body_force_key(&self.scene));
+            let traction = self.scene.tractions.iter().map(|t| of_key(traction_key(t))).collect();
+            let dirichlet = self.scene.dirichlet.iter().map(|d| of_key(dirichlet_key(d))).collect();
             self.load_factors = Some(LoadFactors { traction, body_force: bf, dirichlet });
             let first = stiffness.is_none();
             let (rhs, load, unconstrained) = self.with_loads(|loads| {
@@ -396,8 +387,14 @@ impl<'s> ElasticityProblem<'s> {
         let mut ksp = LinearSolver::new(session, session.world(), "")?;
         ksp.set_operator(matrix)?;
         // Without contact: the increments' linear solves (the KSP keeps its factorisation).
-        let mut plain = LinearSolver::new(session, session.world(), "")?;
-        plain.set_operator(matrix)?;
+        let mut plain = match self.contact {
+            Some(_) => None,
+            None => {
+                let mut k = LinearSolver::new(session, session.world(), "")?;
+                k.set_operator(matrix)?;
+                Some(k)
+            }
+        };
         let start = std::time::Instant::now();
         let contact = self.contact.as_ref();
         let m = contact.map_or(0, |c| c.boundary.points());
@@ -489,6 +486,7 @@ impl<'s> ElasticityProblem<'s> {
                         .map(|(u, outcome)| (u, Some(outcome)))
                 }
                 _ => (|| {
+                    let plain = plain.as_mut().expect("a linear solver without contact");
                     e.set_owned(&f)?;
                     plain.solve(matrix, &e, &mut x)?;
                     Ok((x.gather_all()?, None))
@@ -554,6 +552,7 @@ impl<'s> ElasticityProblem<'s> {
             let (mut dissipation, mut law_dissipation, mut normal_loss) = (0.0, 0.0, 0.0);
             if let Some(c) = self.contact.as_ref() {
                 let b = &c.boundary;
+                let moved = [d[0] - state.obstacle[0], d[1] - state.obstacle[1]];
                 for i in 0..m {
                     let (nn, tt) = (b.normal[i], b.tangent[i]);
                     let (rn, rt) =
@@ -565,8 +564,7 @@ impl<'s> ElasticityProblem<'s> {
                     law_dissipation -= force[2 * i + 1] * dslip;
                     normal_loss -= rn * dgap;
                     // The moving obstacle's work on the body.
-                    let dd = [d[0] - state.obstacle[0], d[1] - state.obstacle[1]];
-                    work += rn * dot(dd, nn) + rt * dot(dd, tt);
+                    work += rn * dot(moved, nn) + rt * dot(moved, tt);
                 }
             }
             energy.work += work;
@@ -580,7 +578,7 @@ impl<'s> ElasticityProblem<'s> {
                 monitor.iter().map(|&k| u[2 * k] * tangent[0] + u[2 * k + 1] * tangent[1]).sum::<f64>()
                     / monitor.len() as f64
             };
-            let record = match &outcome {
+            let mut record = match &outcome {
                 Some(o) => {
                     let r = &o.report;
                     let counts = StateCounts::of(
@@ -644,9 +642,8 @@ impl<'s> ElasticityProblem<'s> {
             self.contact_outcome = outcome;
             self.stats = match &operator {
                 Some(op) => op.linear.stats(),
-                None => plain.last_stats(),
+                None => plain.as_ref().and_then(|k| k.last_stats()),
             };
-            let mut record = record;
             if each != EachIncrement::Solve {
                 self.postprocess()?;
             }
@@ -692,10 +689,7 @@ impl<'s> ElasticityProblem<'s> {
         };
         // A monitor asked for by name must exist (the error names the parts there are).
         let group = self.mesh.require_group(&part, 1)?;
-        let mut nodes: Vec<usize> = self.mesh.edges_in_group(group).flat_map(|e| self.mesh.edge(e).to_vec()).collect();
-        nodes.sort_unstable();
-        nodes.dedup();
-        Ok(nodes)
+        Ok(self.mesh.group_nodes(group))
     }
 }
 

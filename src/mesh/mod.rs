@@ -141,6 +141,13 @@ impl Mesh {
     pub fn edges_in_group(&self, group: usize) -> impl Iterator<Item = usize> + '_ {
         (0..self.num_edges()).filter(move |&e| self.edge_group[e] == group)
     }
+    /// The nodes of a group's boundary edges (P2 mid nodes included), increasing, each once.
+    pub fn group_nodes(&self, group: usize) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self.edges_in_group(group).flat_map(|e| self.edge(e).to_vec()).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
     /// Unit outward normal and length of boundary edge `e` (chord of its end vertices).
     pub fn edge_normal(&self, e: usize) -> ([f64; 2], f64) {
         let ed = self.edge(e);

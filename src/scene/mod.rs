@@ -256,10 +256,7 @@ impl DirichletSpec {
         match &self.target {
             DirichletTarget::Part(part) => {
                 let group = boundary_group(mesh, part, &self.at)?;
-                let mut nodes: Vec<usize> = mesh.edges_in_group(group).flat_map(|e| mesh.edge(e).to_vec()).collect();
-                nodes.sort_unstable();
-                nodes.dedup();
-                Ok(nodes)
+                Ok(mesh.group_nodes(group))
             }
             DirichletTarget::Point(point) => Ok(vec![node_at(mesh, *point, &self.at)?]),
         }
