@@ -720,9 +720,7 @@ fn mumps_schur_complement_is_the_inverse_block(s: &Session) -> Result<(), String
     let a = Matrix::from_csr_rows(s, s.world(), n, 0, &m.indptr, &m.indices, &m.values, 2, true)
         .map_err(|e| e.to_string())?;
     let bottom = mesh.require_group("bottom", 1).unwrap();
-    let mut nodes: Vec<usize> = mesh.edges_in_group(bottom).flat_map(|e| mesh.edge(e).to_vec()).collect();
-    nodes.sort();
-    nodes.dedup();
+    let mut nodes = mesh.group_nodes(bottom);
     nodes.retain(|&k| !c.is_fixed(2 * k));
     let rows: Vec<usize> = nodes.iter().flat_map(|&k| [2 * k, 2 * k + 1]).collect();
     let factor = SchurFactor::new(s, &a, &rows).map_err(|e| e.to_string())?;
@@ -772,9 +770,7 @@ fn mumps_selected_inverse_is_the_inverse_block(s: &Session) -> Result<(), String
     let a = Matrix::from_csr_rows(s, s.world(), n, 0, &m.indptr, &m.indices, &m.values, 2, true)
         .map_err(|e| e.to_string())?;
     let bottom = mesh.require_group("bottom", 1).unwrap();
-    let mut nodes: Vec<usize> = mesh.edges_in_group(bottom).flat_map(|e| mesh.edge(e).to_vec()).collect();
-    nodes.sort();
-    nodes.dedup();
+    let mut nodes = mesh.group_nodes(bottom);
     nodes.retain(|&k| !c.is_fixed(2 * k));
     nodes.reverse();
     let rows: Vec<usize> = nodes.iter().flat_map(|&k| [2 * k + 1, 2 * k]).collect();
