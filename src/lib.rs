@@ -93,6 +93,7 @@ pub mod estimate;
 pub mod evolution;
 pub mod export;
 pub mod fem;
+pub mod interface_law;
 pub mod mesh;
 pub mod output;
 #[allow(unsafe_code)]

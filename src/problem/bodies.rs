@@ -388,6 +388,7 @@ fn contact_of_bodies(
             max_iterations: None,
             motion: None,
             name: None,
+            interface: None,
             at: parts[0].at.clone(),
         },
     };

@@ -226,6 +226,9 @@ pub struct ElasticityProblem<'s> {
     pub(crate) contact_shift: Option<crate::evolution::ContactShift>,
     /// After a load path: its increments, energies and profiles.
     pub load_path: Option<crate::evolution::LoadPathReport>,
+    /// With an interface law: the interface at the end of the last solve (the last increment's
+    /// on a load path).
+    pub interface: Option<crate::interface_law::InterfaceSnapshot>,
 }
 
 /// Post-processed fields.
@@ -423,6 +426,7 @@ impl<'s> ElasticityProblem<'s> {
             load_factors: None,
             contact_shift: None,
             load_path: None,
+            interface: None,
         })
     }
 

@@ -212,6 +212,8 @@ pub struct ContactPairSpec {
     /// default, [`super::DEFAULT_OVERLAP_FRACTION`] times the smaller of the two bodies' smallest
     /// cell edges.
     pub max_initial_overlap: Option<f64>,
+    /// `[contact_pair.interface]`: the interface law (`None`: Signorini with `friction`).
+    pub interface: Option<super::InterfaceSpec>,
     /// Where the `[[contact_pair]]` table starts.
     pub at: Location,
 }
@@ -512,7 +514,14 @@ pub(super) fn contact_pair_specs(
             }
             None => None,
         };
-        pairs.push(ContactPairSpec { slave, master, friction, max_initial_overlap, at: src.location(span.start) });
+        pairs.push(ContactPairSpec {
+            slave,
+            master,
+            friction,
+            max_initial_overlap,
+            interface: None,
+            at: src.location(span.start),
+        });
     }
     Ok(pairs)
 }

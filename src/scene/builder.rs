@@ -978,6 +978,7 @@ impl SceneBuilder {
             max_iterations,
             motion,
             name: motion_name,
+            interface: None,
             at: here(),
         });
         scene.evolution = evolution.read(&scene)?;
@@ -1085,6 +1086,7 @@ impl BodiesBuilder {
             master: part(master),
             friction,
             max_initial_overlap: overlap,
+            interface: None,
             at: here(),
         });
         self

@@ -80,6 +80,8 @@ pub struct ContactSpec {
     /// `name`: the load name of the obstacle's motion, whose factor table multiplies it
     /// ([`super::EvolutionSpec::factor`]); `None`: the proportional ramp.
     pub name: Option<String>,
+    /// `[contact.interface]`: the interface law (`None`: Signorini with `friction`).
+    pub interface: Option<super::InterfaceSpec>,
     /// Where `part = ...` is written, for errors found later (unknown part).
     pub at: Location,
 }
@@ -307,7 +309,19 @@ pub(super) fn contact_spec(
              displacement at factor 1, m), or remove the name",
         ));
     }
-    Ok(ContactSpec { part, obstacle, gap, friction, solver, tolerance, max_iterations, motion, name, at })
+    Ok(ContactSpec {
+        part,
+        obstacle,
+        gap,
+        friction,
+        solver,
+        tolerance,
+        max_iterations,
+        motion,
+        name,
+        interface: None,
+        at,
+    })
 }
 
 fn obstacle_spec(src: &Source, c: &RawContact, table: &Table, kind: &str) -> Result<ObstacleSpec> {

@@ -63,6 +63,7 @@ mod contact;
 mod convert;
 mod diagnostic;
 mod evolution;
+mod interface;
 mod magnitudes;
 mod model;
 mod raw;
@@ -71,6 +72,7 @@ pub use bodies::{BodySpec, ContactPairSpec, PartRef, Placement, SINGLE_BODY_NAME
 pub use builder::{BodiesBuilder, SceneBuilder, BUILT_IN_RUST};
 pub use contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
 pub use evolution::{piecewise_linear, EvolutionSpec, LoadFunction, MAX_STEPS, TIME_TOLERANCE};
+pub use interface::{CohesiveJointSpec, InterfaceLawSpec, InterfaceSpec, RccmSpec, ThinLayerSpec};
 pub use model::{BodiesModel, DEFAULT_OVERLAP_FRACTION};
 
 use crate::error::{Error, Location, Result};

@@ -1,0 +1,1 @@
+//! The cohesive–frictional joint. Filled by the joint lane.

@@ -1,0 +1,1 @@
+//! The RCCM adhesion law. Filled by the rccm lane.

@@ -1,0 +1,1 @@
+//! The thin elastic layer (imperfect interface). Filled by the core lane.
