@@ -8,6 +8,9 @@ use crate::error::Location;
 pub struct InterfaceSpec {
     /// The law and its parameters.
     pub law: InterfaceLawSpec,
+    /// `trace = [[x, y], ...]`: the points whose τ–δ history is plotted (the contact point
+    /// nearest to each); empty: the default (the first, middle and last contact points).
+    pub trace: Vec<[f64; 2]>,
     /// Where the interface table starts (for errors found later).
     pub at: Location,
 }
