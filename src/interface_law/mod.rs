@@ -40,6 +40,9 @@ pub struct InterfacePoint {
     pub weight: f64,
     /// The initial gap g0 (m) between the faces along the normal.
     pub gap: f64,
+    /// The whole tangential jump at the start of the increment (m; 0 in a static run): the law
+    /// sees the slip increment, springs need the whole slip (their `spring_offset` along T).
+    pub slip_before: f64,
 }
 
 /// The friction the scene gives the contact force at a point (force units: Tresca's threshold
@@ -118,8 +121,9 @@ pub trait InterfaceLaw: std::fmt::Debug {
     fn has_memory(&self) -> bool;
     /// The internal variables of a point before the path starts (empty without memory).
     fn initial(&self) -> Vec<f64>;
-    /// The point's modification for a solve, from the trial internal variables and, from the
-    /// second solve of an increment on, the point's last solution.
+    /// The point's modification for a solve, from the trial internal variables and the point's
+    /// last solution: the previous staggered iteration's, at an increment's first solve the
+    /// last increment's end; `None` only at the first solve of a run.
     fn modification(
         &self,
         point: &InterfacePoint,
