@@ -607,6 +607,7 @@ impl ContactSetup {
         // are anchored at the previous displacement, so their force vanishes at convergence.
         let mut anchor = increment.start_displacement.clone().unwrap_or_else(|| vec![0.0; n]);
         let mut history: Vec<f64> = Vec::new();
+        let mut interface_base_force = increment.start_force.clone();
         // With interface laws the solver's unknown is the contact force r' (all points), not r.
         let mut initial_force: Option<Vec<f64>> = match &increment.interface {
             Some(i) => i.start_contact_force.clone(),
@@ -617,13 +618,29 @@ impl ContactSetup {
         let mut step_iterations = Vec::new();
         loop {
             let rk = self.anchored_load(f, &anchor, rows.clone());
+            // With interface laws on a body held by the stabilisation springs: the free
+            // displacement under f + Bᵀ r_prev (the last total force), so that it stays of the
+            // size of the answer instead of the weak springs' (interface_law::condensed,
+            // "base force": the parallel springs' cancellation is then small).
+            let base_force = match (&increment.interface, self.spring) {
+                (Some(_), Some(_)) => interface_base_force.clone(),
+                _ => None,
+            };
             let mut u_free = match (&increment.free_field, self.spring) {
                 (Some(field), None) => {
                     operator.solves += 1;
                     b.gather(field)
                 }
                 _ => {
-                    e.set_owned(&rk)?;
+                    let mut load_k = rk.clone();
+                    if let Some(r) = &base_force {
+                        let mut load = vec![0.0; n];
+                        b.scatter_add(r, &mut load);
+                        for (t, l) in load_k.iter_mut().zip(&load[rows.clone()]) {
+                            *t += l;
+                        }
+                    }
+                    e.set_owned(&load_k)?;
                     operator.linear.solve(matrix, &e, &mut x)?;
                     operator.solves += 2;
                     b.gather(&x.gather_all()?)
@@ -634,10 +651,11 @@ impl ContactSetup {
             }
             let problem = operator.problem.with_free_displacement(u_free)?;
             let modified = match &increment.interface {
-                Some(i) => Some(crate::interface_law::condensed::ModifiedProblem::new(
+                Some(i) => Some(crate::interface_law::condensed::ModifiedProblem::with_base_force(
                     &problem,
                     &i.modifications,
                     i.last_contact_force.as_deref(),
+                    base_force.as_deref(),
                 )?),
                 None => None,
             };
@@ -697,6 +715,9 @@ impl ContactSetup {
                 return Ok((u, outcome));
             }
             anchor = u;
+            if contact_force.is_some() {
+                interface_base_force = Some(outcome.force.clone());
+            }
             initial_force = Some(contact_force.unwrap_or(outcome.force));
         }
     }

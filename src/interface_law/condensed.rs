@@ -47,6 +47,17 @@
 //! semi-definite by construction, and the computation stays accurate as `D` grows (then
 //! `W' → D⁻¹` on the sprung components, where forming `W − W D^½ (I + …)⁻¹ D^½ W` would cancel).
 //!
+//! ## Base force
+//!
+//! When the base problem's free displacement is that of a body held by weak springs (the
+//! stabilisation of a body held by the contact alone, `contact_routes::condensed_route`), `z`
+//! is the weak springs' large displacement and `v = z + W' p` cancels it to the answer's size:
+//! the parallel springs lose `|z|/|v|` digits (1e4 on the bonded patch). The route then
+//! solves with the free displacement under `f + Bᵀ r_b` (`r_b` the last total force), i.e.
+//! `z_b = z + W r_b`; since `(I − W' D) W = W'`,
+//! `v = z_b + W' (r' + o − r_b − D (z_b + a))`: the same formulas with `p = o − r_b − D (z_b + a)`,
+//! the total force `r = r' + o − D (v + a)` unchanged.
+//!
 //! ## Points without a unilateral contact (`contact = false`)
 //!
 //! Their `r'` is zero, so they are removed from the solved problem: the standard problem is
@@ -223,7 +234,29 @@ impl ModifiedProblem {
         modifications: &[PointModification],
         last_contact_force: Option<&[f64]>,
     ) -> Result<Self> {
+        Self::with_base_force(base, modifications, last_contact_force, None)
+    }
+
+    /// [`ModifiedProblem::new`] for a base problem whose free displacement already includes
+    /// the response `W r_b` to a force `r_b` (2m, `base_force`): `z_b = z + W r_b`, and
+    /// `v = z_b + W' (r' + o − r_b − D (z_b + a))` (module documentation, "Base force"); the
+    /// answer's force is still the total `r`.
+    pub fn with_base_force(
+        base: &CondensedProblem,
+        modifications: &[PointModification],
+        last_contact_force: Option<&[f64]>,
+        base_force: Option<&[f64]>,
+    ) -> Result<Self> {
         let m = base.points();
+        if let Some(r) = base_force {
+            if r.len() != 2 * m || r.iter().any(|v| !v.is_finite()) {
+                return Err(Error::Usage(format!(
+                    "interface laws: the base force has {} entries (expected {}) or a non-finite one",
+                    r.len(),
+                    2 * m
+                )));
+            }
+        }
         if modifications.len() != m {
             return Err(Error::Usage(format!(
                 "interface laws: {} point modifications for {m} contact points",
@@ -249,9 +282,8 @@ impl ModifiedProblem {
                     .into(),
             )
         })?;
-        let per_unknown = |f: &dyn Fn(&PointModification) -> [f64; 2]| -> Vec<f64> {
-            modifications.iter().flat_map(|md| f(md)).collect()
-        };
+        let per_unknown =
+            |f: &dyn Fn(&PointModification) -> [f64; 2]| -> Vec<f64> { modifications.iter().flat_map(f).collect() };
         let compliance = per_unknown(&|md| md.compliance);
         let stiffness = per_unknown(&|md| md.stiffness);
         let spring_offset = per_unknown(&|md| md.spring_offset);
@@ -263,7 +295,9 @@ impl ModifiedProblem {
             gap_vector[2 * i] = *g;
         }
         let z: Vec<f64> = base.free_displacement().iter().zip(&gap_vector).map(|(u, g)| u - g).collect();
-        let p: Vec<f64> = (0..2 * m).map(|k| force_offset[k] - stiffness[k] * (z[k] + spring_offset[k])).collect();
+        let base_at = |k: usize| base_force.map_or(0.0, |r| r[k]);
+        let p: Vec<f64> =
+            (0..2 * m).map(|k| force_offset[k] - base_at(k) - stiffness[k] * (z[k] + spring_offset[k])).collect();
         let active: Vec<usize> = (0..m).filter(|&i| modifications[i].contact).collect();
         let mut problem = ModifiedProblem {
             points: m,
@@ -303,6 +337,7 @@ impl ModifiedProblem {
             }
             w[(a, a)] += self.compliance[ka];
         }
+        // u_free'' = u_free + W' p + C o (C o: the series law acts on u + C r with the total r).
         let free: Vec<f64> = unknowns
             .iter()
             .map(|&k| base.free_displacement()[k] + wp[k] + self.compliance[k] * self.force_offset[k])
@@ -396,7 +431,7 @@ impl ModifiedProblem {
         if self.solved.is_some() {
             scale = scale.max(contact.scale.force);
         }
-        if !(scale > 0.0) {
+        if scale.is_nan() || scale <= 0.0 {
             scale = 1.0;
         }
         let mut springs = 0.0f64;

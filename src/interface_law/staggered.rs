@@ -196,15 +196,14 @@ fn friction_value(f: PointFriction) -> (u8, f64) {
 /// Two lists of modifications equal to [`STAGGERED_TOLERANCE`] (each quantity relative to its
 /// largest magnitude over the points).
 fn same_modifications(a: &[PointModification], b: &[PointModification]) -> bool {
-    let field = |f: &dyn Fn(&PointModification) -> Vec<f64>, m: &[PointModification]| -> Vec<f64> {
-        m.iter().flat_map(f).collect()
-    };
-    let fields: [&dyn Fn(&PointModification) -> Vec<f64>; 5] = [
-        &|m| m.compliance.to_vec(),
-        &|m| m.stiffness.to_vec(),
-        &|m| m.spring_offset.to_vec(),
-        &|m| m.force_offset.to_vec(),
-        &|m| vec![friction_value(m.friction).1],
+    let field =
+        |f: fn(&PointModification) -> [f64; 2], m: &[PointModification]| -> Vec<f64> { m.iter().flat_map(f).collect() };
+    let fields: [fn(&PointModification) -> [f64; 2]; 5] = [
+        |m| m.compliance,
+        |m| m.stiffness,
+        |m| m.spring_offset,
+        |m| m.force_offset,
+        |m| [friction_value(m.friction).1, 0.0],
     ];
     a.len() == b.len()
         && a.iter()

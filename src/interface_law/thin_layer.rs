@@ -48,9 +48,10 @@
 //! ## Its own residual
 //!
 //! Bonded: `|r − (k_N (opening − g0), −k_T slip)|` relative to the larger of `|r|` and
-//! `k |jump|`. Cut: Signorini on `u'` (`rN ≤ 0`, `opening' = opening − c_N r_N ≥ 0`, their
-//! product zero), relative to `|r|` and the opening scale. The friction law on `(r', u')` is
-//! checked by the contact check of the modified problem ([`super::condensed`]).
+//! `k |jump|`. Cut: the layer in series transmits the contact force whole and in compression
+//! (`r = r'`, `rN ≤ 0`), relative to `|r|`; Signorini and friction on `(r', u' = u + c r)` are
+//! checked by the contact check of the modified problem ([`super::condensed`]) on the scales
+//! of the whole contact (a point alone has no displacement scale).
 use super::{InterfaceLaw, InterfaceOutputs, InterfacePoint, PointFriction, PointModification, PointSolution};
 use crate::fem::material::PlaneModel;
 use crate::scene::ThinLayerSpec;
@@ -136,18 +137,13 @@ impl InterfaceLaw for ThinLayer {
             }
             ((rn - expected[0]).abs().max((rt - expected[1]).abs())) / scale
         } else {
-            let opening = solution.opening - rn / k[0];
-            let force = rn.abs().max(rt.abs());
-            let length = solution.opening.abs().max(force / k[0]);
-            if force == 0.0 && length == 0.0 {
+            // In series the layer transmits the contact force whole (r = r'), compressive.
+            let [cn, ct] = solution.contact_force;
+            let scale = rn.abs().max(rt.abs()).max(cn.abs()).max(ct.abs());
+            if scale == 0.0 {
                 return 0.0;
             }
-            let f = if force > 0.0 { force } else { 1.0 };
-            let u = if length > 0.0 { length } else { 1.0 };
-            let wrong_sign = rn.max(0.0) / f;
-            let penetration = (-opening).max(0.0) / u;
-            let complementarity = (rn.abs() / f).min(opening.abs() / u);
-            wrong_sign.max(penetration).max(complementarity)
+            (rn.max(0.0).max((rn - cn).abs()).max((rt - ct).abs())) / scale
         }
     }
 
