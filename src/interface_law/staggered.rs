@@ -111,6 +111,29 @@ pub struct InterfaceStep {
 }
 
 impl InterfaceLaws {
+    /// The laws of `m` points: `laws` with the contact each belongs to (for messages), the law
+    /// of each point (`None`: plain Signorini), the law's name of each contact part (for the
+    /// snapshot), each point's weight and gap, and its friction (force units).
+    pub fn new(
+        laws: Vec<(Box<dyn InterfaceLaw>, String)>,
+        law_of_point: Vec<Option<usize>>,
+        part_laws: Vec<String>,
+        points: Vec<InterfacePoint>,
+        friction: Vec<PointFriction>,
+    ) -> Result<Self> {
+        let m = points.len();
+        if law_of_point.len() != m || friction.len() != m || law_of_point.iter().flatten().any(|&l| l >= laws.len()) {
+            return Err(Error::Usage(format!(
+                "interface laws: {m} points, {} point laws and {} frictions (each point's law among the {} laws)",
+                law_of_point.len(),
+                friction.len(),
+                laws.len()
+            )));
+        }
+        let (laws, law_contacts) = laws.into_iter().unzip();
+        Ok(InterfaceLaws { laws, law_contacts, law_of_point, part_laws, points, friction, notes: Vec::new() })
+    }
+
     /// Whether some law has internal variables.
     pub fn has_memory(&self) -> bool {
         self.laws.iter().any(|l| l.has_memory())
@@ -349,138 +372,37 @@ impl ContactSetup {
             .ok_or(Error::CallOrder { call: "solve_staggered()", needs: "a contact with an interface law" })?;
         let b = &self.boundary;
         let m = b.points();
-        let zero = vec![0.0; 2 * m];
-        let shift = base.shift.clone().unwrap_or(zero);
-        let points: Vec<InterfacePoint> =
-            (0..m).map(|i| InterfacePoint { slip_before: state.jump[i], ..laws.points[i] }).collect();
-        let mut trial = state.committed.clone();
-        let mut last_contact_force = state.last_contact_force.clone();
-        let mut modifications = laws.modifications(&points, &trial, state.last.as_deref());
+        let shift = base.shift.clone().unwrap_or_else(|| vec![0.0; 2 * m]);
+        let tolerance = crate::contact_routes::condensation::solver_settings(&self.spec).tolerance;
         let mut solver_iterations = 0;
-        let tolerance = super::super::contact_routes::condensation::solver_settings(&self.spec).tolerance;
-        let accepted = self.acceptance(tolerance);
-        for iteration in 1..=MAX_STAGGERED {
-            let frictions: Vec<PointFriction> = modifications.iter().map(|md| md.friction).collect();
-            let mixed = mixed_friction(&frictions);
-            let used = thresholds(&unify_friction(&frictions, last_contact_force.as_deref()));
-            let increment = Increment {
-                interface: Some(InterfaceIncrement {
-                    modifications: modifications.clone(),
-                    last_contact_force: last_contact_force.clone(),
-                    start_contact_force: last_contact_force.clone(),
-                }),
-                ..base.clone()
-            };
-            let (u, mut outcome) = self.solve_condensed_load(session, operator, matrix, f, &increment, progress)?;
-            solver_iterations += outcome.report.iterations;
-            let mut uc = b.gather(&u);
-            for (v, s) in uc.iter_mut().zip(&shift) {
-                *v -= s;
-            }
-            let mut contact_force = vec![0.0; 2 * m];
-            let solutions: Vec<PointSolution> = (0..m)
-                .map(|i| {
-                    let md = &modifications[i];
-                    let r = [outcome.force[2 * i], outcome.force[2 * i + 1]];
-                    let v = [uc[2 * i], uc[2 * i + 1]];
-                    let gap = [b.gap[i], 0.0];
-                    for k in 0..2 {
-                        contact_force[2 * i + k] =
-                            r[k] - md.force_offset[k] + md.stiffness[k] * (v[k] - gap[k] + md.spring_offset[k]);
-                    }
-                    let slip = uc[2 * i + 1] + state.shift_slip[i];
-                    PointSolution {
-                        opening: b.gap[i] - uc[2 * i],
-                        slip,
-                        slip_increment: slip - state.jump[i],
-                        force: r,
-                        contact_force: [contact_force[2 * i], contact_force[2 * i + 1]],
-                    }
-                })
-                .collect();
-            let updated: Vec<Vec<f64>> = (0..m)
-                .map(|i| match laws.law_of_point[i] {
-                    Some(l) => laws.laws[l].update(&points[i], &state.committed[i], &solutions[i], dt),
-                    None => state.committed[i].clone(),
-                })
-                .collect();
-            let next = laws.modifications(&points, &updated, Some(&solutions));
-            let next_frictions: Vec<PointFriction> = next.iter().map(|md| md.friction).collect();
-            let thresholds_now = thresholds(&unify_friction(&next_frictions, Some(&contact_force)));
-            // The variables relative to their largest magnitude over the points.
-            let same_variables = trial.iter().zip(&updated).all(|(a, b)| a.len() == b.len()) && {
-                let all_old: Vec<f64> = trial.iter().flatten().copied().collect();
-                let all_new: Vec<f64> = updated.iter().flatten().copied().collect();
-                close(&all_old, &all_new)
-            };
-            let converged = same_variables
-                && same_modifications(&modifications, &next)
-                && (!mixed || close(&used, &thresholds_now));
-            if !converged {
-                trial = updated;
-                modifications = next;
-                last_contact_force = Some(contact_force);
-                continue;
-            }
-            let law_residuals: Vec<f64> = (0..m)
-                .map(|i| match laws.law_of_point[i] {
-                    Some(l) => laws.laws[l].residual(&points[i], &state.committed[i], &updated[i], &solutions[i], dt),
-                    None => 0.0,
-                })
-                .collect();
-            let (worst_point, worst) = law_residuals.iter().copied().enumerate().fold((0, 0.0f64), |a, (i, r)| {
-                let r = if r.is_nan() { f64::INFINITY } else { r };
-                if r > a.1 {
-                    (i, r)
-                } else {
-                    a
+        let ((u, mut outcome), step) =
+            staggered(laws, state, dt, self.acceptance(tolerance), |modifications, last| {
+                let increment = Increment {
+                    interface: Some(InterfaceIncrement {
+                        modifications: modifications.to_vec(),
+                        last_contact_force: last.map(<[f64]>::to_vec),
+                        start_contact_force: last.map(<[f64]>::to_vec),
+                    }),
+                    ..base.clone()
+                };
+                let (u, outcome) = self.solve_condensed_load(session, operator, matrix, f, &increment, progress)?;
+                solver_iterations += outcome.report.iterations;
+                let mut uc = b.gather(&u);
+                for (v, s) in uc.iter_mut().zip(&shift) {
+                    *v -= s;
                 }
-            });
-            if worst > accepted {
-                let l = laws.law_of_point[worst_point].unwrap_or(0);
-                return Err(Error::SolverDiverged {
-                    solver: format!("interface law `{}` on `{}`", laws.laws[l].name(), laws.law_contacts[l]),
-                    reason: format!(
-                        "the law's own residual at contact point {worst_point} is {worst:.3e} after the staggered \
-                         iterations converged (accepted: {accepted:.1e})"
-                    ),
-                    iterations: iteration,
-                    residual: worst,
-                    tried: format!("{iteration} staggered iterations (solve → update)"),
-                });
-            }
-            let shift_slip =
-                (0..m).map(|i| solutions[i].slip + modifications[i].compliance[1] * solutions[i].force[1]).collect();
-            let new_state = InterfaceState {
-                committed: updated,
-                jump: solutions.iter().map(|s| s.slip).collect(),
-                shift_slip,
-                last: Some(solutions.clone()),
-                last_contact_force: Some(contact_force),
-            };
-            outcome.report.iterations = solver_iterations;
-            outcome.report.notes.extend(laws.notes.iter().cloned());
-            outcome.report.notes.push(format!(
-                "interface laws ({}): {iteration} staggered iteration(s) (solve → update of the internal variables); \
-                 largest law residual {worst:.2e}",
-                laws.part_laws.join(", ")
-            ));
-            return Ok((
-                u,
-                outcome,
-                InterfaceStep { state: new_state, solutions, law_residuals, iterations: iteration },
-            ));
-        }
-        Err(Error::SolverDiverged {
-            solver: "interface laws (staggered solve → update)".into(),
-            reason: format!(
-                "the internal variables and the modified contact problem still change after {MAX_STAGGERED} \
-                 iterations (relative tolerance {STAGGERED_TOLERANCE:e})"
-            ),
-            iterations: MAX_STAGGERED,
-            residual: f64::NAN,
-            tried: format!("{MAX_STAGGERED} staggered iterations"),
-        })
+                Ok((outcome.force.clone(), uc, (u, outcome)))
+            })?;
+        outcome.report.iterations = solver_iterations;
+        outcome.report.notes.extend(laws.notes.iter().cloned());
+        let worst = step.law_residuals.iter().copied().fold(0.0, f64::max);
+        outcome.report.notes.push(format!(
+            "interface laws ({}): {} staggered iteration(s) (solve → update of the internal variables); largest law \
+             residual {worst:.2e}",
+            laws.part_laws.join(", "),
+            step.iterations
+        ));
+        Ok((u, outcome, step))
     }
 
     /// The modified problem's solve ([`super::condensed::ModifiedProblem`]): the scene's condensed
@@ -553,4 +475,120 @@ impl ContactSetup {
             }
         }
     }
+}
+
+/// The staggered loop (module documentation) around `solve`, which solves the modified problem
+/// of the given modifications (`last`: the last contact force `r'`, for the warm start and the
+/// thresholds of mixed Tresca/Coulomb points) and returns the total force `r`, the relative
+/// displacement the law sees `B u − shift` (2m each, recomputed from the field) and what the
+/// caller keeps of the last solve. `accepted`: the largest law residual accepted.
+pub fn staggered<T>(
+    laws: &InterfaceLaws,
+    state: &InterfaceState,
+    dt: f64,
+    accepted: f64,
+    mut solve: impl FnMut(&[PointModification], Option<&[f64]>) -> Result<(Vec<f64>, Vec<f64>, T)>,
+) -> Result<(T, InterfaceStep)> {
+    let m = laws.points.len();
+    let points: Vec<InterfacePoint> =
+        (0..m).map(|i| InterfacePoint { slip_before: state.jump[i], ..laws.points[i] }).collect();
+    let mut trial = state.committed.clone();
+    let mut last_contact_force = state.last_contact_force.clone();
+    let mut modifications = laws.modifications(&points, &trial, state.last.as_deref());
+    for iteration in 1..=MAX_STAGGERED {
+        let frictions: Vec<PointFriction> = modifications.iter().map(|md| md.friction).collect();
+        let mixed = mixed_friction(&frictions);
+        let used = thresholds(&unify_friction(&frictions, last_contact_force.as_deref()));
+        let (force, uc, kept) = solve(&modifications, last_contact_force.as_deref())?;
+        let mut contact_force = vec![0.0; 2 * m];
+        let solutions: Vec<PointSolution> = (0..m)
+            .map(|i| {
+                let md = &modifications[i];
+                let r = [force[2 * i], force[2 * i + 1]];
+                let gap = [points[i].gap, 0.0];
+                for k in 0..2 {
+                    contact_force[2 * i + k] =
+                        r[k] - md.force_offset[k] + md.stiffness[k] * (uc[2 * i + k] - gap[k] + md.spring_offset[k]);
+                }
+                let slip = uc[2 * i + 1] + state.shift_slip[i];
+                PointSolution {
+                    opening: points[i].gap - uc[2 * i],
+                    slip,
+                    slip_increment: slip - state.jump[i],
+                    force: r,
+                    contact_force: [contact_force[2 * i], contact_force[2 * i + 1]],
+                }
+            })
+            .collect();
+        let updated: Vec<Vec<f64>> = (0..m)
+            .map(|i| match laws.law_of_point[i] {
+                Some(l) => laws.laws[l].update(&points[i], &state.committed[i], &solutions[i], dt),
+                None => state.committed[i].clone(),
+            })
+            .collect();
+        let next = laws.modifications(&points, &updated, Some(&solutions));
+        let next_frictions: Vec<PointFriction> = next.iter().map(|md| md.friction).collect();
+        let thresholds_now = thresholds(&unify_friction(&next_frictions, Some(&contact_force)));
+        // The variables relative to their largest magnitude over the points.
+        let same_variables = trial.iter().zip(&updated).all(|(a, b)| a.len() == b.len()) && {
+            let all_old: Vec<f64> = trial.iter().flatten().copied().collect();
+            let all_new: Vec<f64> = updated.iter().flatten().copied().collect();
+            close(&all_old, &all_new)
+        };
+        let converged =
+            same_variables && same_modifications(&modifications, &next) && (!mixed || close(&used, &thresholds_now));
+        if !converged {
+            trial = updated;
+            modifications = next;
+            last_contact_force = Some(contact_force);
+            continue;
+        }
+        let law_residuals: Vec<f64> = (0..m)
+            .map(|i| match laws.law_of_point[i] {
+                Some(l) => laws.laws[l].residual(&points[i], &state.committed[i], &updated[i], &solutions[i], dt),
+                None => 0.0,
+            })
+            .collect();
+        let (worst_point, worst) = law_residuals.iter().copied().enumerate().fold((0, 0.0f64), |a, (i, r)| {
+            let r = if r.is_nan() { f64::INFINITY } else { r };
+            if r > a.1 {
+                (i, r)
+            } else {
+                a
+            }
+        });
+        if worst > accepted {
+            let l = laws.law_of_point[worst_point].unwrap_or(0);
+            return Err(Error::SolverDiverged {
+                solver: format!("interface law `{}` on `{}`", laws.laws[l].name(), laws.law_contacts[l]),
+                reason: format!(
+                    "the law's own residual at contact point {worst_point} is {worst:.3e} after the staggered \
+                     iterations converged (accepted: {accepted:.1e})"
+                ),
+                iterations: iteration,
+                residual: worst,
+                tried: format!("{iteration} staggered iterations (solve → update)"),
+            });
+        }
+        let shift_slip =
+            (0..m).map(|i| solutions[i].slip + modifications[i].compliance[1] * solutions[i].force[1]).collect();
+        let state = InterfaceState {
+            committed: updated,
+            jump: solutions.iter().map(|s| s.slip).collect(),
+            shift_slip,
+            last: Some(solutions.clone()),
+            last_contact_force: Some(contact_force),
+        };
+        return Ok((kept, InterfaceStep { state, solutions, law_residuals, iterations: iteration }));
+    }
+    Err(Error::SolverDiverged {
+        solver: "interface laws (staggered solve → update)".into(),
+        reason: format!(
+            "the internal variables and the modified contact problem still change after {MAX_STAGGERED} iterations \
+             (relative tolerance {STAGGERED_TOLERANCE:e})"
+        ),
+        iterations: MAX_STAGGERED,
+        residual: f64::NAN,
+        tried: format!("{MAX_STAGGERED} staggered iterations"),
+    })
 }

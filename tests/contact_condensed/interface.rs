@@ -358,3 +358,192 @@ fn very_stiff_springs_tie_the_point() {
     close(&u, &[0.05 - 0.02, 0.01, -0.02, 0.01], 1e-7, "tied displacement");
     assert!(r.iter().all(|v| v.is_finite()));
 }
+
+// ---------------------------------------------------------------------------------------------
+// The staggered loop (interface_law::staggered::staggered) on condensed problems
+// ---------------------------------------------------------------------------------------------
+
+use signorini::interface_law::staggered::{staggered, InterfaceLaws, InterfaceState, InterfaceStep};
+use signorini::interface_law::{InterfaceLaw, InterfaceOutputs, InterfacePoint, PointSolution};
+
+/// A softening spring with memory: `k(κ) = k0 / (1 + κ/δ)` along N beside the contact,
+/// `κ = max(κ_committed, opening)` (the largest opening so far).
+#[derive(Debug)]
+struct Softening {
+    k0: f64,
+    delta: f64,
+}
+
+impl InterfaceLaw for Softening {
+    fn name(&self) -> &'static str {
+        "softening"
+    }
+    fn has_memory(&self) -> bool {
+        true
+    }
+    fn initial(&self) -> Vec<f64> {
+        vec![0.0]
+    }
+    fn modification(
+        &self,
+        _: &InterfacePoint,
+        f: PointFriction,
+        trial: &[f64],
+        _: Option<&PointSolution>,
+    ) -> PointModification {
+        PointModification { stiffness: [self.k0 / (1.0 + trial[0] / self.delta), 0.0], ..PointModification::plain(f) }
+    }
+    fn update(&self, _: &InterfacePoint, committed: &[f64], s: &PointSolution, _: f64) -> Vec<f64> {
+        vec![committed[0].max(s.opening)]
+    }
+    fn residual(&self, _: &InterfacePoint, committed: &[f64], state: &[f64], s: &PointSolution, _: f64) -> f64 {
+        let expected = committed[0].max(s.opening);
+        (state[0] - expected).abs() / expected.abs().max(1e-300)
+    }
+    fn outputs(&self, state: &[f64]) -> InterfaceOutputs {
+        InterfaceOutputs { damage: Some(state[0] / (state[0] + self.delta)), adhesion: None }
+    }
+}
+
+/// A law whose variable flips with the force it sees: the staggered loop cannot converge.
+#[derive(Debug)]
+struct Flipping;
+
+impl InterfaceLaw for Flipping {
+    fn name(&self) -> &'static str {
+        "flipping"
+    }
+    fn has_memory(&self) -> bool {
+        true
+    }
+    fn initial(&self) -> Vec<f64> {
+        vec![0.0]
+    }
+    fn modification(
+        &self,
+        _: &InterfacePoint,
+        f: PointFriction,
+        trial: &[f64],
+        _: Option<&PointSolution>,
+    ) -> PointModification {
+        PointModification {
+            stiffness: [if trial[0] == 0.0 { 0.1 } else { 10.0 }, 0.0],
+            contact: false,
+            ..PointModification::plain(f)
+        }
+    }
+    fn update(&self, _: &InterfacePoint, _: &[f64], s: &PointSolution, _: f64) -> Vec<f64> {
+        vec![if s.force[0].abs() > 0.2 { 0.0 } else { 1.0 }]
+    }
+    fn residual(&self, _: &InterfacePoint, _: &[f64], _: &[f64], _: &PointSolution, _: f64) -> f64 {
+        1.0
+    }
+    fn outputs(&self, _: &[f64]) -> InterfaceOutputs {
+        InterfaceOutputs::default()
+    }
+}
+
+fn one_law(law: Box<dyn InterfaceLaw>, points: Vec<InterfacePoint>, friction: Vec<PointFriction>) -> InterfaceLaws {
+    let m = points.len();
+    InterfaceLaws::new(vec![(law, "bottom".into())], vec![Some(0); m], vec!["test".into()], points, friction).unwrap()
+}
+
+fn run_staggered(
+    laws: &InterfaceLaws,
+    base: &CondensedProblem,
+    state: &InterfaceState,
+) -> signorini::Result<InterfaceStep> {
+    staggered(laws, state, 1.0, 1e-9, |mods, last| {
+        let md = ModifiedProblem::new(base, mods, last)?;
+        let contact_force = match md.problem() {
+            Some(p) => md.expand(&solve(p, &ContactSolver::SemismoothNewton, &tight())?.force),
+            None => vec![0.0; 2 * base.points()],
+        };
+        let answer = md.answer(&contact_force);
+        Ok((answer.force, answer.displacement, ()))
+    })
+    .map(|((), step)| step)
+}
+
+#[test]
+fn staggered_loop_converges_to_the_softening_fixed_point() {
+    // One point pulled away (open): r = −k(κ) v, v = z/(1 + W_NN k(κ)), κ = −v; the fixed
+    // point of κ = −z / (1 + W k0/(1 + κ/δ)) by bisection is the oracle.
+    let (w, z, k0, delta) = (2.0, -0.4, 3.0, 0.05);
+    let base = CondensedProblem::new(Delassus::Dense(w2()), vec![z, 0.0], vec![0.0], FrictionLaw::None, None).unwrap();
+    let laws = one_law(
+        Box::new(Softening { k0, delta }),
+        vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0 }],
+        vec![PointFriction::None],
+    );
+    let step = run_staggered(&laws, &base, &laws.initial_state()).unwrap();
+    let g = |kappa: f64| kappa + z / (1.0 + w * k0 / (1.0 + kappa / delta));
+    let (mut lo, mut hi) = (0.0, -z);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < 0.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    let kappa = 0.5 * (lo + hi);
+    let got = step.state.committed[0][0];
+    assert!((got - kappa).abs() <= 1e-9 * kappa, "κ = {got}, expected {kappa}");
+    assert!(step.iterations > 2, "{} iterations", step.iterations);
+    let expected_force = -k0 / (1.0 + kappa / delta) * (-kappa);
+    assert!((step.solutions[0].force[0] - expected_force).abs() <= 1e-8 * expected_force.abs());
+    assert!(step.law_residuals[0] <= 1e-9);
+    let snapshot = laws.snapshot(&[[0.0, 0.0]], &step, 1.0);
+    assert_eq!(snapshot.points[0].damage, Some(got / (got + delta)));
+}
+
+#[test]
+fn staggered_loop_solves_mixed_tresca_and_coulomb_points() {
+    // Two plain points, Tresca at one and Coulomb at the other: the loop iterates the
+    // Coulomb point's threshold; the answer is the original equations' (enumeration).
+    let mut rng = Lcg(31);
+    let w = random_w(2, &mut rng);
+    let uf = vec![0.4, 0.3, 0.5, -0.35];
+    let gap = vec![0.05, 0.02];
+    let friction = vec![PointFriction::Tresca(0.05), PointFriction::Coulomb(0.3)];
+    let base =
+        CondensedProblem::new(Delassus::Dense(w.clone()), uf.clone(), gap.clone(), FrictionLaw::None, None).unwrap();
+    let points: Vec<InterfacePoint> =
+        gap.iter().map(|&g| InterfacePoint { weight: 1.0, gap: g, slip_before: 0.0 }).collect();
+    let laws =
+        InterfaceLaws::new(vec![], vec![None, None], vec!["signorini".into()], points, friction.clone()).unwrap();
+    let step = run_staggered(&laws, &base, &laws.initial_state()).unwrap();
+    let mods: Vec<PointModification> = friction.iter().map(|&f| PointModification::plain(f)).collect();
+    let (r_ref, _, _) = brute_force(&w, &uf, &gap, &mods);
+    let r: Vec<f64> = step.solutions.iter().flat_map(|s| s.force).collect();
+    close(&r, &r_ref, 1e-8, "mixed friction");
+    assert!(step.iterations > 1, "{} iterations", step.iterations);
+    assert!(r_ref[2] < 0.0 && r_ref[3] != 0.0, "the Coulomb point is closed with friction: {r_ref:?}");
+}
+
+#[test]
+fn staggered_loop_that_cannot_converge_or_fails_its_law_check_is_an_error() {
+    // k = 0.1 gives |rN| = 0.08 (< 0.2: stiffen), k = 10 gives 0.48 (> 0.2: soften), and so on.
+    let base =
+        CondensedProblem::new(Delassus::Dense(w2()), vec![-1.0, 0.0], vec![0.0], FrictionLaw::None, None).unwrap();
+    let point = vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0 }];
+    let laws = one_law(Box::new(Flipping), point.clone(), vec![PointFriction::None]);
+    match run_staggered(&laws, &base, &laws.initial_state()) {
+        Err(signorini::Error::SolverDiverged { reason, iterations, .. }) => {
+            assert_eq!(iterations, signorini::interface_law::staggered::MAX_STAGGERED);
+            assert!(reason.contains("still change"), "{reason}");
+        }
+        other => panic!("expected a divergence, got {other:?}"),
+    }
+    // Converged (the force stays below the flip) but the law's own check fails.
+    let calm =
+        CondensedProblem::new(Delassus::Dense(w2()), vec![-0.001, 0.0], vec![0.0], FrictionLaw::None, None).unwrap();
+    match run_staggered(&laws, &calm, &laws.initial_state()) {
+        Err(signorini::Error::SolverDiverged { solver, reason, .. }) => {
+            assert!(solver.contains("flipping") && solver.contains("bottom"), "{solver}");
+            assert!(reason.contains("own residual at contact point 0"), "{reason}");
+        }
+        other => panic!("expected the law check to fail, got {other:?}"),
+    }
+}
