@@ -345,7 +345,9 @@ fn part_reports(
             master_resultant,
             action_reaction_residual,
             residuals: (&residuals).into(),
-            node_penetration: match part.master {
+            // With an interface law the two sides overlap by the layer's compression (a zero
+            // thickness model of the layer): the interface's own check replaces this one.
+            node_penetration: match part.master.filter(|_| part.interface.is_none()) {
                 Some(master) => {
                     let nodes: HashSet<usize> = points.iter().map(|&i| b.nodes[i]).collect();
                     Some(node_penetration(model, &nodes, part, master, u, scale.displacement)?)

@@ -289,7 +289,7 @@ mu = 1.0
 /// (gmsh) and `top` [1, 2] × [1, 1.6], pressed by P = 1e6 on the top, each with one point
 /// ux = 0 and held vertically by the contact alone. Coulomb μ = 0.3 under the middle block,
 /// frictionless under the top one.
-fn stack_text() -> String {
+pub(super) fn stack_text() -> String {
     r#"title = "three blocks stacked"
 
 [[body]]

@@ -405,3 +405,46 @@ pub fn interface_law_refusals(s: &Session) -> Result<(), String> {
         Ok(_) => Err("rccm static: accepted".into()),
     }
 }
+
+/// Per-part laws: the three-block stack of `bodies_blocks` with the top pair glued by a bonded
+/// layer and the lower pair plain Coulomb. Each top-pair point follows the layer's law
+/// (`t_N = K_N (opening − g0)`, `t_T = −K_T slip`), each lower-pair point has no law, every
+/// body is in equilibrium and each pair carries the top load.
+pub fn thin_layer_on_one_pair_of_three_bodies(s: &Session) -> Result<(), String> {
+    let mut scene =
+        Scene::from_str(&super::bodies_blocks::stack_text(), &file("three_blocks.toml")).map_err(|e| e.to_string())?;
+    scene.contact_pairs[1].interface = layer(LAYER);
+    let p = solve_scene(s, scene).map_err(|e| e.to_string())?;
+    let (kn, kt) = stiffness(&LAYER);
+    let c = p.contact.as_ref().unwrap();
+    let parts = c.parts.as_ref().ok_or("no contact parts")?;
+    let snapshot = p.interface.as_ref().ok_or("no snapshot")?;
+    ensure(snapshot.laws == ["signorini", "thin_layer"], || format!("laws {:?}", snapshot.laws))?;
+    let force = 1e6;
+    let (mut worst, mut layer_points, mut layer_force) = (0.0f64, 0, 0.0);
+    for (i, q) in snapshot.points.iter().enumerate() {
+        if parts.part_of[i] == 1 {
+            layer_points += 1;
+            layer_force += q.traction_normal * c.boundary.weight[i];
+            let tn = kn * (q.opening - c.boundary.gap[i]);
+            let tt = -kt * q.slip;
+            worst = worst.max((q.traction_normal - tn).abs() / force).max((q.traction_tangential - tt).abs() / force);
+        } else if q.law_residual != 0.0 {
+            return Err(format!("point {i} of the plain pair has a law residual {}", q.law_residual));
+        }
+    }
+    let r = p.bodies_report.as_ref().ok_or("no bodies report")?;
+    let equilibrium = r.bodies.iter().map(|b| b.equilibrium_residual).fold(0.0, f64::max);
+    let vertical: Vec<f64> = r.contacts.iter().map(|c| (c.slave_resultant[1] - force).abs() / force).collect();
+    eprintln!(
+        "    layer on one pair of three: {layer_points} layer points, law error {worst:.2e}, layer resultant {:.6e}, \
+         equilibrium {equilibrium:.1e}, vertical resultant errors {vertical:?}",
+        -layer_force
+    );
+    ensure(layer_points > 0 && layer_points < snapshot.points.len(), || format!("{layer_points} layer points"))?;
+    ensure(worst <= 1e-9, || format!("layer law error {worst:e}"))?;
+    ensure((layer_force + force).abs() <= 1e-8 * force, || format!("layer resultant {layer_force}"))?;
+    ensure(equilibrium <= 1e-9 && vertical.iter().all(|&v| v <= 1e-8), || {
+        format!("equilibrium {equilibrium:e}, vertical {vertical:?}")
+    })
+}
