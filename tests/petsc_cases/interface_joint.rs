@@ -40,8 +40,8 @@ fn with_joint(mut scene: Scene, spec: CohesiveJointSpec) -> Scene {
     scene
 }
 
-/// The uniform state of the block at one increment: the joint's normal traction `t_n` (tension
-/// > 0), its shear stress τ = σ_xy, opening and slip (along +x), and the variables (κ_I, κ_II)
+/// The uniform state of the block at one increment: the joint's normal traction `t_n`
+/// (tension positive), its shear stress τ = σ_xy, opening and slip (along +x), and the variables (κ_I, κ_II)
 /// the law must reach.
 #[derive(Debug, Clone, Copy)]
 struct Target {
