@@ -3,12 +3,11 @@
 //! increment, and the limit without cohesion against the existing Signorini–Coulomb path.
 use super::contact::{example, set_line};
 use super::ensure;
-use signorini::error::Location;
 use signorini::evolution::{EachIncrement, LoadPath};
 use signorini::interface_law::cohesive_joint::CohesiveJoint;
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
-use signorini::scene::{CohesiveJointSpec, InterfaceLawSpec, InterfaceSpec, Scene};
+use signorini::scene::{CohesiveJointSpec, Scene};
 
 /// The block of the patch tests: width × height (m), E (Pa), ν, plane strain.
 const WIDTH: f64 = 0.2;
@@ -30,14 +29,13 @@ fn joint_spec() -> CohesiveJointSpec {
     }
 }
 
-fn with_joint(mut scene: Scene, spec: CohesiveJointSpec) -> Scene {
-    let contact = scene.contact.as_mut().expect("the scene has a contact");
-    contact.interface = Some(InterfaceSpec {
-        law: InterfaceLawSpec::CohesiveJoint(spec),
-        trace: Vec::new(),
-        at: Location { file: "<scene built in Rust>".into(), line: 0, column: 0 },
-    });
-    scene
+/// The `[contact.interface]` table of a joint.
+fn interface_table(spec: &CohesiveJointSpec) -> String {
+    format!(
+        "[contact.interface]\nlaw = \"cohesive_joint\"\ncohesion = {:e}\ntensile_strength = {:e}\nmu = {}\n\
+         fracture_energy_tension = {:e}\nfracture_energy_shear = {:e}\n",
+        spec.cohesion, spec.tensile_strength, spec.mu, spec.fracture_energy_tension, spec.fracture_energy_shear
+    )
 }
 
 /// The uniform state of the block at one increment: the joint's normal traction `t_n`
@@ -126,9 +124,8 @@ part = "bottom"
 obstacle = "line"
 point = [0.0, 0.0]
 normal = [0.0, 1.0]
-friction = "coulomb"
-mu = 0.75
 solver = "newton"
+{interface}
 [evolution]
 times = [{times}]
 [evolution.factor]
@@ -138,6 +135,7 @@ side_shear = {side_shear}
 drive_x = {drive_x}
 "#,
         times = times.join(", "),
+        interface = interface_table(&joint_spec()),
     )
 }
 
@@ -151,7 +149,7 @@ fn run_uniform_path(s: &Session, name: &str, targets: &[Target], normal_by_tract
     let file = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("{name}.toml"));
     let spec = joint_spec();
     let joint = CohesiveJoint::new(&spec);
-    let scene = with_joint(Scene::from_str(&text, &file).map_err(|e| format!("{name}: {e}"))?, spec);
+    let scene = Scene::from_str(&text, &file).map_err(|e| format!("{name}: {e}"))?;
     let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
     let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| format!("{name}: {e}"))?;
     p.assemble().map_err(|e| e.to_string())?;
@@ -328,11 +326,8 @@ pub fn cohesive_joint_tension_softening_curve(s: &Session) -> Result<(), String>
 pub fn cohesive_joint_without_cohesion_is_coulomb(s: &Session) -> Result<(), String> {
     let (text, file) = example("square_block_press_then_push.toml");
     let text = set_line(&text, "solver", "solver = \"newton\"\ntolerance = 1e-12");
-    let run = |joint: Option<CohesiveJointSpec>| -> Result<Vec<Vec<f64>>, String> {
-        let mut scene = Scene::from_str(&text, &file).map_err(|e| e.to_string())?;
-        if let Some(spec) = joint {
-            scene = with_joint(scene, spec);
-        }
+    let run = |text: &str| -> Result<Vec<Vec<f64>>, String> {
+        let scene = Scene::from_str(text, &file).map_err(|e| e.to_string())?;
         let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
         let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
         p.assemble().map_err(|e| e.to_string())?;
@@ -344,7 +339,6 @@ pub fn cohesive_joint_without_cohesion_is_coulomb(s: &Session) -> Result<(), Str
         .map_err(|e| e.to_string())?;
         Ok(fields)
     };
-    let coulomb = run(None).map_err(|e| format!("plain Coulomb: {e}"))?;
     let spec = CohesiveJointSpec {
         cohesion: 0.0,
         tensile_strength: 0.0,
@@ -352,7 +346,11 @@ pub fn cohesive_joint_without_cohesion_is_coulomb(s: &Session) -> Result<(), Str
         fracture_energy_tension: 1.0,
         fracture_energy_shear: 1.0,
     };
-    let joint = run(Some(spec)).map_err(|e| format!("joint without cohesion: {e}"))?;
+    // The joint takes the contact's friction: its `friction` and `mu` move into the table.
+    let joint_text = set_line(&set_line(&text, "friction", ""), "mu = 1.0", "")
+        .replace("[evolution]", &format!("{}\n[evolution]", interface_table(&spec)));
+    let coulomb = run(&text).map_err(|e| format!("plain Coulomb: {e}"))?;
+    let joint = run(&joint_text).map_err(|e| format!("joint without cohesion: {e}"))?;
     ensure(coulomb.len() == joint.len() && !joint.is_empty(), || "different increments".into())?;
     let mut worst = 0.0f64;
     for (a, b) in coulomb.iter().zip(&joint) {
