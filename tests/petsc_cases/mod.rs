@@ -28,6 +28,7 @@ mod evolution;
 mod export;
 mod ict;
 mod interface;
+mod interface_joint;
 mod locking;
 mod mpi_callbacks;
 mod progress;
@@ -50,6 +51,9 @@ pub const TESTS: &[(&str, Case)] = &[
     ("estimate_at_every_increment", evolution::estimate_at_every_increment),
     ("load_path_halves_failed_increments", evolution::load_path_halves_failed_increments),
     ("square_block_path_dependence", evolution::square_block_path_dependence),
+    ("masonry_joint_shear_patch", interface_joint::masonry_joint_shear_patch),
+    ("cohesive_joint_tension_softening_curve", interface_joint::cohesive_joint_tension_softening_curve),
+    ("cohesive_joint_without_cohesion_is_coulomb", interface_joint::cohesive_joint_without_cohesion_is_coulomb),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
