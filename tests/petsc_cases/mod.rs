@@ -27,6 +27,7 @@ mod dual_implicit;
 mod evolution;
 mod export;
 mod ict;
+mod interface_rccm;
 mod locking;
 mod mpi_callbacks;
 mod progress;
@@ -42,6 +43,9 @@ pub const TESTS: &[(&str, Case)] = &[
     ("estimate_at_every_increment", evolution::estimate_at_every_increment),
     ("load_path_halves_failed_increments", evolution::load_path_halves_failed_increments),
     ("square_block_path_dependence", evolution::square_block_path_dependence),
+    ("rccm_pull_off_closed_form", interface_rccm::rccm_pull_off_closed_form),
+    ("rccm_published_peak_and_separation_energy", interface_rccm::rccm_published_peak_and_separation_energy),
+    ("rccm_without_adhesion_is_signorini_coulomb", interface_rccm::rccm_without_adhesion_is_signorini_coulomb),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
