@@ -141,7 +141,7 @@ fn series_viscous(b: f64, t_end: f64, steps: usize) -> f64 {
 /// lies on the closed-form curve `C_N u` / `w²/(C_N u³)` while the opening exceeds every earlier
 /// one and on the secant `C_N β² u` below it, and the law's residual is below 1e-8.
 /// Then b > 0: β at the end of a pull against an RK4 integration of the same bar (10⁵ steps),
-/// with 10, 20 and 40 increments: the observed order is 1.
+/// with 20, 40 and 80 increments: the observed order is 1 (within 0.15).
 pub fn rccm_pull_off_closed_form(s: &Session) -> Result<(), String> {
     let table = [[0.0, 0.0], [1.0, 1.0], [1.5, 0.2], [2.5, 1.6]];
     let times: Vec<f64> = (1..=50).map(|k| 0.05 * k as f64).collect();
@@ -187,11 +187,14 @@ pub fn rccm_pull_off_closed_form(s: &Session) -> Result<(), String> {
     ensure(worst_residual < 1e-8, || format!("law residual {worst_residual:.2e}"))?;
 
     // b > 0: first order in the time step against an accurate integration.
-    let b = 2.0; // J·s/m²: b/w = 0.2 s against a 1 s pull
+    let b = 20.0; // J·s/m²: b/w = 2 s against a 1 s pull, β lags well behind the rate-independent
     let reference = series_viscous(b, 1.0, 100_000);
-    ensure(reference > 0.05 && reference < 0.9, || format!("reference β = {reference}: the test does not bite"))?;
+    let rate_independent = series_rate_independent(PULL, 1.0).1;
+    ensure(reference > 1.3 * rate_independent && reference < 0.9, || {
+        format!("reference β = {reference} (rate-independent {rate_independent}): the test does not bite")
+    })?;
     let mut errors = Vec::new();
-    for &n in &[10usize, 20, 40] {
+    for &n in &[20usize, 40, 80] {
         let times: Vec<f64> = (1..=n).map(|k| k as f64 / n as f64).collect();
         let text = pulled_block_text(&times, &[[0.0, 0.0], [1.0, 1.0]]);
         let scene = with_rccm(Scene::from_str(&text, file).map_err(|e| e.to_string())?, rccm(b, 0.3, 1.0));
@@ -203,7 +206,7 @@ pub fn rccm_pull_off_closed_form(s: &Session) -> Result<(), String> {
         errors.push((betas[0] - reference).abs());
     }
     let rates: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
-    eprintln!("    b = {b}: β(1) reference {reference:.8}, errors at 10, 20, 40 increments {errors:?}, observed orders {rates:.3?}");
+    eprintln!("    b = {b}: β(1) reference {reference:.8} (rate-independent {rate_independent:.6}), errors at 20, 40, 80 increments {errors:?}, observed orders {rates:.3?}");
     ensure(rates.iter().all(|r| (r - 1.0).abs() < 0.15), || format!("orders {rates:?} (errors {errors:?})"))?;
     Ok(())
 }
@@ -311,4 +314,85 @@ pub fn rccm_without_adhesion_is_signorini_coulomb(s: &Session) -> Result<(), Str
     })?;
     ensure(worst < 1e-8, || format!("β0 = 0 differs from Coulomb by {worst:.2e}"))?;
     Ok(())
+}
+
+/// `examples/scenes/adhesive_shear.toml` (a glued block pressed, then sheared off its base):
+/// the tangential force on the base rises while the bond holds, peaks above twice the friction
+/// plateau, and ends on Coulomb's `μ (1 − β) P` (β → w/(C_T s²) ≈ 0.0025) within 1 %; β never
+/// increases at any point, ends below 0.01 everywhere, and the law's residual stays below 1e-7.
+pub fn rccm_adhesive_shear_debonds_then_slides(s: &Session) -> Result<(), String> {
+    let (text, file) = example("adhesive_shear.toml");
+    let scene = adhesive_shear_scene(&text, &file)?;
+    let path = LoadPath::of_scene(&scene).map_err(|e| e.to_string())?.ok_or("no load path")?;
+    let mut p = ElasticityProblem::setup_system(s, scene).map_err(|e| e.to_string())?;
+    p.assemble().map_err(|e| e.to_string())?;
+    let mut history = Vec::new();
+    p.solve_load_path(&path, EachIncrement::Solve, &mut |q, record| {
+        let o = q.contact_outcome.as_ref().expect("a contact outcome");
+        let normal: f64 = o.force.iter().step_by(2).sum();
+        let tangential: f64 = o.force.iter().skip(1).step_by(2).sum();
+        let snapshot = q.interface.clone().expect("an interface snapshot");
+        history.push((record.time, normal, tangential, snapshot));
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
+    let (pressure, length, mu) = (1e5, 0.02, 0.5);
+    let plateau = mu * pressure * length;
+    let peak = history.iter().map(|h| h.2.abs()).fold(0.0f64, f64::max);
+    let last = history.last().ok_or("no increment")?;
+    let betas_end: Vec<f64> = last.3.points.iter().map(|q| q.adhesion.unwrap_or(f64::NAN)).collect();
+    let beta_end = betas_end.iter().copied().fold(0.0f64, f64::max);
+    let worst_residual = history.iter().flat_map(|h| h.3.points.iter().map(|q| q.law_residual)).fold(0.0f64, f64::max);
+    let iterations = history.iter().map(|h| h.3.iterations).max().unwrap_or(0);
+    for line in history.iter().map(|h| {
+        format!(
+            "t = {:.3}: N = {:.4e}, T = {:.4e}, β mean {:.4}, {} iterations",
+            h.0,
+            h.1,
+            h.2,
+            h.3.points.iter().map(|q| q.adhesion.unwrap()).sum::<f64>() / h.3.points.len() as f64,
+            h.3.iterations
+        )
+    }) {
+        eprintln!("      {line}");
+    }
+    eprintln!(
+        "    adhesive shear, {} increments: peak |T| = {peak:.4e} N/m, end T = {:.4e} N/m (μP = {plateau:.4e}), N = {:.4e} N/m, \
+         largest β at the end {beta_end:.2e}, law residual {worst_residual:.2e}, at most {iterations} staggered iterations",
+        history.len(),
+        last.2,
+        last.1
+    );
+    for w in history.windows(2) {
+        for (a, b) in w[0].3.points.iter().zip(&w[1].3.points) {
+            ensure(b.adhesion <= a.adhesion, || format!("t = {}: β increased at {:?}", w[1].0, b.x))?;
+        }
+    }
+    ensure((last.1 + pressure * length).abs() < 1e-6 * pressure * length, || format!("normal force {}", last.1))?;
+    ensure(beta_end < 0.01, || format!("β at the end {betas_end:?}"))?;
+    let expected = -mu * (1.0 - beta_end) * pressure * length;
+    ensure((last.2 - expected).abs() < 0.01 * plateau, || format!("end T = {} against {expected}", last.2))?;
+    ensure(peak > 2.0 * plateau, || format!("peak {peak} against the plateau {plateau}"))?;
+    ensure(worst_residual < 1e-7, || format!("law residual {worst_residual:e}"))?;
+    Ok(())
+}
+
+/// The example's scene (until the scene reader knows `[contact.interface]`: the table taken out
+/// and the same law set in Rust).
+fn adhesive_shear_scene(text: &str, file: &std::path::Path) -> Result<Scene, String> {
+    let start = text.find("[contact.interface]").ok_or("no [contact.interface] in the example")?;
+    let end = start + text[start..].find("[evolution]").ok_or("no [evolution]")?;
+    let stripped = format!("{}{}", &text[..start], &text[end..]);
+    let scene = Scene::from_str(&stripped, file).map_err(|e| e.to_string())?;
+    Ok(with_rccm(
+        scene,
+        RccmSpec {
+            normal_stiffness: 1e10,
+            tangential_stiffness: 1e10,
+            adhesion_energy: 4.0,
+            viscosity: 0.0,
+            mu: 0.5,
+            initial_adhesion: 1.0,
+        },
+    ))
 }

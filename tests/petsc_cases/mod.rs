@@ -46,6 +46,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("rccm_pull_off_closed_form", interface_rccm::rccm_pull_off_closed_form),
     ("rccm_published_peak_and_separation_energy", interface_rccm::rccm_published_peak_and_separation_energy),
     ("rccm_without_adhesion_is_signorini_coulomb", interface_rccm::rccm_without_adhesion_is_signorini_coulomb),
+    ("rccm_adhesive_shear_debonds_then_slides", interface_rccm::rccm_adhesive_shear_debonds_then_slides),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
