@@ -344,18 +344,6 @@ pub fn rccm_adhesive_shear_debonds_then_slides(s: &Session) -> Result<(), String
     let beta_end = betas_end.iter().copied().fold(0.0f64, f64::max);
     let worst_residual = history.iter().flat_map(|h| h.3.points.iter().map(|q| q.law_residual)).fold(0.0f64, f64::max);
     let iterations = history.iter().map(|h| h.3.iterations).max().unwrap_or(0);
-    for line in history.iter().map(|h| {
-        format!(
-            "t = {:.3}: N = {:.4e}, T = {:.4e}, β mean {:.4}, {} iterations",
-            h.0,
-            h.1,
-            h.2,
-            h.3.points.iter().map(|q| q.adhesion.unwrap()).sum::<f64>() / h.3.points.len() as f64,
-            h.3.iterations
-        )
-    }) {
-        eprintln!("      {line}");
-    }
     eprintln!(
         "    adhesive shear, {} increments: peak |T| = {peak:.4e} N/m, end T = {:.4e} N/m (μP = {plateau:.4e}), N = {:.4e} N/m, \
          largest β at the end {beta_end:.2e}, law residual {worst_residual:.2e}, at most {iterations} staggered iterations",
