@@ -66,6 +66,27 @@
 //! `C_N β² u` back to 0 (β does not heal). LMGC90's law check (`MAC_CZM` in the law test script
 //! `examples/mecaMAILx_2D/2Q4-traction/all_cohesive_laws.py`: `new_beta = w/(ct|u_T|² + cn u_N²)` when `w − β E < 0`) computes the
 //! same curve.
+//!
+//! ## Sources checked, and the validation
+//!
+//! - The model's structure (unilateral contact, Coulomb friction, adhesion intensity β from a
+//!   free energy and a dissipation potential, an incremental formulation solved as a sequence of
+//!   constrained minimisations, the micro-indentation of a fiber/matrix interface in a ceramic
+//!   composite): the 1999 paper's summary (zbMATH Zbl 0949.74008). The formulas above are those of
+//!   SCIENCE.md §11 and of the papers as recalled; the figures and parameter tables of the
+//!   papers (micro-indentation, Monerie's thesis) were not available to this work, so no curve
+//!   of theirs is reproduced.
+//! - The time discretisation and the rate-independent limit: LMGC90 (the authors' group's code),
+//!   `src/Core/shared/mod_tact_behav.f90` (`updt_CZM`, law `MAC_CZM`) and
+//!   `examples/mecaMAILx_2D/2Q4-traction/all_cohesive_laws.py`; the same closed forms as here.
+//!   LMGC90's default friction for `MAC_CZM` interpolates `(1 − β) μ_d + β μ_s`; with `μ_s = 0`
+//!   it is the paper's `μ (1 − β)`.
+//! - Tests: `tests/interface_rccm.rs` (the update against its closed forms and an RK4
+//!   integration, the residual at exact and perturbed states) and the PETSc cases
+//!   `rccm_pull_off_closed_form` (a glued block pulled off: the 1D series model and the closed
+//!   form above to ~1e-11; b > 0 at order 1 in the time step), `rccm_published_peak_and_separation_energy`
+//!   (the peak √(C_N w) at √(w/C_N), the work of separation w), `rccm_without_adhesion_is_signorini_coulomb`
+//!   (β0 = 0 is Signorini–Coulomb: identical displacements) and `rccm_adhesive_shear_debonds_then_slides`.
 use super::{InterfaceLaw, InterfaceOutputs, InterfacePoint, PointFriction, PointModification, PointSolution};
 use crate::scene::RccmSpec;
 
