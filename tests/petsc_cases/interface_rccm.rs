@@ -365,22 +365,18 @@ pub fn rccm_adhesive_shear_debonds_then_slides(s: &Session) -> Result<(), String
     Ok(())
 }
 
-/// The example's scene (until the scene reader knows `[contact.interface]`: the table taken out
-/// and the same law set in Rust).
+/// The example's scene, its interface checked to be the RCCM law the assertions assume.
 fn adhesive_shear_scene(text: &str, file: &std::path::Path) -> Result<Scene, String> {
-    let start = text.find("[contact.interface]").ok_or("no [contact.interface] in the example")?;
-    let end = start + text[start..].find("[evolution]").ok_or("no [evolution]")?;
-    let stripped = format!("{}{}", &text[..start], &text[end..]);
-    let scene = Scene::from_str(&stripped, file).map_err(|e| e.to_string())?;
-    Ok(with_rccm(
-        scene,
-        RccmSpec {
-            normal_stiffness: 1e10,
-            tangential_stiffness: 1e10,
-            adhesion_energy: 4.0,
-            viscosity: 0.0,
-            mu: 0.5,
-            initial_adhesion: 1.0,
-        },
-    ))
+    let scene = Scene::from_str(text, file).map_err(|e| e.to_string())?;
+    let expected = RccmSpec {
+        normal_stiffness: 1e10,
+        tangential_stiffness: 1e10,
+        adhesion_energy: 4.0,
+        viscosity: 0.0,
+        mu: 0.5,
+        initial_adhesion: 1.0,
+    };
+    let law = scene.contact.as_ref().and_then(|c| c.interface.as_ref()).map(|i| &i.law);
+    ensure(law == Some(&InterfaceLawSpec::Rccm(expected)), || format!("the example's interface changed: {law:?}"))?;
+    Ok(scene)
 }
