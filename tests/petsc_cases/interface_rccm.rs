@@ -343,7 +343,7 @@ pub fn rccm_adhesive_shear_debonds_then_slides(s: &Session) -> Result<(), String
         Ok(())
     })
     .map_err(|e| e.to_string())?;
-    let (pressure, length, mu) = (1e5, 0.02, 0.5);
+    let (pressure, length, mu) = (1e4, 0.02, 0.5);
     let plateau = mu * pressure * length;
     let peak = history.iter().map(|h| h.2.abs()).fold(0.0f64, f64::max);
     let last = history.last().ok_or("no increment")?;
@@ -378,7 +378,7 @@ fn adhesive_shear_scene(text: &str, file: &std::path::Path) -> Result<Scene, Str
     let expected = RccmSpec {
         normal_stiffness: 1e10,
         tangential_stiffness: 1e10,
-        adhesion_energy: 4.0,
+        adhesion_energy: 0.04,
         viscosity: 0.0,
         mu: 0.5,
         initial_adhesion: 1.0,
