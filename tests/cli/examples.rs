@@ -80,3 +80,26 @@ fn example_two_bodies_runs() {
         assert!(residual(line) < 1e-9, "{line}");
     }
 }
+
+/// `examples/scenes/adhesive_shear.toml` as shipped (RCCM adhesion): the tangential resultant on
+/// the base peaks above twice the friction plateau while the bond holds, and ends on Coulomb's
+/// μ P = 0.5 × 1e4 Pa × 0.02 m = 100 N/m (β ≈ 0.0025 left) within 1 %.
+#[test]
+fn example_adhesive_shear_debonds_then_slides() {
+    let out = scratch("adhesive-shear-example");
+    crate::run_ok(
+        crate::bin()
+            .arg("run")
+            .arg(crate::scene("examples/scenes/adhesive_shear.toml"))
+            .args(["--quiet", "--out"])
+            .arg(&out),
+    );
+    let r = crate::report(&out);
+    let steps = r["steps"].as_array().unwrap();
+    let shear: Vec<f64> = steps.iter().map(|s| s["tangential_resultant"].as_f64().unwrap()).collect();
+    let plateau = 0.5 * 1e4 * 0.02;
+    let peak = shear.iter().fold(0.0f64, |m, q| m.max(q.abs()));
+    let end = *shear.last().unwrap();
+    assert!(peak > 2.0 * plateau, "peak {peak} against the plateau {plateau}");
+    assert!((end.abs() - plateau).abs() < 0.01 * plateau, "end {end} against the plateau {plateau}");
+}

@@ -29,6 +29,7 @@ mod export;
 mod ict;
 mod interface;
 mod interface_joint;
+mod interface_rccm;
 mod locking;
 mod mpi_callbacks;
 mod progress;
@@ -54,6 +55,10 @@ pub const TESTS: &[(&str, Case)] = &[
     ("masonry_joint_shear_patch", interface_joint::masonry_joint_shear_patch),
     ("cohesive_joint_tension_softening_curve", interface_joint::cohesive_joint_tension_softening_curve),
     ("cohesive_joint_without_cohesion_is_coulomb", interface_joint::cohesive_joint_without_cohesion_is_coulomb),
+    ("rccm_pull_off_closed_form", interface_rccm::rccm_pull_off_closed_form),
+    ("rccm_published_peak_and_separation_energy", interface_rccm::rccm_published_peak_and_separation_energy),
+    ("rccm_without_adhesion_is_signorini_coulomb", interface_rccm::rccm_without_adhesion_is_signorini_coulomb),
+    ("rccm_adhesive_shear_debonds_then_slides", interface_rccm::rccm_adhesive_shear_debonds_then_slides),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
