@@ -72,7 +72,7 @@ const INNER: f64 = 0.4;
 
 /// The block on the layer meshed in full (module documentation); `shear` the top's tangential
 /// traction, `layer_cells` cells through the layer's thickness.
-fn meshed_text(thickness: f64, layer_cells: usize, shear: f64) -> String {
+fn meshed_text(thickness: f64, block_cell: f64, layer_cells: usize, shear: f64) -> String {
     let layer_young = LAYER_YOUNG_PER_THICKNESS * thickness;
     let layer_cell = thickness / layer_cells as f64;
     let (x0, w, h) = (-WIDTH / 2.0, WIDTH, HEIGHT);
@@ -81,7 +81,7 @@ fn meshed_text(thickness: f64, layer_cells: usize, shear: f64) -> String {
 
 [[body]]
 name = "block"
-mesh = {{ shape = "rectangle", origin = [{x0}, 0.0], size = [{w}, {h}], cell_size = {BLOCK_CELL} }}
+mesh = {{ shape = "rectangle", origin = [{x0}, 0.0], size = [{w}, {h}], cell_size = {block_cell} }}
 material = {{ young = {BLOCK_YOUNG}, poisson = {BLOCK_POISSON}, plane = "strain" }}
 
 [[body.traction]]
@@ -111,7 +111,7 @@ threshold = 1e12
 
 /// The block alone on the rigid line `y = 0` (Tresca threshold 1e12 Pa, the friction of a cut
 /// layer); the thin layer is set on its contact in Rust.
-fn springs_text(shear: f64) -> String {
+fn springs_text(block_cell: f64, shear: f64) -> String {
     format!(
         r#"title = "block on a thin layer (springs)"
 
@@ -119,7 +119,7 @@ fn springs_text(shear: f64) -> String {
 shape = "rectangle"
 origin = [{x0}, 0.0]
 size = [{WIDTH}, {HEIGHT}]
-cell_size = {BLOCK_CELL}
+cell_size = {block_cell}
 
 [material]
 young = {BLOCK_YOUNG}
@@ -160,9 +160,10 @@ fn solve(s: &Session, scene: Scene) -> Result<ElasticityProblem<'_>, String> {
     Ok(p)
 }
 
-fn meshed(s: &Session, thickness: f64, layer_cells: usize, shear: f64) -> Result<Answer, String> {
+fn meshed(s: &Session, thickness: f64, block_cell: f64, layer_cells: usize, shear: f64) -> Result<Answer, String> {
     let path = manifest("thin_layer_meshed.toml");
-    let scene = Scene::from_str(&meshed_text(thickness, layer_cells, shear), &path).map_err(|e| e.to_string())?;
+    let text = meshed_text(thickness, block_cell, layer_cells, shear);
+    let scene = Scene::from_str(&text, &path).map_err(|e| e.to_string())?;
     let p = solve(s, scene).map_err(|e| format!("meshed layer e = {thickness}: {e}"))?;
     let model = p.bodies.as_ref().ok_or("meshed layer: no bodies model")?;
     let u = p.displacement.as_ref().ok_or("meshed layer: no displacement")?;
@@ -182,9 +183,9 @@ fn meshed(s: &Session, thickness: f64, layer_cells: usize, shear: f64) -> Result
     Ok(Answer { nodes, displacement, pressure, open: o.report.open })
 }
 
-fn springs(s: &Session, thickness: f64, bonded: bool, shear: f64) -> Result<Answer, String> {
+fn springs(s: &Session, thickness: f64, block_cell: f64, bonded: bool, shear: f64) -> Result<Answer, String> {
     let path = manifest("thin_layer_springs.toml");
-    let mut scene = Scene::from_str(&springs_text(shear), &path).map_err(|e| e.to_string())?;
+    let mut scene = Scene::from_str(&springs_text(block_cell, shear), &path).map_err(|e| e.to_string())?;
     let contact = scene.contact.as_mut().ok_or("springs: no contact")?;
     contact.interface = Some(InterfaceSpec {
         law: InterfaceLawSpec::ThinLayer(ThinLayerSpec {
@@ -254,10 +255,10 @@ pub fn thin_layer_against_meshed_layer(s: &Session) -> Result<(), String> {
     let shear = 0.2 * PRESSURE;
     let mut rows = Vec::new();
     for &e in &THICKNESSES {
-        let reference = meshed(s, e, 16, shear)?;
+        let reference = meshed(s, e, BLOCK_CELL, 16, shear)?;
         ensure(reference.open == 0, || format!("meshed layer e = {e}: {} open points", reference.open))?;
-        let bonded = springs(s, e, true, shear)?;
-        let cut = springs(s, e, false, shear)?;
+        let bonded = springs(s, e, BLOCK_CELL, true, shear)?;
+        let cut = springs(s, e, BLOCK_CELL, false, shear)?;
         let (du, dp) = differences(&reference, &bonded)?;
         // The cut layer, closed and stuck everywhere, is the bonded one.
         let (cu, cp) = differences(&bonded, &cut)?;
@@ -281,6 +282,58 @@ pub fn thin_layer_against_meshed_layer(s: &Session) -> Result<(), String> {
             format!("e = {e0} to {e1}: observed orders {order_u:.3} (displacement), {order_p:.3} (pressure), theory 1")
         })?;
     }
+    let (e, du, dp) = rows[rows.len() - 1];
+    ensure(du <= 0.015 && dp <= 0.01, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))?;
+    // The differences are the model's error, not the meshes': at e = L/80 with the block's cells
+    // and the layer's halved, they change by less than 5 %.
+    let reference = meshed(s, e, BLOCK_CELL / 2.0, 32, shear)?;
+    let bonded = springs(s, e, BLOCK_CELL / 2.0, true, shear)?;
+    let (fu, fp) = differences(&reference, &bonded)?;
+    eprintln!("    e = L/80, meshes halved: displacement {fu:.4e}, pressure {fp:.4e}");
+    ensure((fu / du - 1.0).abs() <= 0.05 && (fp / dp - 1.0).abs() <= 0.05, || {
+        format!("e = L/80: the differences {du:e}, {dp:e} become {fu:e}, {fp:e} on meshes halved")
+    })
+}
+
+/// Cut layer (unilateral contact between the layer and the block, Tresca 1e12) under a shear
+/// large enough to lift the block's heel: `τ = 0.5 p` puts the resultant's eccentricity on the
+/// base at `τ H / p = 0.25 L`, beyond the kern `L/6`, and the block's bottom lifts off the layer
+/// for `x < −0.24 L` (in both models). The displacement difference and the pressure difference
+/// (`|x| ≤ 0.4 L`, the lift-off point inside) are of order e too: the observed orders within
+/// [0.8, 1.2] (the lift-off point moves with e by less than a block cell, a discrete jump that
+/// widens the band), the difference at `e = L/80` below 1.5 % (displacement) and 2 % (pressure).
+pub fn thin_layer_cut_against_meshed_layer_lifting_off(s: &Session) -> Result<(), String> {
+    let shear = 0.5 * PRESSURE;
+    let mut rows = Vec::new();
+    for &e in &THICKNESSES {
+        let reference = meshed(s, e, BLOCK_CELL, 16, shear)?;
+        let cut = springs(s, e, BLOCK_CELL, false, shear)?;
+        let (du, dp) = differences(&reference, &cut)?;
+        let last_open = |a: &Answer| a.pressure.iter().filter(|q| q.1 <= 0.0).map(|q| q.0).fold(f64::MIN, f64::max);
+        eprintln!(
+            "    e = L/{:.0}: cut springs vs meshed: displacement {du:.4e}, pressure (|x| <= {INNER}) {dp:.4e}; open \
+             points {} (meshed {}), open up to x = {:.4} (meshed {:.4})",
+            WIDTH / e,
+            cut.open,
+            reference.open,
+            last_open(&cut),
+            last_open(&reference)
+        );
+        ensure(cut.open > 0 && reference.open > 0, || {
+            format!("e = {e}: no lift-off ({} open, meshed {})", cut.open, reference.open)
+        })?;
+        rows.push((e, du, dp));
+    }
+    for w in rows.windows(2) {
+        let (e0, du0, dp0) = w[0];
+        let (e1, du1, dp1) = w[1];
+        let order_u = (du0 / du1).ln() / (e0 / e1).ln();
+        let order_p = (dp0 / dp1).ln() / (e0 / e1).ln();
+        eprintln!("    order from e = {e0} to {e1}: displacement {order_u:.3}, pressure {order_p:.3}");
+        ensure((0.8..=1.2).contains(&order_u) && (0.8..=1.2).contains(&order_p), || {
+            format!("e = {e0} to {e1}: observed orders {order_u:.3} (displacement), {order_p:.3} (pressure), theory 1")
+        })?;
+    }
     let (_, du, dp) = rows[rows.len() - 1];
-    ensure(du <= 0.015 && dp <= 0.01, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))
+    ensure(du <= 0.015 && dp <= 0.02, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))
 }
