@@ -25,8 +25,10 @@
 //! width O(e) carries an O(1) relative error of the interface traction (the layer's `σ_xx`
 //! vanishes at its free edge, where the springs assume a laterally constrained layer). It moves
 //! the resultant by O(e), so the adherend's displacement keeps its O(e) error, but the traction
-//! profile's L2 norm over the whole interface converges only as O(e^½) (measured: 0.50). The
-//! test therefore compares:
+//! profile's L2 norm over the whole interface converges only as O(e^½) (measured 0.50 between
+//! meshed layers of successive thicknesses, on the block side's nodal pressure), and the nodal
+//! pressure at the ends not at all (the meshed layer's corners are singular). The test
+//! therefore compares:
 //!
 //! - the block's displacement at every node (the same block mesh in both runs), relative RMS:
 //!   `‖u_meshed − u_springs‖ / ‖u_meshed‖`, theory O(e);
@@ -48,8 +50,8 @@
 //!
 //! The block has the same structured mesh (cells of L/80) in both runs, so its discretisation
 //! error cancels to first order in the difference; the layer has 16 cells through its thickness
-//! (P1, square cells `e/16`), which puts its discretisation error below 3 % of the model error at
-//! `e = L/80` (refining it to `e/32` changes the difference by less than that, measured below).
+//! (P1, square cells `e/16`), which puts the discretisation's share of the difference below
+//! 0.5 % at `e = L/80` (halving the block's and the layer's cells moves it by 0.3 %, checked).
 //! `e = L/20, L/40, L/80`.
 use signorini::interface_law::InterfaceSnapshot;
 use signorini::petsc::Session;
@@ -214,8 +216,15 @@ fn key(x: [f64; 2]) -> (i64, i64) {
 }
 
 /// `(displacement, pressure)` relative RMS differences of `b` from `reference` (module
-/// documentation).
+/// documentation), the pressure's at `|x| <= INNER`.
 fn differences(reference: &Answer, b: &Answer) -> Result<(f64, f64), String> {
+    let (du, dp, _) = differences_with_ends(reference, b)?;
+    Ok((du, dp))
+}
+
+/// [`differences`] and the pressure's relative RMS difference over the whole interface (the
+/// ends' boundary layers included), at `b`'s points.
+fn differences_with_ends(reference: &Answer, b: &Answer) -> Result<(f64, f64, f64), String> {
     let at: std::collections::HashMap<(i64, i64), usize> =
         reference.nodes.iter().enumerate().map(|(k, &x)| (key(x), k)).collect();
     let (mut du, mut nu, mut n) = (0.0, 0.0, 0usize);
@@ -230,27 +239,39 @@ fn differences(reference: &Answer, b: &Answer) -> Result<(f64, f64), String> {
     let reference_pressure: std::collections::HashMap<i64, f64> =
         reference.pressure.iter().map(|&(x, q)| (key([x, 0.0]).0, q)).collect();
     let (mut dp, mut np, mut m) = (0.0, 0.0, 0usize);
-    for &(x, q) in b.pressure.iter().filter(|(x, _)| x.abs() <= INNER + 1e-12) {
+    let (mut dw, mut nw) = (0.0, 0.0);
+    for &(x, q) in &b.pressure {
         let r =
             *reference_pressure.get(&key([x, 0.0]).0).ok_or_else(|| format!("no meshed contact point at x = {x}"))?;
-        dp += (q - r).powi(2);
-        np += r * r;
-        m += 1;
+        dw += (q - r).powi(2);
+        nw += r * r;
+        if x.abs() <= INNER + 1e-12 {
+            dp += (q - r).powi(2);
+            np += r * r;
+            m += 1;
+        }
     }
     ensure(m >= 10, || format!("only {m} interface points compared"))?;
-    Ok(((du / nu).sqrt(), (dp / np).sqrt()))
+    Ok(((du / nu).sqrt(), (dp / np).sqrt(), (dw / nw).sqrt()))
 }
 
 /// The thicknesses compared: L/20, L/40, L/80.
 const THICKNESSES: [f64; 3] = [WIDTH / 20.0, WIDTH / 40.0, WIDTH / 80.0];
 
 /// Bonded layer, every point closed: the differences at the three thicknesses, their observed
-/// order between successive thicknesses within [0.85, 1.15] of the theory's 1 (the layer's
-/// discretisation error, below 3 % of the difference, moves an order by less than
-/// log2(1.03/0.97) = 0.09), and at `e = L/80` differences below 1.5 % (displacement) and 1 %
-/// (pressure). The cut layer (unilateral contact with the layer, Tresca 1e12) gives the bonded
-/// answer here (every point closed and stuck) to 1e-8. Measured (meshed layer with 16 cells
-/// through e, block cells L/80): see the report in docs/validation.md.
+/// order between successive thicknesses within [0.85, 1.15] of the theory's 1, and at
+/// `e = L/80` differences below 1.5 % (displacement) and 1 % (pressure). The band: the meshes'
+/// share of the difference is below 2 % (checked at the end: halving every cell moves it by
+/// 0.3 %), which moves an order by at most log2(1.02/0.98) = 0.06; the rest is the expansion's
+/// next term, O(e²), whose share at e = L/20 is a few per cent (the measured orders are
+/// 0.95–1.01). The cut layer (unilateral contact with the layer, Tresca 1e12) gives the
+/// bonded answer here (every point closed and stuck) to 1e-8.
+///
+/// Measured: displacement 4.33e-2, 2.20e-2, 1.11e-2 (orders 0.978, 0.983), pressure at
+/// `|x| ≤ 0.4 L` 2.29e-2, 1.18e-2, 5.88e-3 (orders 0.953, 1.006); cut vs bonded 1.3e-11. The
+/// nodal pressure over the whole interface differs by 8.9 % at every e: the two end nodes
+/// compare the meshed layer's traction at its corners, singular (the layer's free edge meets
+/// the bonded faces), with the springs' finite one.
 pub fn thin_layer_against_meshed_layer(s: &Session) -> Result<(), String> {
     let shear = 0.2 * PRESSURE;
     let mut rows = Vec::new();
@@ -259,38 +280,41 @@ pub fn thin_layer_against_meshed_layer(s: &Session) -> Result<(), String> {
         ensure(reference.open == 0, || format!("meshed layer e = {e}: {} open points", reference.open))?;
         let bonded = springs(s, e, BLOCK_CELL, true, shear)?;
         let cut = springs(s, e, BLOCK_CELL, false, shear)?;
-        let (du, dp) = differences(&reference, &bonded)?;
+        let (du, dp, dw) = differences_with_ends(&reference, &bonded)?;
         // The cut layer, closed and stuck everywhere, is the bonded one.
         let (cu, cp) = differences(&bonded, &cut)?;
         eprintln!(
-            "    e = L/{:.0}: springs vs meshed: displacement {du:.4e}, pressure (|x| <= {INNER}) {dp:.4e}; cut vs bonded \
-             {cu:.1e}, {cp:.1e}",
+            "    e = L/{:.0}: springs vs meshed: displacement {du:.4e}, pressure (|x| <= {INNER}) {dp:.4e} (whole \
+             interface {dw:.4e}); cut vs bonded {cu:.1e}, {cp:.1e}",
             WIDTH / e
         );
         ensure(cut.open == 0 && cu <= 1e-8 && cp <= 1e-8, || {
             format!("e = {e}: the cut layer differs from the bonded one by {cu:e}, {cp:e} ({} open)", cut.open)
         })?;
-        rows.push((e, du, dp));
+        rows.push((e, du, dp, dw));
     }
     for w in rows.windows(2) {
-        let (e0, du0, dp0) = w[0];
-        let (e1, du1, dp1) = w[1];
+        let (e0, du0, dp0, dw0) = w[0];
+        let (e1, du1, dp1, dw1) = w[1];
         let order_u = (du0 / du1).ln() / (e0 / e1).ln();
         let order_p = (dp0 / dp1).ln() / (e0 / e1).ln();
-        eprintln!("    order from e = {e0} to {e1}: displacement {order_u:.3}, pressure {order_p:.3}");
+        let order_w = (dw0 / dw1).ln() / (e0 / e1).ln();
+        eprintln!(
+            "    order from e = {e0} to {e1}: displacement {order_u:.3}, pressure {order_p:.3} (whole interface {order_w:.3})"
+        );
         ensure((0.85..=1.15).contains(&order_u) && (0.85..=1.15).contains(&order_p), || {
             format!("e = {e0} to {e1}: observed orders {order_u:.3} (displacement), {order_p:.3} (pressure), theory 1")
         })?;
     }
-    let (e, du, dp) = rows[rows.len() - 1];
+    let (e, du, dp, _) = rows[rows.len() - 1];
     ensure(du <= 0.015 && dp <= 0.01, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))?;
     // The differences are the model's error, not the meshes': at e = L/80 with the block's cells
-    // and the layer's halved, they change by less than 5 %.
+    // and the layer's halved, they change by less than 2 % (measured 0.3 % and 0.05 %).
     let reference = meshed(s, e, BLOCK_CELL / 2.0, 32, shear)?;
     let bonded = springs(s, e, BLOCK_CELL / 2.0, true, shear)?;
     let (fu, fp) = differences(&reference, &bonded)?;
     eprintln!("    e = L/80, meshes halved: displacement {fu:.4e}, pressure {fp:.4e}");
-    ensure((fu / du - 1.0).abs() <= 0.05 && (fp / dp - 1.0).abs() <= 0.05, || {
+    ensure((fu / du - 1.0).abs() <= 0.02 && (fp / dp - 1.0).abs() <= 0.02, || {
         format!("e = L/80: the differences {du:e}, {dp:e} become {fu:e}, {fp:e} on meshes halved")
     })
 }
@@ -301,7 +325,10 @@ pub fn thin_layer_against_meshed_layer(s: &Session) -> Result<(), String> {
 /// for `x < −0.24 L` (in both models). The displacement difference and the pressure difference
 /// (`|x| ≤ 0.4 L`, the lift-off point inside) are of order e too: the observed orders within
 /// [0.8, 1.2] (the lift-off point moves with e by less than a block cell, a discrete jump that
-/// widens the band), the difference at `e = L/80` below 1.5 % (displacement) and 2 % (pressure).
+/// widens the band), the difference at `e = L/80` below 2 % (displacement and pressure).
+/// Measured: displacement 5.49e-2, 2.82e-2, 1.43e-2 (orders 0.963, 0.973), pressure 4.01e-2,
+/// 2.12e-2, 1.07e-2 (orders 0.919, 0.991); the block's bottom is open up to x = −0.2625 (the
+/// springs; the meshed layer's top: −0.228, −0.241, −0.248, approaching it).
 pub fn thin_layer_cut_against_meshed_layer_lifting_off(s: &Session) -> Result<(), String> {
     let shear = 0.5 * PRESSURE;
     let mut rows = Vec::new();
@@ -335,5 +362,5 @@ pub fn thin_layer_cut_against_meshed_layer_lifting_off(s: &Session) -> Result<()
         })?;
     }
     let (_, du, dp) = rows[rows.len() - 1];
-    ensure(du <= 0.015 && dp <= 0.02, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))
+    ensure(du <= 0.02 && dp <= 0.02, || format!("e = L/80: differences {du:e} (displacement), {dp:e} (pressure)"))
 }
