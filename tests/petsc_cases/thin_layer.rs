@@ -56,7 +56,7 @@
 use signorini::interface_law::InterfaceSnapshot;
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
-use signorini::scene::{InterfaceLawSpec, InterfaceSpec, Scene, ThinLayerSpec};
+use signorini::scene::{FrictionSpec, InterfaceLawSpec, InterfaceSpec, Scene, ThinLayerSpec};
 
 use super::{ensure, manifest};
 
@@ -189,6 +189,10 @@ fn springs(s: &Session, thickness: f64, block_cell: f64, bonded: bool, shear: f6
     let path = manifest("thin_layer_springs.toml");
     let mut scene = Scene::from_str(&springs_text(block_cell, shear), &path).map_err(|e| e.to_string())?;
     let contact = scene.contact.as_mut().ok_or("springs: no contact")?;
+    if bonded {
+        // A bonded layer has no friction (the scene refuses one beside it).
+        contact.friction = FrictionSpec::None;
+    }
     contact.interface = Some(InterfaceSpec {
         law: InterfaceLawSpec::ThinLayer(ThinLayerSpec {
             young: LAYER_YOUNG_PER_THICKNESS * thickness,
