@@ -43,8 +43,9 @@
 //! `"body.part"` (split at the first `.`, so the part name may hold dots). A single-body scene is
 //! one body named [`SINGLE_BODY_NAME`] ([`Scene::bodies`]).
 use super::contact::friction_from;
-use super::convert::{body_data, BodyData, BodyTables, Scope};
+use super::convert::{body_data, BodyData, BodyTables, Scope, Table};
 use super::diagnostic::{closest, Source};
+use super::interface::{interface_spec, ContactFrictionKeys};
 use super::raw::{RawBody, RawContactPair, RawScene};
 use super::{
     boundary_group, node_at, ContactSpec, DirichletSpec, DirichletTarget, FrictionSpec, MaterialSpec, MeshSpec,
@@ -499,6 +500,28 @@ pub(super) fn contact_pair_specs(
                 "write one [[contact_pair]] per pair of parts: remove this one",
             ));
         }
+        let interface = match &pair.interface {
+            Some(raw) => {
+                // The pair's interface table: its [contact_pair.interface] header between this
+                // pair's header and the next one, else its first key (written inline).
+                let next = src.table_header("contact_pair", true, index + 1).map_or(src.text.len(), |h| h.start);
+                let first = raw.present_keys().first().map(|(_, s)| s.clone());
+                let header = src.table_header_within("contact_pair.interface", false, 0, span.start..next);
+                let table = Table {
+                    src,
+                    name: "[contact_pair.interface]".to_string(),
+                    span: header.or(first).unwrap_or(span.clone()),
+                };
+                let keys = ContactFrictionKeys {
+                    friction: &pair.friction,
+                    mu: &pair.mu,
+                    threshold: &pair.threshold,
+                    table: "this [[contact_pair]]".to_string(),
+                };
+                Some(interface_spec(src, &table, raw, &keys)?)
+            }
+            None => None,
+        };
         let friction = friction_from(src, &pair.friction, &pair.mu, &pair.threshold)?;
         let max_initial_overlap = match &pair.max_initial_overlap {
             Some(v) => {
@@ -519,7 +542,7 @@ pub(super) fn contact_pair_specs(
             master,
             friction,
             max_initial_overlap,
-            interface: None,
+            interface,
             at: src.location(span.start),
         });
     }

@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use super::bodies::{BodySpec, ContactPairSpec, PartRef, Placement};
 use super::contact::{ContactSolverSpec, ContactSpec, FrictionSpec, ObstacleSpec};
+use super::interface::{InterfaceLawSpec, InterfaceSpec};
 use super::{
     DirichletSpec, DirichletTarget, DualConstraints, EvolutionSpec, Formulation, Load, MaterialSpec, MeshSpec, Mesher,
     PlaneSpec, RefineSpec, Scene, TractionSpec,
@@ -85,9 +86,12 @@ impl Scene {
                         string(&p.slave.to_string()),
                         string(&p.master.to_string())
                     );
-                    friction_lines(&mut t, p.friction);
+                    contact_friction_lines(&mut t, p.friction, &p.interface);
                     if let Some(overlap) = p.max_initial_overlap {
                         let _ = writeln!(t, "max_initial_overlap = {}", num(overlap));
+                    }
+                    if let Some(interface) = &p.interface {
+                        interface_lines(&mut t, "contact_pair.interface", interface);
                     }
                 }
             }
@@ -356,7 +360,7 @@ fn write_body(t: &mut String, body: &BodySpec, prefix: &str, top: Option<(Formul
             }
         }
         let _ = writeln!(t, "gap = {}", num(c.gap));
-        friction_lines(t, c.friction);
+        contact_friction_lines(t, c.friction, &c.interface);
         let _ = writeln!(t, "solver = \"{}\"", c.solver.scene_name());
         if let ContactSolverSpec::Relaxation { omega } = c.solver {
             let _ = writeln!(t, "omega = {}", num(omega));
@@ -371,6 +375,64 @@ fn write_body(t: &mut String, body: &BodySpec, prefix: &str, top: Option<(Formul
             let _ = writeln!(t, "motion = {}", pair(m));
         }
         name_line(t, &c.name);
+        if let Some(interface) = &c.interface {
+            interface_lines(t, &format!("{prefix}contact.interface"), interface);
+        }
+    }
+}
+
+/// The friction lines of a contact, but no `friction = "none"` beside an interface law that
+/// has its own friction or none (the reader refuses any friction key there).
+fn contact_friction_lines(t: &mut String, friction: FrictionSpec, interface: &Option<InterfaceSpec>) {
+    let law_owns_friction = interface.as_ref().is_some_and(|i| !i.law.takes_contact_friction());
+    if !(law_owns_friction && friction == FrictionSpec::None) {
+        friction_lines(t, friction);
+    }
+}
+
+/// The interface table `[header]` (written last in its contact's tables).
+fn interface_lines(t: &mut String, header: &str, interface: &InterfaceSpec) {
+    let _ = writeln!(t, "[{header}]\nlaw = \"{}\"", interface.law.name());
+    match &interface.law {
+        InterfaceLawSpec::ThinLayer(l) => {
+            let _ = writeln!(
+                t,
+                "young = {}\npoisson = {}\nthickness = {}\nbonded = {}",
+                num(l.young),
+                num(l.poisson),
+                num(l.thickness),
+                l.bonded
+            );
+        }
+        InterfaceLawSpec::Rccm(l) => {
+            let _ = writeln!(
+                t,
+                "normal_stiffness = {}\ntangential_stiffness = {}\nadhesion_energy = {}\nviscosity = {}\nmu = {}\n\
+                 initial_adhesion = {}",
+                num(l.normal_stiffness),
+                num(l.tangential_stiffness),
+                num(l.adhesion_energy),
+                num(l.viscosity),
+                num(l.mu),
+                num(l.initial_adhesion)
+            );
+        }
+        InterfaceLawSpec::CohesiveJoint(l) => {
+            let _ = writeln!(
+                t,
+                "cohesion = {}\ntensile_strength = {}\nmu = {}\nfracture_energy_tension = {}\n\
+                 fracture_energy_shear = {}",
+                num(l.cohesion),
+                num(l.tensile_strength),
+                num(l.mu),
+                num(l.fracture_energy_tension),
+                num(l.fracture_energy_shear)
+            );
+        }
+    }
+    if !interface.trace.is_empty() {
+        let list: Vec<String> = interface.trace.iter().map(|p| pair(*p)).collect();
+        let _ = writeln!(t, "trace = [{}]", list.join(", "));
     }
 }
 
@@ -420,6 +482,7 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
 /// | [`petsc_options`](Self::petsc_options), [`output_dir`](Self::output_dir) | `[solver]`, `[output]` |
 /// | [`named`](Self::named) (after a load's call) | `name` of `[[traction]]`, `[[dirichlet]]`, `[loads]`, `[contact]` |
 /// | [`obstacle_motion`](Self::obstacle_motion) | `[contact]` `motion` |
+/// | [`interface`](Self::interface), [`interface_trace`](Self::interface_trace) | `[contact.interface]` (`law` and its keys), its `trace` |
 /// | [`evolution_steps`](Self::evolution_steps), [`evolution_times`](Self::evolution_times), [`evolution_start`](Self::evolution_start), [`evolution_monitor`](Self::evolution_monitor), [`evolution_profiles`](Self::evolution_profiles) | `[evolution]` `steps`, `times`, `start`, `monitor`, `profiles` |
 /// | [`load_factor`](Self::load_factor) (any number) | `[evolution.factor]` |
 ///
@@ -483,6 +546,9 @@ pub struct SceneBuilder {
     /// The obstacle's `motion` and its load name.
     motion: Option<[f64; 2]>,
     motion_name: Option<String>,
+    /// `[contact.interface]`: the law and its trace points.
+    interface: Option<InterfaceLawSpec>,
+    interface_trace: Option<Vec<[f64; 2]>>,
     /// The load path (`[evolution]`).
     evolution: PendingEvolution,
     /// The load the previous call added or set (which [`SceneBuilder::named`] names), or the
@@ -507,13 +573,15 @@ fn built_in_rust_error(message: String, hint: String) -> Error {
 }
 
 /// The settings of the contact (each needs an obstacle), as [`SceneBuilder`]'s calls name them.
-const CONTACT_SETTINGS: [&str; 6] = [
+const CONTACT_SETTINGS: [&str; 8] = [
     "the gap",
     "the friction",
     "the contact solver",
     "the contact tolerance",
     "the contact iteration limit",
     "the obstacle's motion",
+    "the interface law",
+    "the interface's trace points",
 ];
 
 /// A load a builder call added or set, for [`SceneBuilder::named`].
@@ -561,6 +629,8 @@ impl SceneBuilder {
             max_iterations: None,
             motion: None,
             motion_name: None,
+            interface: None,
+            interface_trace: None,
             evolution: PendingEvolution::default(),
             last_load: Err("the shape"),
             called: Vec::new(),
@@ -791,6 +861,24 @@ impl SceneBuilder {
         self.max_iterations = Some(max_iterations);
         self
     }
+    /// The interface law of the contact (`[contact.interface]`): a thin layer, RCCM adhesion or
+    /// a cohesive joint, checked as in a scene file (RCCM and the joint need a load path,
+    /// [`evolution_steps`](Self::evolution_steps), and take no [`coulomb`](Self::coulomb) or
+    /// [`tresca`](Self::tresca): their friction is the law's `mu`; nor does a bonded layer).
+    /// Needs a contact obstacle.
+    pub fn interface(mut self, law: InterfaceLawSpec) -> Self {
+        self.once("interface", "the interface law");
+        self.interface = Some(law);
+        self
+    }
+    /// The points whose τ–δ curves the outputs plot (`[contact.interface] trace`: the contact
+    /// point nearest each; default the first, middle and last). Needs
+    /// [`interface`](Self::interface).
+    pub fn interface_trace(mut self, points: &[[f64; 2]]) -> Self {
+        self.once("interface_trace", "the interface's trace points");
+        self.interface_trace = Some(points.to_vec());
+        self
+    }
     /// PETSc options as on a command line, split at whitespace (`[solver] petsc_options`); a
     /// second call adds its options after the first's. Command-line options win over them.
     pub fn petsc_options(mut self, options: &str) -> Self {
@@ -905,6 +993,8 @@ impl SceneBuilder {
             max_iterations,
             motion,
             motion_name,
+            interface,
+            interface_trace,
             evolution,
             last_load: _,
             called,
@@ -922,6 +1012,22 @@ impl SceneBuilder {
                 "add the contact with .contact_line(..), .contact_circle(..) or .contact_polyline(..) (the calls \
                  may come in any order), or remove the call"
                     .into(),
+            ));
+        }
+        if interface_trace.as_ref().is_some_and(|t| t.is_empty()) {
+            refused.push((
+                "SceneBuilder::interface_trace".into(),
+                "the list of trace points holds no point".into(),
+                "give the points whose τ–δ curves are plotted, or remove the call for the default (the first, \
+                 middle and last contact points)"
+                    .into(),
+            ));
+        }
+        if interface.is_none() && interface_trace.is_some() {
+            refused.push((
+                "SceneBuilder::interface_trace".into(),
+                "there is no interface law: without one the trace points would be ignored".into(),
+                "add the law with .interface(..), or remove the call".into(),
             ));
         }
         match &mut scene.mesh {
@@ -978,7 +1084,11 @@ impl SceneBuilder {
             max_iterations,
             motion,
             name: motion_name,
-            interface: None,
+            interface: interface.map(|law| InterfaceSpec {
+                law,
+                trace: interface_trace.unwrap_or_default(),
+                at: here(),
+            }),
             at: here(),
         });
         scene.evolution = evolution.read(&scene)?;
@@ -1020,6 +1130,8 @@ pub struct BodiesBuilder {
     evolution: PendingEvolution,
     /// Calls set twice (the first is `build()`'s error).
     twice: Vec<&'static str>,
+    /// Calls refused otherwise: the call, why and what to do (after `twice`).
+    refused: Vec<(String, String, String)>,
 }
 
 impl BodiesBuilder {
@@ -1035,6 +1147,7 @@ impl BodiesBuilder {
             contact_solver: None,
             evolution: PendingEvolution::default(),
             twice: Vec::new(),
+            refused: Vec::new(),
         }
     }
 
@@ -1089,6 +1202,46 @@ impl BodiesBuilder {
             interface: None,
             at: here(),
         });
+        self
+    }
+
+    /// The interface law of the pair added just before (`[contact_pair.interface]`), checked as
+    /// in a scene file (see [`SceneBuilder::interface`]; RCCM and the joint take the pair's
+    /// friction `FrictionSpec::None`). Refused by `build()` before any pair, or a second time for
+    /// the same pair.
+    pub fn pair_interface(mut self, law: InterfaceLawSpec) -> Self {
+        match self.pairs.last_mut() {
+            Some(ContactPairSpec { interface: Some(_), slave, master, .. }) => self.refused.push((
+                format!("BodiesBuilder::pair_interface (pair {slave} / {master})"),
+                "the pair's interface law is set twice: this call would replace the first".into(),
+                "keep one .pair_interface(..) after each .pair(..)".into(),
+            )),
+            Some(pair) => pair.interface = Some(InterfaceSpec { law, trace: Vec::new(), at: here() }),
+            None => self.refused.push((
+                "BodiesBuilder::pair_interface".into(),
+                "it sets the interface of the pair added just before it, but no pair was added yet".into(),
+                "call .pair_interface(..) right after the .pair(..) it applies to".into(),
+            )),
+        }
+        self
+    }
+
+    /// The trace points of the interface of the pair added just before
+    /// ([`SceneBuilder::interface_trace`]); after [`pair_interface`](Self::pair_interface).
+    pub fn pair_interface_trace(mut self, points: &[[f64; 2]]) -> Self {
+        match self.pairs.last_mut().and_then(|p| p.interface.as_mut()) {
+            Some(interface) if interface.trace.is_empty() => interface.trace = points.to_vec(),
+            Some(_) => self.refused.push((
+                "BodiesBuilder::pair_interface_trace".into(),
+                "the trace points of the pair's interface are set twice: this call would replace the first".into(),
+                "keep one .pair_interface_trace(..) per pair".into(),
+            )),
+            None => self.refused.push((
+                "BodiesBuilder::pair_interface_trace".into(),
+                "the pair added just before has no interface law: the trace points would be ignored".into(),
+                "call .pair_interface(..) first, right after the .pair(..)".into(),
+            )),
+        }
         self
     }
 
@@ -1202,6 +1355,9 @@ impl BodiesBuilder {
                 "keep one call for each setting of the load path".into(),
             ));
         }
+        if let Some((call, message, hint)) = self.refused.first() {
+            return Err(built_in_rust_error(format!("{call}: {message}"), hint.clone()));
+        }
         if let Some((call, message, hint)) = self.evolution.refusal("BodiesBuilder") {
             return Err(built_in_rust_error(format!("{call}: {message}"), hint));
         }
@@ -1287,6 +1443,10 @@ fn builder_call(text: &str, line: usize) -> String {
             p if p != ".." => format!("SceneBuilder::dirichlet_point({p}, ..)"),
             _ => format!("SceneBuilder::dirichlet({}, ..)", value("part")),
         },
+        ("contact.interface", Some("trace")) => "SceneBuilder::interface_trace".into(),
+        ("contact.interface", _) => "SceneBuilder::interface".into(),
+        ("contact_pair.interface", Some("trace")) => "BodiesBuilder::pair_interface_trace".into(),
+        ("contact_pair.interface", _) => "BodiesBuilder::pair_interface".into(),
         ("contact", Some("gap")) => "SceneBuilder::gap".into(),
         ("contact", Some("friction" | "mu" | "threshold")) => {
             format!("SceneBuilder::{}", of_value("friction", &[("tresca", "tresca")], "coulomb"))

@@ -51,6 +51,7 @@
 use super::convert::{Scope, Table};
 use super::diagnostic::Source;
 use super::evolution::load_name;
+use super::interface::{interface_spec, ContactFrictionKeys};
 use super::raw::Leaf;
 use super::raw::RawContact;
 use super::{DirichletSpec, DirichletTarget};
@@ -256,6 +257,22 @@ pub(super) fn contact_spec(
     let obstacle = obstacle_spec(src, c, &table, kind)?;
 
     let gap = c.gap.as_ref().map(|v| src.number(v, "gap")).transpose()?.unwrap_or(0.0);
+    // Before the friction: a friction key beside a law with its own friction gets the law's
+    // message, not the friction table's.
+    let interface = match &c.interface {
+        Some(raw) => {
+            let first = raw.present_keys().first().map(|(_, s)| s.clone());
+            let table = scope.table(src, "contact.interface", false, 0, first);
+            let keys = ContactFrictionKeys {
+                friction: &c.friction,
+                mu: &c.mu,
+                threshold: &c.threshold,
+                table: scope.name("contact", false),
+            };
+            Some(interface_spec(src, &table, raw, &keys)?)
+        }
+        None => None,
+    };
     let friction = friction_spec(src, c)?;
     let solver = solver_spec(src, c, &friction)?;
 
@@ -309,19 +326,7 @@ pub(super) fn contact_spec(
              displacement at factor 1, m), or remove the name",
         ));
     }
-    Ok(ContactSpec {
-        part,
-        obstacle,
-        gap,
-        friction,
-        solver,
-        tolerance,
-        max_iterations,
-        motion,
-        name,
-        interface: None,
-        at,
-    })
+    Ok(ContactSpec { part, obstacle, gap, friction, solver, tolerance, max_iterations, motion, name, interface, at })
 }
 
 fn obstacle_spec(src: &Source, c: &RawContact, table: &Table, kind: &str) -> Result<ObstacleSpec> {

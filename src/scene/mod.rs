@@ -454,6 +454,13 @@ impl Scene {
             }
             None => None,
         };
+        if raw.evolution.is_none() {
+            let rigid = raw.contact.iter().chain(raw.body.iter().filter_map(|b| b.contact.as_ref()));
+            let interfaces = rigid
+                .filter_map(|c| c.interface.as_ref())
+                .chain(raw.contact_pair.iter().filter_map(|p| p.interface.as_ref()));
+            interface::memory_law_without_evolution(&src, interfaces)?;
+        }
         let BodyData { mesh, order, element, material, body_force, body_force_name, tractions, dirichlet, contact } =
             data;
         Ok(Scene {

@@ -82,6 +82,31 @@ pub(super) struct RawContactPair {
     pub mu: Leaf,
     pub threshold: Leaf,
     pub max_initial_overlap: Leaf,
+    pub interface: Option<RawInterface>,
+}
+
+/// `[contact.interface]`, `[contact_pair.interface]` (or `interface = { ... }`): the interface
+/// law of a contact. Every law's keys are accepted here; which apply to the chosen `law` is
+/// checked by the conversion (`interface::interface_spec`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "an interface table")]
+pub(super) struct RawInterface {
+    pub law: Leaf,
+    pub young: Leaf,
+    pub poisson: Leaf,
+    pub thickness: Leaf,
+    pub bonded: Leaf,
+    pub normal_stiffness: Leaf,
+    pub tangential_stiffness: Leaf,
+    pub adhesion_energy: Leaf,
+    pub viscosity: Leaf,
+    pub mu: Leaf,
+    pub initial_adhesion: Leaf,
+    pub cohesion: Leaf,
+    pub tensile_strength: Leaf,
+    pub fracture_energy_tension: Leaf,
+    pub fracture_energy_shear: Leaf,
+    pub trace: Leaf,
 }
 
 #[derive(Deserialize)]
@@ -176,6 +201,7 @@ pub(super) struct RawContact {
     pub omega: Leaf,
     pub motion: Leaf,
     pub name: Leaf,
+    pub interface: Option<RawInterface>,
 }
 
 #[derive(Deserialize)]
@@ -229,7 +255,28 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "contact",
         ],
     ),
-    ("[[contact_pair]]", &["slave", "master", "friction", "mu", "threshold", "max_initial_overlap"]),
+    ("[[contact_pair]]", &["slave", "master", "friction", "mu", "threshold", "max_initial_overlap", "interface"]),
+    (
+        "an interface table ([contact.interface] or [contact_pair.interface])",
+        &[
+            "law",
+            "young",
+            "poisson",
+            "thickness",
+            "bonded",
+            "normal_stiffness",
+            "tangential_stiffness",
+            "adhesion_energy",
+            "viscosity",
+            "mu",
+            "initial_adhesion",
+            "cohesion",
+            "tensile_strength",
+            "fracture_energy_tension",
+            "fracture_energy_shear",
+            "trace",
+        ],
+    ),
     ("[mesh]", &["shape", "origin", "size", "center", "radius", "file", "geometry", "cell_size", "mesher", "refine"]),
     ("mesh.refine", &["point", "cell_size", "radius"]),
     ("[discretization]", &["order", "element", "formulation", "dual_constraints"]),
@@ -258,6 +305,7 @@ pub(super) const TABLE_KEYS: &[(&str, &[&str])] = &[
             "omega",
             "motion",
             "name",
+            "interface",
         ],
     ),
     ("[solver]", &["petsc_options"]),
@@ -319,6 +367,35 @@ impl RawBody {
 impl RawContactPair {
     pub fn first_span(&self) -> Option<Range<usize>> {
         first_span(&[&self.slave, &self.master, &self.friction, &self.mu, &self.threshold, &self.max_initial_overlap])
+    }
+}
+
+impl RawInterface {
+    /// The keys written in the interface table, each with the span of its value, in file order.
+    pub fn present_keys(&self) -> Vec<(&'static str, Range<usize>)> {
+        let mut keys: Vec<(&'static str, Range<usize>)> = [
+            ("law", &self.law),
+            ("young", &self.young),
+            ("poisson", &self.poisson),
+            ("thickness", &self.thickness),
+            ("bonded", &self.bonded),
+            ("normal_stiffness", &self.normal_stiffness),
+            ("tangential_stiffness", &self.tangential_stiffness),
+            ("adhesion_energy", &self.adhesion_energy),
+            ("viscosity", &self.viscosity),
+            ("mu", &self.mu),
+            ("initial_adhesion", &self.initial_adhesion),
+            ("cohesion", &self.cohesion),
+            ("tensile_strength", &self.tensile_strength),
+            ("fracture_energy_tension", &self.fracture_energy_tension),
+            ("fracture_energy_shear", &self.fracture_energy_shear),
+            ("trace", &self.trace),
+        ]
+        .into_iter()
+        .filter_map(|(k, leaf)| span_of(leaf).map(|s| (k, s)))
+        .collect();
+        keys.sort_by_key(|(_, s)| s.start);
+        keys
     }
 }
 

@@ -8,6 +8,7 @@ mod contact;
 mod element_and_formulation;
 mod evolution;
 mod examples;
+mod interface;
 mod mesh_parts;
 mod obstacles;
 mod point_dirichlet;
