@@ -14,6 +14,7 @@ mod mpi;
 mod run_output;
 mod several_bodies;
 mod solver_options;
+mod thin_layer;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

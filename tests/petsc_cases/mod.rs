@@ -34,6 +34,7 @@ mod locking;
 mod mpi_callbacks;
 mod progress;
 mod runner;
+mod thin_layer;
 
 type Case = fn(&Session) -> Result<(), String>;
 
@@ -170,6 +171,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("two_body_patch_nonmatching_p2", bodies_blocks::two_body_patch_nonmatching_p2),
     ("square_block_on_stiff_foundation", bodies_blocks::square_block_on_stiff_foundation),
     ("three_block_stack", bodies_blocks::three_block_stack),
+    ("thin_layer_against_meshed_layer", thin_layer::thin_layer_against_meshed_layer),
+    ("thin_layer_cut_against_meshed_layer_lifting_off", thin_layer::thin_layer_cut_against_meshed_layer_lifting_off),
     ("bodies_errors_name_what_is_wrong", bodies_blocks::bodies_errors_name_what_is_wrong),
     ("point_condition_at_a_shared_place_is_its_bodys", bodies_blocks::point_condition_at_a_shared_place_is_its_bodys),
     ("which_side_is_slave_decides_the_pointwise_check", bodies_sides::which_side_is_slave_decides_the_pointwise_check),
