@@ -128,6 +128,32 @@ pub fn solver_description(r: &Report) -> String {
     }
 }
 
+/// The interface law's line: the laws, then the final interface's extremes and the worst law
+/// residual of the run (`thin_layer: 41 point(s), max opening 1.2e-6 m, ...`).
+pub fn interface_line(i: &signorini::report::interface::InterfaceReport) -> String {
+    let mut laws: Vec<&str> = Vec::new();
+    for law in &i.laws {
+        if !laws.contains(&law.as_str()) {
+            laws.push(law);
+        }
+    }
+    let l = &i.last;
+    let mut parts = vec![
+        format!("{} point(s)", l.points),
+        format!("max opening {:.4e} m", l.max_opening),
+        format!("max |slip| {:.4e} m", l.max_slip),
+    ];
+    if let Some(b) = l.min_adhesion {
+        parts.push(format!("min adhesion {b:.4}"));
+    }
+    if let Some(d) = l.max_damage {
+        parts.push(format!("max damage {d:.4}"));
+    }
+    parts.push(format!("{} staggered iteration(s)", l.iterations));
+    parts.push(format!("worst law residual {}", relative(i.worst_law_residual)));
+    format!("{}: {}", laws.join(", "), parts.join(", "))
+}
+
 /// The summary's lines.
 pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     let mut out = Lines::default();
@@ -293,6 +319,9 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
                 ),
             );
         }
+    }
+    if let Some(i) = &r.interface {
+        out.add("interface", &interface_line(i));
     }
     if let Some(d) = &r.dual {
         out.add(
