@@ -400,6 +400,41 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_interface_line_names_each_law_once_and_the_variables_it_has() {
+        use signorini::output::interface::InterfaceSummary;
+        use signorini::report::interface::InterfaceReport;
+        let last = InterfaceSummary {
+            time: 2.0,
+            laws: vec!["rccm".into(), "thin_layer".into(), "rccm".into()],
+            points: 41,
+            iterations: 12,
+            min_adhesion: Some(0.25),
+            max_damage: None,
+            max_opening: 1.5e-6,
+            max_slip: 3e-5,
+            worst_law_residual: 2e-12,
+        };
+        let report = InterfaceReport {
+            laws: last.laws.clone(),
+            last: last.clone(),
+            worst_law_residual: 7e-11,
+            traced_points: vec![],
+        };
+        assert_eq!(
+            interface_line(&report),
+            "rccm, thin_layer: 41 point(s), max opening 1.5000e-6 m, max |slip| 3.0000e-5 m, min adhesion 0.2500, \
+             12 staggered iteration(s), worst law residual 7.0e-11"
+        );
+        let joint = InterfaceReport {
+            laws: vec!["cohesive_joint".into()],
+            last: InterfaceSummary { min_adhesion: None, max_damage: Some(1.0), ..last },
+            worst_law_residual: 0.0,
+            traced_points: vec![],
+        };
+        assert!(interface_line(&joint).contains("max damage 1.0000, 12 staggered iteration(s), worst law residual 0"));
+    }
+
+    #[test]
     fn long_text_wraps_within_the_width() {
         let mut l = Lines::default();
         let long = format!("{} {}", "word ".repeat(60), "x".repeat(250));
