@@ -27,6 +27,7 @@ mod dual_implicit;
 mod evolution;
 mod export;
 mod ict;
+mod interface_outputs;
 mod locking;
 mod mpi_callbacks;
 mod progress;
@@ -42,6 +43,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("estimate_at_every_increment", evolution::estimate_at_every_increment),
     ("load_path_halves_failed_increments", evolution::load_path_halves_failed_increments),
     ("square_block_path_dependence", evolution::square_block_path_dependence),
+    ("interface_files_of_a_static_run", interface_outputs::interface_files_of_a_static_run),
+    ("interface_files_of_a_load_path", interface_outputs::interface_files_of_a_load_path),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
