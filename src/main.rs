@@ -177,6 +177,10 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
         None => scene.formulation == signorini::scene::Formulation::Dual,
     };
     let estimate = args.estimate || scene.estimate;
+    if dual || estimate {
+        let what = if dual { "the dual formulation" } else { "the estimate (--estimate)" };
+        signorini::interface_law::refuse_dual(&scene, what)?;
+    }
     // What of the dual contact cannot run on several ranks is refused before any work starts.
     if (dual || estimate) && scene.contact.is_some() {
         signorini::dual::condensation::refuse_undistributable(session)?;

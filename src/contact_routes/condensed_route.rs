@@ -68,6 +68,9 @@ pub struct ContactSetup {
     /// With several bodies: the contact parts (pairs and rigid obstacles) the points come from,
     /// each with its friction law; `None` for one body (its friction is `spec.friction`).
     pub parts: Option<crate::problem::bodies::ContactParts>,
+    /// The interface laws of the contact's points, when the scene has some
+    /// ([`crate::interface_law::staggered`]).
+    pub interface: Option<crate::interface_law::staggered::InterfaceLaws>,
 }
 
 pub fn obstacle_of(spec: &ObstacleSpec) -> Result<Obstacle> {
@@ -168,7 +171,15 @@ impl ContactSetup {
         let obstacle = obstacle_of(&spec.obstacle)?;
         let boundary = ContactBoundary::with_prescribed(mesh, group, &obstacle, spec.gap, prescribed)?;
         let spring_dofs = spring_dofs(&boundary, prescribed);
-        Ok(ContactSetup { spec: spec.clone(), boundary, spring: None, free_motions, spring_dofs, parts: None })
+        Ok(ContactSetup {
+            spec: spec.clone(),
+            boundary,
+            spring: None,
+            free_motions,
+            spring_dofs,
+            parts: None,
+            interface: None,
+        })
     }
 
     /// Why a body that the contact should hold has no closed point, when its position says
@@ -545,7 +556,8 @@ impl ContactSetup {
         progress: &dyn crate::problem::Progress,
     ) -> Result<CondensedOperator<'a, 's>> {
         let m = self.boundary.points();
-        let frictional = !matches!(self.friction_law(), FrictionLaw::None);
+        // An interface law's springs and compliances act on the tangential unknowns too.
+        let frictional = !matches!(self.friction_law(), FrictionLaw::None) || self.interface.is_some();
         let (mut w, linear, solves) = self.flexibility(session, matrix, ksp, frictional, progress)?;
         if !frictional {
             // Tangential block never used (rT stays 0): keep W symmetric positive definite.
@@ -595,19 +607,40 @@ impl ContactSetup {
         // are anchored at the previous displacement, so their force vanishes at convergence.
         let mut anchor = increment.start_displacement.clone().unwrap_or_else(|| vec![0.0; n]);
         let mut history: Vec<f64> = Vec::new();
-        let mut initial_force: Option<Vec<f64>> = increment.start_force.clone();
+        let mut interface_base_force = increment.start_force.clone();
+        // With interface laws the solver's unknown is the contact force r' (all points), not r.
+        let mut initial_force: Option<Vec<f64>> = match &increment.interface {
+            Some(i) => i.start_contact_force.clone(),
+            None => increment.start_force.clone(),
+        };
         let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::<f64>::new());
         let base_tolerance = settings.tolerance;
         let mut step_iterations = Vec::new();
         loop {
             let rk = self.anchored_load(f, &anchor, rows.clone());
+            // With interface laws on a body held by the stabilisation springs: the free
+            // displacement under f + Bᵀ r_prev (the last total force), so that it stays of the
+            // size of the answer instead of the weak springs' (interface_law::condensed,
+            // "base force": the parallel springs' cancellation is then small).
+            let base_force = match (&increment.interface, self.spring) {
+                (Some(_), Some(_)) => interface_base_force.clone(),
+                _ => None,
+            };
             let mut u_free = match (&increment.free_field, self.spring) {
                 (Some(field), None) => {
                     operator.solves += 1;
                     b.gather(field)
                 }
                 _ => {
-                    e.set_owned(&rk)?;
+                    let mut load_k = rk.clone();
+                    if let Some(r) = &base_force {
+                        let mut load = vec![0.0; n];
+                        b.scatter_add(r, &mut load);
+                        for (t, l) in load_k.iter_mut().zip(&load[rows.clone()]) {
+                            *t += l;
+                        }
+                    }
+                    e.set_owned(&load_k)?;
                     operator.linear.solve(matrix, &e, &mut x)?;
                     operator.solves += 2;
                     b.gather(&x.gather_all()?)
@@ -617,6 +650,15 @@ impl ContactSetup {
                 *v -= s;
             }
             let problem = operator.problem.with_free_displacement(u_free)?;
+            let modified = match &increment.interface {
+                Some(i) => Some(crate::interface_law::condensed::ModifiedProblem::with_base_force(
+                    &problem,
+                    &i.modifications,
+                    i.last_contact_force.as_deref(),
+                    base_force.as_deref(),
+                )?),
+                None => None,
+            };
             settings.initial_force = initial_force.clone();
             // A warm-started solve accepts the previous force as it is when its residual is
             // below the tolerance: the force then stays frozen, the springs take up its error
@@ -628,17 +670,28 @@ impl ContactSetup {
                     settings.tolerance = base_tolerance.min((100.0 * reached).max(1e-3 * base_tolerance));
                 }
             }
-            let solution = if self.spec.solver == ContactSolverSpec::Tao {
+            let (solution, contact_force) = if let Some(md) = &modified {
+                let (solution, contact_force) = self.solve_modified(md, &settings, progress)?;
+                (solution, Some(contact_force))
+            } else if self.spec.solver == ContactSolverSpec::Tao {
                 progress.note(&format!("contact: {m} points, solver PETSc TAO (box-constrained QP)"));
-                self.solve_with_tao(session, &problem)?
+                (self.solve_with_tao(session, &problem)?, None)
             } else {
-                self.solve_condensed(&problem, &settings, progress)?
+                (self.solve_condensed(&problem, &settings, progress)?, None)
             };
             // The independent check accepts what the scene's tolerance accepts.
             let check = SolverSettings { tolerance: base_tolerance, ..settings.clone() };
             let solves = operator.solves;
-            let (u, mut outcome) =
-                self.recover_and_verify(matrix, &rk, &mut operator.linear, &problem, solution, &check, solves, shift)?;
+            let (u, mut outcome) = self.recover_and_verify(
+                matrix,
+                &rk,
+                &mut operator.linear,
+                (&problem, modified.as_ref()),
+                solution,
+                &check,
+                solves,
+                shift,
+            )?;
             total_iterations += outcome.report.iterations;
             step_iterations.push(outcome.report.iterations);
             all_changes.extend(outcome.report.status_changes.iter().copied());
@@ -662,7 +715,10 @@ impl ContactSetup {
                 return Ok((u, outcome));
             }
             anchor = u;
-            initial_force = Some(outcome.force);
+            if contact_force.is_some() {
+                interface_base_force = Some(outcome.force.clone());
+            }
+            initial_force = Some(contact_force.unwrap_or(outcome.force));
         }
     }
 
@@ -805,7 +861,7 @@ impl ContactSetup {
         matrix: &Matrix<'s>,
         rhs: &[f64],
         linear: &mut Factorised<'_, 's>,
-        problem: &CondensedProblem,
+        (problem, modified): (&CondensedProblem, Option<&crate::interface_law::condensed::ModifiedProblem>),
         solution: contact::ContactSolution,
         settings: &SolverSettings,
         linear_solves: usize,
@@ -831,17 +887,29 @@ impl ContactSetup {
         for (v, s) in uc.iter_mut().zip(shift) {
             *v -= s;
         }
-        let residuals = problem.residuals_at(&solution.force, &uc)?;
-        let status = problem.status_at(&solution.force, &uc)?;
         let accepted = self.acceptance(settings.tolerance);
-        if !residuals.is_acceptable(accepted) {
+        // With interface laws: the contact law on (r', u') recomputed from (r, B u) and the
+        // springs' residual (`interface_law::condensed`).
+        let (residuals, status, failed) = match modified {
+            Some(md) => {
+                let checked = md.residuals_at(&solution.force, &uc)?;
+                let failed = (!checked.is_acceptable(accepted)).then(|| (checked.to_string(), checked.worst()));
+                (checked.contact, md.status_at(&solution.force, &uc)?, failed)
+            }
+            None => {
+                let residuals = problem.residuals_at(&solution.force, &uc)?;
+                let failed = (!residuals.is_acceptable(accepted)).then(|| (residuals.to_string(), residuals.worst()));
+                (residuals, problem.status_at(&solution.force, &uc)?, failed)
+            }
+        };
+        if let Some((residuals_text, worst)) = failed {
             return Err(Error::SolverDiverged {
                 solver: solution.solver.clone(),
                 reason: format!(
-                    "its answer fails the independent check on the recomputed displacement field: {residuals}"
+                    "its answer fails the independent check on the recomputed displacement field: {residuals_text}"
                 ),
                 iterations: solution.iterations,
-                residual: residuals.worst(),
+                residual: worst,
                 tried: solution.notes.join("; "),
             });
         }
@@ -938,6 +1006,21 @@ pub(crate) struct Increment {
     /// cases' fields): the free displacement then costs no solve. Ignored with stabilisation
     /// springs (their anchored load changes at every proximal iteration).
     pub(crate) free_field: Option<Vec<f64>>,
+    /// With interface laws: the modification of every point (the staggered loop's current
+    /// iterate, [`crate::interface_law::staggered`]); `None`: plain contact.
+    pub(crate) interface: Option<InterfaceIncrement>,
+}
+
+/// What the interface laws change in a solve ([`Increment::interface`]).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct InterfaceIncrement {
+    /// One per contact point.
+    pub(crate) modifications: Vec<crate::interface_law::PointModification>,
+    /// The last iterate's contact force `r'` (2m): the thresholds of Coulomb points mixed with
+    /// Tresca points ([`crate::interface_law::condensed::unify_friction`]).
+    pub(crate) last_contact_force: Option<Vec<f64>>,
+    /// The contact force `r'` the solver starts from (all points; zero if `None`).
+    pub(crate) start_contact_force: Option<Vec<f64>>,
 }
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two

@@ -432,6 +432,8 @@ impl<'s> ElasticityProblem<'s> {
             obstacle: obstacle_at(path.start),
             external: vec![0.0; self.rows.len()],
         };
+        // Interface laws: the committed internal variables and slips (interface_law::staggered).
+        let mut interface_state = contact.and_then(|c| c.interface.as_ref()).map(|laws| laws.initial_state());
         let mut energy = EnergyBalance::default();
         let mut steps: Vec<StepRecord> = Vec::new();
         let mut profiles = Vec::new();
@@ -459,13 +461,18 @@ impl<'s> ElasticityProblem<'s> {
                 dirichlet: self.scene.dirichlet.iter().map(|d| path.factor(dirichlet_key(d), t)).collect(),
             });
             let d = obstacle_at(t);
+            let mut interface_step = None;
             let attempt: Result<(Vec<f64>, Option<ContactOutcome>)> = match (self.contact.as_ref(), operator.as_mut()) {
                 (Some(c), Some(op)) => {
                     let b = &c.boundary;
                     let mut shift = vec![0.0; 2 * m];
                     for i in 0..m {
                         let (nn, tt) = (b.normal[i], b.tangent[i]);
-                        let slip_so_far = state.relative[2 * i + 1] - dot(state.obstacle, tt);
+                        // With interface laws: the slip so far measured on u' = u + c r.
+                        let slip_so_far = match &interface_state {
+                            Some(s) => s.shift_slip[i],
+                            None => state.relative[2 * i + 1] - dot(state.obstacle, tt),
+                        };
                         shift[2 * i] = dot(d, nn);
                         shift[2 * i + 1] = dot(d, tt) + slip_so_far;
                     }
@@ -481,9 +488,28 @@ impl<'s> ElasticityProblem<'s> {
                         start_displacement: Some(state.u.clone()),
                         start_force: Some(state.force.clone()),
                         free_field: Some(free_field),
+                        interface: None,
                     };
-                    c.solve_condensed_load(session, op, matrix, &f, &increment, &*self.progress)
-                        .map(|(u, outcome)| (u, Some(outcome)))
+                    match &interface_state {
+                        Some(committed) => c
+                            .solve_staggered(
+                                session,
+                                op,
+                                matrix,
+                                &f,
+                                &increment,
+                                committed,
+                                t - state.time,
+                                &*self.progress,
+                            )
+                            .map(|(u, outcome, step)| {
+                                interface_step = Some(step);
+                                (u, Some(outcome))
+                            }),
+                        None => c
+                            .solve_condensed_load(session, op, matrix, &f, &increment, &*self.progress)
+                            .map(|(u, outcome)| (u, Some(outcome))),
+                    }
                 }
                 _ => (|| {
                     let plain = plain.as_mut().expect("a linear solver without contact");
@@ -635,6 +661,14 @@ impl<'s> ElasticityProblem<'s> {
                 if profile_times.iter().any(|&p| (p - t).abs() <= 1e-12 * t.abs().max(1.0)) {
                     profiles.push(profile_of(c, o, &self.mesh, record.step, t, tangent));
                 }
+            }
+            if let (Some(step), Some(c)) = (interface_step, self.contact.as_ref()) {
+                // The increment converged: commit the interface's variables.
+                if let Some(laws) = c.interface.as_ref() {
+                    let positions: Vec<[f64; 2]> = c.boundary.nodes.iter().map(|&k| self.mesh.nodes[k]).collect();
+                    self.interface = Some(laws.snapshot(&positions, &step, t));
+                }
+                interface_state = Some(step.state);
             }
             let shift = ContactShift { obstacle: d, previous_obstacle: state.obstacle, previous_displacement: state.u };
             state = State { time: t, u: u.clone(), force, relative, obstacle: d, external };

@@ -30,8 +30,77 @@
 //! A law uses either series compliance (a layer or joint in series with the contact) or parallel
 //! springs (adhesion beside the contact), not both.
 pub mod cohesive_joint;
+pub mod condensed;
 pub mod rccm;
+pub mod staggered;
 pub mod thin_layer;
+
+use crate::error::{Error, Result};
+use crate::fem::material::PlaneModel;
+use crate::scene::{InterfaceLawSpec, Scene};
+
+/// The law of a scene's interface table in the plane model `plane`.
+pub fn law_of(spec: &InterfaceLawSpec, plane: PlaneModel) -> Box<dyn InterfaceLaw> {
+    match spec {
+        InterfaceLawSpec::ThinLayer(s) => Box::new(thin_layer::ThinLayer::new(s, plane)),
+        InterfaceLawSpec::Rccm(s) => Box::new(rccm::Rccm::new(s)),
+        InterfaceLawSpec::CohesiveJoint(s) => Box::new(cohesive_joint::CohesiveJoint::new(s)),
+    }
+}
+
+/// The interface tables of a scene, with the contact each belongs to (its part, or the pair's
+/// `slave / master`).
+pub fn interfaces_of(scene: &Scene) -> Vec<(String, &crate::scene::InterfaceSpec)> {
+    let mut found = Vec::new();
+    if let Some(c) = &scene.contact {
+        if let Some(i) = &c.interface {
+            found.push((c.part.clone(), i));
+        }
+    }
+    for body in &scene.bodies {
+        if let Some(c) = &body.contact {
+            if let Some(i) = &c.interface {
+                found.push((format!("{}.{}", body.name, c.part), i));
+            }
+        }
+    }
+    for pair in &scene.contact_pairs {
+        if let Some(i) = &pair.interface {
+            found.push((format!("{} / {}", pair.slave, pair.master), i));
+        }
+    }
+    found
+}
+
+/// The dual formulation and the estimate with an interface law: refused (the error in the
+/// constitutive relation has no interface term yet).
+pub fn refuse_dual(scene: &Scene, what: &str) -> Result<()> {
+    match interfaces_of(scene).first() {
+        None => Ok(()),
+        Some((contact, spec)) => Err(Error::Formulation {
+            message: format!(
+                "{what}: the error in the constitutive relation with an interface law is not implemented: the contact \
+                 on `{contact}` has the interface law `{}` ({}:{}), and the dual formulation and the estimate know \
+                 Signorini and Coulomb only",
+                law_name(&spec.law),
+                spec.at.file.display(),
+                spec.at.line
+            ),
+            hint: "run the primal formulation without --estimate (remove --formulation dual / --estimate), or \
+                   remove the [contact.interface] / [contact_pair.interface] table"
+                .into(),
+        }),
+    }
+}
+
+/// The scene name of a law.
+pub fn law_name(spec: &InterfaceLawSpec) -> &'static str {
+    match spec {
+        InterfaceLawSpec::ThinLayer(_) => "thin_layer",
+        InterfaceLawSpec::Rccm(_) => "rccm",
+        InterfaceLawSpec::CohesiveJoint(_) => "cohesive_joint",
+    }
+}
 
 /// A contact point as a law sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]

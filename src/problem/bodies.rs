@@ -82,6 +82,8 @@ pub struct ContactPart {
     pub master: Option<MasterSide>,
     /// The part's friction law.
     pub friction: FrictionSpec,
+    /// The part's interface law (`None`: Signorini with `friction`).
+    pub interface: Option<scene::InterfaceSpec>,
     /// Where the part's table starts.
     pub at: Location,
 }
@@ -338,6 +340,7 @@ fn contact_of_bodies(
                 pairing_distance: options.max_distance,
             }),
             friction: pair.friction,
+            interface: pair.interface.clone(),
             at: pair.at.clone(),
         });
     }
@@ -354,6 +357,7 @@ fn contact_of_bodies(
             slave_group: group,
             master: None,
             friction: spec.friction,
+            interface: spec.interface.clone(),
             at: spec.at.clone(),
         });
         solver_spec.get_or_insert(spec);
@@ -415,6 +419,7 @@ fn contact_of_bodies(
         free_motions,
         spring_dofs,
         parts: Some(ContactParts { parts, part_of }),
+        interface: None,
     }))
 }
 

@@ -134,6 +134,7 @@ impl<'s> ElasticityProblem<'s> {
     /// elements, with its contact when the scene has one; fills [`ElasticityProblem::dual`].
     pub fn solve_dual(&mut self) -> Result<()> {
         self.refuse_bodies()?;
+        crate::interface_law::refuse_dual(&self.scene, "the dual formulation")?;
         self.progress().phase_started(super::Phase::Dual);
         let start = std::time::Instant::now();
         self.solve_dual_unobserved()?;
@@ -259,6 +260,7 @@ impl<'s> ElasticityProblem<'s> {
     /// The error in the constitutive relation of the primal and dual solutions (both solved).
     pub fn estimate(&mut self) -> Result<()> {
         self.refuse_bodies()?;
+        crate::interface_law::refuse_dual(&self.scene, "the estimate")?;
         self.progress().phase_started(super::Phase::Estimate);
         let start = std::time::Instant::now();
         self.estimate_unobserved()?;

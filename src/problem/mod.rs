@@ -406,6 +406,10 @@ impl<'s> ElasticityProblem<'s> {
             crate::report::warnings::before_solving(&mesh, scene.element, material.poisson, material.plane, file_order);
         let scene_options = session.insert_default_options(&scene.petsc_options)?;
         let rows = dof_ranges(mesh.num_nodes(), session.size())[session.rank()].clone();
+        let mut contact = contact;
+        if let Some(c) = contact.as_mut() {
+            c.attach_interface(material.plane)?;
+        }
         Ok(ElasticityProblem {
             session,
             scene,
@@ -568,6 +572,17 @@ impl<'s> ElasticityProblem<'s> {
                 seconds: start.elapsed().as_secs_f64(),
             });
             self.check_contact_equilibrium(&outcome)?;
+            self.displacement = Some(u);
+            self.contact_outcome = Some(outcome);
+        } else if let Some(contact) = self.contact.as_ref().filter(|c| c.interface.is_some()) {
+            let (u, outcome, stats, step) =
+                contact.solve_with_interface(self.session, matrix, rhs, &mut ksp, &*self.progress)?;
+            self.stats = Some(stats.ok_or_else(|| Error::PetscUsage("no linear solve recorded".into()))?);
+            self.check_contact_equilibrium(&outcome)?;
+            self.interface = contact.interface.as_ref().map(|laws| {
+                let positions: Vec<[f64; 2]> = contact.boundary.nodes.iter().map(|&k| self.mesh.nodes[k]).collect();
+                laws.snapshot(&positions, &step, 1.0)
+            });
             self.displacement = Some(u);
             self.contact_outcome = Some(outcome);
         } else if let Some(contact) = &self.contact {

@@ -266,6 +266,7 @@ fn out_of_range_pairs(
             slave_group,
             master: Some(master),
             friction: pair.friction,
+            interface: pair.interface.clone(),
             at: pair.at.clone(),
         };
         let node_penetration = node_penetration(model, &HashSet::new(), &part, master, u, scale)?;

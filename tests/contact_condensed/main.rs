@@ -7,6 +7,7 @@
 
 mod failures;
 mod fallbacks;
+mod interface;
 mod layer_agreement;
 mod newton;
 mod operator;

@@ -27,6 +27,7 @@ mod dual_implicit;
 mod evolution;
 mod export;
 mod ict;
+mod interface;
 mod interface_outputs;
 mod locking;
 mod mpi_callbacks;
@@ -37,6 +38,12 @@ type Case = fn(&Session) -> Result<(), String>;
 
 pub const TESTS: &[(&str, Case)] = &[
     ("runner_parses_libtest_options", runner::runner_parses_libtest_options),
+    ("thin_layer_bonded_patch", interface::thin_layer_bonded_patch),
+    ("thin_layer_cut_in_compression_equals_bonded", interface::thin_layer_cut_in_compression_equals_bonded),
+    ("thin_layer_stiff_limit_is_signorini", interface::thin_layer_stiff_limit_is_signorini),
+    ("thin_layer_glues_two_bodies", interface::thin_layer_glues_two_bodies),
+    ("thin_layer_load_path", interface::thin_layer_load_path),
+    ("interface_law_refusals", interface::interface_law_refusals),
     ("load_path_proportional_equals_static", evolution::load_path_proportional_equals_static),
     ("mindlin_deresiewicz_fretting_cycle", evolution::mindlin_deresiewicz_fretting_cycle),
     ("stick_patch_exact_at_every_increment", evolution::stick_patch_exact_at_every_increment),
