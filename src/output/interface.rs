@@ -154,7 +154,7 @@ pub struct InterfaceSummary {
     pub min_adhesion: Option<f64>,
     /// The largest damage over the points that have one (`None`: no law has it).
     pub max_damage: Option<f64>,
-    /// The largest opening (m).
+    /// The largest opening (m; negative when a bonded layer is compressed everywhere).
     pub max_opening: f64,
     /// The largest |slip| (m).
     pub max_slip: f64,
@@ -163,7 +163,7 @@ pub struct InterfaceSummary {
 }
 
 impl InterfaceSummary {
-    /// The summary of `snapshot` (0 for the maxima of a snapshot without points).
+    /// The summary of `snapshot` (0 for the extremes of a snapshot without points).
     pub fn of(snapshot: &InterfaceSnapshot) -> Self {
         let points = &snapshot.points;
         let fold_some =
@@ -175,7 +175,8 @@ impl InterfaceSummary {
             iterations: snapshot.iterations,
             min_adhesion: fold_some(points.iter().filter_map(|p| p.adhesion).collect(), true),
             max_damage: fold_some(points.iter().filter_map(|p| p.damage).collect(), false),
-            max_opening: points.iter().map(|p| p.opening).fold(0.0, f64::max),
+            // The largest opening, negative when every point is compressed into a bonded layer.
+            max_opening: points.iter().map(|p| p.opening).reduce(f64::max).unwrap_or(0.0),
             max_slip: points.iter().map(|p| p.slip.abs()).fold(0.0, f64::max),
             worst_law_residual: points.iter().map(|p| p.law_residual).fold(0.0, f64::max),
         }
