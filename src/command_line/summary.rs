@@ -128,6 +128,32 @@ pub fn solver_description(r: &Report) -> String {
     }
 }
 
+/// The interface law's line: the laws, then the final interface's extremes and the worst law
+/// residual of the run (`thin_layer: 41 point(s), max opening 1.2e-6 m, ...`).
+pub fn interface_line(i: &signorini::report::interface::InterfaceReport) -> String {
+    let mut laws: Vec<&str> = Vec::new();
+    for law in &i.laws {
+        if !laws.contains(&law.as_str()) {
+            laws.push(law);
+        }
+    }
+    let l = &i.last;
+    let mut parts = vec![
+        format!("{} point(s)", l.points),
+        format!("max opening {:.4e} m", l.max_opening),
+        format!("max |slip| {:.4e} m", l.max_slip),
+    ];
+    if let Some(b) = l.min_adhesion {
+        parts.push(format!("min adhesion {b:.4}"));
+    }
+    if let Some(d) = l.max_damage {
+        parts.push(format!("max damage {d:.4}"));
+    }
+    parts.push(format!("{} staggered iteration(s)", l.iterations));
+    parts.push(format!("worst law residual {}", relative(i.worst_law_residual)));
+    format!("{}: {}", laws.join(", "), parts.join(", "))
+}
+
 /// The summary's lines.
 pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
     let mut out = Lines::default();
@@ -294,6 +320,9 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
             );
         }
     }
+    if let Some(i) = &r.interface {
+        out.add("interface", &interface_line(i));
+    }
     if let Some(d) = &r.dual {
         out.add(
             "dual",
@@ -369,6 +398,41 @@ fn changes_list(changes: &[usize]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_interface_line_names_each_law_once_and_the_variables_it_has() {
+        use signorini::output::interface::InterfaceSummary;
+        use signorini::report::interface::InterfaceReport;
+        let last = InterfaceSummary {
+            time: 2.0,
+            laws: vec!["rccm".into(), "thin_layer".into(), "rccm".into()],
+            points: 41,
+            iterations: 12,
+            min_adhesion: Some(0.25),
+            max_damage: None,
+            max_opening: 1.5e-6,
+            max_slip: 3e-5,
+            worst_law_residual: 2e-12,
+        };
+        let report = InterfaceReport {
+            laws: last.laws.clone(),
+            last: last.clone(),
+            worst_law_residual: 7e-11,
+            traced_points: vec![],
+        };
+        assert_eq!(
+            interface_line(&report),
+            "rccm, thin_layer: 41 point(s), max opening 1.5000e-6 m, max |slip| 3.0000e-5 m, min adhesion 0.2500, \
+             12 staggered iteration(s), worst law residual 7.0e-11"
+        );
+        let joint = InterfaceReport {
+            laws: vec!["cohesive_joint".into()],
+            last: InterfaceSummary { min_adhesion: None, max_damage: Some(1.0), ..last },
+            worst_law_residual: 0.0,
+            traced_points: vec![],
+        };
+        assert!(interface_line(&joint).contains("max damage 1.0000, 12 staggered iteration(s), worst law residual 0"));
+    }
 
     #[test]
     fn long_text_wraps_within_the_width() {

@@ -4,7 +4,9 @@
 //!   [`HISTORY_CSV_HEADER`] (units in the names: `_N_per_m` force per metre of thickness,
 //!   `_J_per_m` energy per metre of thickness, `_m` metres, `seconds` wall clock; `time` is the
 //!   load path's pseudo-time), numbers with `{:e}` (the shortest decimal that reads back to the
-//!   same `f64`);
+//!   same `f64`); with an interface law the columns of [`HISTORY_CSV_INTERFACE_COLUMNS`] follow
+//!   (the interface's summary at each increment, `crate::output::interface::InterfaceSummary`;
+//!   an empty cell where no law of the run has the variable);
 //! - `hysteresis.svg` ([`HYSTERESIS_SVG`]): the tangential contact force against the monitored
 //!   tangential displacement, one line through the increments in their order (a loading and
 //!   unloading cycle draws the loop; the points are never sorted), a marker at each increment;
@@ -19,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use super::{ContactProfile, StepRecord};
 use crate::error::{Error, Result};
+use crate::output::interface::{write_tau_delta_svg, InterfaceHistory, TAU_DELTA_SVG};
 use crate::output::plot::{write_linear_panels_svg, write_linear_styled_svg, Panel, Series, Style};
 use crate::output::{all_or_nothing, write_atomically};
 
@@ -38,6 +41,12 @@ pub const LOAD_PATH_FILES: [&str; 3] = [HISTORY_CSV, HYSTERESIS_SVG, CONTACT_PRO
 pub const HISTORY_CSV_HEADER: &str = "step,time,halvings,contact_x_N_per_m,contact_y_N_per_m,normal_N_per_m,\
 tangential_N_per_m,open,stick,slip,closed,iterations,worst_residual,dissipation_J_per_m,total_dissipation_J_per_m,\
 work_J_per_m,stored_energy_J_per_m,monitor_displacement_m,estimate_percent,seconds";
+
+/// The columns a run with an interface law adds after [`HISTORY_CSV_HEADER`]'s (the
+/// [`InterfaceSummary`] of each increment; a cell is empty when no law of the run has the
+/// variable: `interface_min_adhesion` without RCCM, `interface_max_damage` without a joint).
+pub const HISTORY_CSV_INTERFACE_COLUMNS: &str = "interface_min_adhesion,interface_max_damage,interface_max_opening_m,\
+interface_max_slip_m,interface_worst_law_residual";
 
 /// The real-valued fields of a record, named as in [`StepRecord`], in the csv's order.
 fn real_fields(s: &StepRecord) -> [(&'static str, f64); 13] {
@@ -95,11 +104,32 @@ fn check_finite(path: &Path, steps: &[StepRecord]) -> Result<()> {
 /// given, atomically. Errors: no step ([`Error::Usage`]); a non-finite number
 /// ([`Error::Output`] naming the step and the field); nothing is written then.
 pub fn write_history_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
+    write_history_csv_with_interface(path, steps, None)
+}
+
+/// [`write_history_csv`] with the interface's columns ([`HISTORY_CSV_INTERFACE_COLUMNS`]) after
+/// the others when `interface` is given: each row the sample of its increment (empty cells for
+/// an increment without one). A non-finite interface value is refused as a record's is.
+pub fn write_history_csv_with_interface(
+    path: &Path,
+    steps: &[StepRecord],
+    interface: Option<&InterfaceHistory>,
+) -> Result<()> {
     check_finite(path, steps)?;
+    if let Some(history) = interface {
+        check_interface_finite(path, history)?;
+    }
     let mut text = String::with_capacity(200 * (steps.len() + 1));
-    let _ = writeln!(text, "{HISTORY_CSV_HEADER}");
+    match interface {
+        Some(_) => {
+            let _ = writeln!(text, "{HISTORY_CSV_HEADER},{HISTORY_CSV_INTERFACE_COLUMNS}");
+        }
+        None => {
+            let _ = writeln!(text, "{HISTORY_CSV_HEADER}");
+        }
+    }
     for s in steps {
-        let _ = writeln!(
+        let _ = write!(
             text,
             "{},{:e},{},{:e},{:e},{:e},{:e},{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e}",
             s.step,
@@ -123,8 +153,46 @@ pub fn write_history_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
             s.estimate_percent.map_or(String::new(), |e| format!("{e:e}")),
             s.seconds,
         );
+        if let Some(history) = interface {
+            let cell = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
+            let summary = history.at(s.step).map(|sample| &sample.summary);
+            let _ = write!(
+                text,
+                ",{},{},{},{},{}",
+                cell(summary.and_then(|m| m.min_adhesion)),
+                cell(summary.and_then(|m| m.max_damage)),
+                cell(summary.map(|m| m.max_opening)),
+                cell(summary.map(|m| m.max_slip)),
+                cell(summary.map(|m| m.worst_law_residual)),
+            );
+        }
+        text.push('\n');
     }
     write_atomically(path, |w| w.write_all(text.as_bytes()))
+}
+
+/// Every number of the interface's samples finite, else [`Error::Output`] naming the increment.
+fn check_interface_finite(path: &Path, history: &InterfaceHistory) -> Result<()> {
+    for sample in &history.steps {
+        let m = &sample.summary;
+        let values = [
+            ("interface_min_adhesion", m.min_adhesion.unwrap_or(0.0)),
+            ("interface_max_damage", m.max_damage.unwrap_or(0.0)),
+            ("interface_max_opening_m", m.max_opening),
+            ("interface_max_slip_m", m.max_slip),
+            ("interface_worst_law_residual", m.worst_law_residual),
+        ];
+        if let Some((field, value)) = values.into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(refused(
+                path,
+                format!(
+                    "step {}: {field} is {value}, not a finite number: the interface's record is invalid",
+                    sample.step
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Write `hysteresis.svg`: the tangential contact force ([`StepRecord::tangential_resultant`],
@@ -234,14 +302,31 @@ pub fn write_load_path_outputs(
     profiles: &[ContactProfile],
     title: &str,
 ) -> Result<Vec<PathBuf>> {
+    write_load_path_outputs_with_interface(dir, steps, profiles, title, None)
+}
+
+/// [`write_load_path_outputs`] with an interface law's history: its columns in
+/// [`HISTORY_CSV`] ([`write_history_csv_with_interface`]) and, when it traces points,
+/// `interface_tau_delta.svg` ([`crate::output::interface::write_tau_delta_svg`]) after the
+/// other files; all of them or none.
+pub fn write_load_path_outputs_with_interface(
+    dir: &Path,
+    steps: &[StepRecord],
+    profiles: &[ContactProfile],
+    title: &str,
+    interface: Option<&InterfaceHistory>,
+) -> Result<Vec<PathBuf>> {
     let csv = dir.join(HISTORY_CSV);
     check_finite(&csv, steps)?;
+    if let Some(history) = interface {
+        check_interface_finite(&csv, history)?;
+    }
     if !profiles.is_empty() {
         check_profiles(&dir.join(CONTACT_PROFILES_SVG), profiles)?;
     }
     all_or_nothing(|| {
-        let mut written = Vec::with_capacity(3);
-        write_history_csv(&csv, steps)?;
+        let mut written = Vec::with_capacity(4);
+        write_history_csv_with_interface(&csv, steps, interface)?;
         written.push(csv.clone());
         let hysteresis = dir.join(HYSTERESIS_SVG);
         write_hysteresis_svg(&hysteresis, &format!("{title}: tangential load against displacement"), steps)?;
@@ -249,6 +334,11 @@ pub fn write_load_path_outputs(
         if !profiles.is_empty() {
             let path = dir.join(CONTACT_PROFILES_SVG);
             write_profiles_svg(&path, title, profiles)?;
+            written.push(path);
+        }
+        if let Some(history) = interface.filter(|h| !h.steps.is_empty() && !h.trace_points.is_empty()) {
+            let path = dir.join(TAU_DELTA_SVG);
+            write_tau_delta_svg(&path, title, history)?;
             written.push(path);
         }
         Ok(written)

@@ -22,6 +22,7 @@
 //! parallel, which costs about one fsync instead of one per file —, renamed, and their
 //! directory fsync'ed once. A failure before that leaves no new file at all.
 pub mod contact_plots;
+pub mod interface;
 pub mod mesh_plot;
 pub mod plot;
 pub mod pvd;
@@ -229,8 +230,10 @@ fn install(temporary: &mut TemporaryFile, path: &Path, parent: &Path) -> Result<
 
 /// The result files of a run in its output directory (`contact.csv` and the plots for contact
 /// runs; with several bodies also `solution.pvd` and the `.vtu` file of each body it lists; a
-/// load path adds `solution.pvd`, its history and plots, and `steps/solution_NNNN.vtu`).
-pub const RUN_FILES: [&str; 9] = [
+/// load path adds `solution.pvd`, its history and plots, and `steps/solution_NNNN.vtu`; an
+/// interface law `interface.vtu`, and on a load path `interface.pvd`, its τ–δ plot and
+/// `steps/interface_NNNN.vtu`).
+pub const RUN_FILES: [&str; 12] = [
     "solution.vtu",
     "solution.pvd",
     "report.json",
@@ -240,6 +243,9 @@ pub const RUN_FILES: [&str; 9] = [
     "history.csv",
     "hysteresis.svg",
     "contact_profiles.svg",
+    interface::INTERFACE_VTU,
+    interface::INTERFACE_PVD,
+    interface::TAU_DELTA_SVG,
 ];
 
 /// The `.vtu` files a previous run's `solution.pvd` in `dir` lists (plain names in `dir` only).

@@ -30,13 +30,21 @@ pub fn step_file_name(step: usize) -> String {
     format!("{STEPS_DIR}/solution_{step:04}.vtu")
 }
 
+/// The interface's `.vtu` file of increment `step` (from 1), relative to the output directory:
+/// `steps/interface_0001.vtu`, numbered as [`step_file_name`] (listed in `interface.pvd`).
+pub fn interface_step_file_name(step: usize) -> String {
+    format!("{STEPS_DIR}/interface_{step:04}.vtu")
+}
+
 /// The directory of the step files, inside the output directory.
 pub const STEPS_DIR: &str = "steps";
 
-/// Is `name` (in [`STEPS_DIR`]) a step file of [`step_file_name`], `solution_NNNN.vtu` with at
-/// least 4 digits?
+/// Is `name` (in [`STEPS_DIR`]) a step file of [`step_file_name`] or
+/// [`interface_step_file_name`], `solution_NNNN.vtu` or `interface_NNNN.vtu` with at least 4
+/// digits?
 fn is_step_file(name: &str) -> bool {
     name.strip_prefix("solution_")
+        .or_else(|| name.strip_prefix("interface_"))
         .and_then(|n| n.strip_suffix(".vtu"))
         .is_some_and(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
 }
@@ -159,6 +167,8 @@ mod tests {
         assert_eq!(step_file_name(42), "steps/solution_0042.vtu");
         assert_eq!(step_file_name(9999), "steps/solution_9999.vtu");
         assert_eq!(step_file_name(10000), "steps/solution_10000.vtu");
+        assert_eq!(interface_step_file_name(3), "steps/interface_0003.vtu");
+        assert_eq!(interface_step_file_name(10000), "steps/interface_10000.vtu");
         let mut names: Vec<String> = (1..=9999).rev().map(step_file_name).collect();
         names.sort();
         assert_eq!(names[0], step_file_name(1));
@@ -200,8 +210,16 @@ mod tests {
         assert!(clear_step_files(&dir).unwrap().is_empty(), "no directory: nothing to do");
         let steps = dir.join(STEPS_DIR);
         std::fs::create_dir_all(&steps).unwrap();
-        let ours = ["solution_0001.vtu", "solution_0002.vtu", "solution_12345.vtu", ".solution_0003.vtu.4711.2.tmp"];
-        let theirs = ["notes.txt", "solution_01.vtu", "solution_0001.vtu.bak", ".solution_0003.vtu.x.2.tmp"];
+        let ours = [
+            "solution_0001.vtu",
+            "solution_0002.vtu",
+            "solution_12345.vtu",
+            ".solution_0003.vtu.4711.2.tmp",
+            "interface_0001.vtu",
+            ".interface_0002.vtu.4711.3.tmp",
+        ];
+        let theirs =
+            ["notes.txt", "solution_01.vtu", "solution_0001.vtu.bak", ".solution_0003.vtu.x.2.tmp", "interface_7.vtu"];
         for name in ours.iter().chain(&theirs) {
             std::fs::write(steps.join(name), "x").unwrap();
         }

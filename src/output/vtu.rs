@@ -226,7 +226,7 @@ fn check_fields(kind: &str, fields: &[Field], count: usize, count_desc: &str) ->
     Ok(())
 }
 
-fn write_f64_array(
+pub(crate) fn write_f64_array(
     w: &mut dyn Write,
     name: Option<&str>,
     components: usize,
@@ -237,7 +237,7 @@ fn write_f64_array(
 }
 
 /// One `<DataArray>` of `count` items of `N` bytes each (already little-endian).
-fn write_array<const N: usize>(
+pub(crate) fn write_array<const N: usize>(
     w: &mut dyn Write,
     vtk_type: &str,
     name: Option<&str>,

@@ -120,6 +120,9 @@ pub struct Report {
     /// A load path: how it was solved, halvings, the energy balance.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load_path: Option<crate::evolution::LoadPathSummary>,
+    /// An interface law: the laws, the final interface, the worst law residual.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interface: Option<crate::report::interface::InterfaceReport>,
     /// Physics warnings (see `problem::warnings`): the answer is right for the model, the
     /// model may not be.
     pub warnings: Vec<Warning>,
@@ -229,6 +232,10 @@ pub struct ElasticityProblem<'s> {
     /// With an interface law: the interface at the end of the last solve (the last increment's
     /// on a load path).
     pub interface: Option<crate::interface_law::InterfaceSnapshot>,
+    /// With an interface law on a load path: its summary and traced points at every increment
+    /// recorded so far ([`ElasticityProblem::record_interface_step`]; interior mutability, as
+    /// the driver's per-increment callback sees the problem by shared reference).
+    pub(crate) interface_history: std::cell::RefCell<Option<crate::output::interface::InterfaceHistory>>,
 }
 
 /// Post-processed fields.
@@ -431,6 +438,7 @@ impl<'s> ElasticityProblem<'s> {
             contact_shift: None,
             load_path: None,
             interface: None,
+            interface_history: std::cell::RefCell::new(None),
         })
     }
 
@@ -732,6 +740,7 @@ impl<'s> ElasticityProblem<'s> {
             }),
             steps: self.load_path.as_ref().map(|l| l.steps.clone()).unwrap_or_default(),
             load_path: self.load_path.as_ref().map(crate::evolution::LoadPathSummary::of),
+            interface: self.interface_report(),
             warnings,
         })
     }

@@ -181,15 +181,26 @@ impl ElasticityProblem<'_> {
     }
 
     /// Write the current increment of a load path as `dir/steps/solution_NNNN.vtu` (rank 0;
-    /// the problem post-processed at that increment). Returns the path written (on rank 0).
+    /// the problem post-processed at that increment), and with an interface law
+    /// `dir/steps/interface_NNNN.vtu`, recording the interface in its history
+    /// ([`ElasticityProblem::record_interface_step`]). Returns the path of the solution's file
+    /// (on rank 0).
     pub fn write_step_output(&self, dir: &Path, step: usize) -> Result<PathBuf> {
         let path = dir.join(crate::output::pvd::step_file_name(step));
+        self.record_interface_step(step);
         let wrote = if self.session.rank() == 0 {
             let steps = dir.join(crate::output::pvd::STEPS_DIR);
             std::fs::create_dir_all(&steps)
                 .map_err(|e| crate::Error::io(steps, "creating the directory of the increments", e))
                 .and_then(|()| self.solution_fields(&path, &[]))
                 .and_then(|fields| fields.write(&path, &self.mesh))
+                .and_then(|()| match self.interface.as_ref().filter(|s| !s.points.is_empty()) {
+                    Some(snapshot) => {
+                        let file = dir.join(crate::output::pvd::interface_step_file_name(step));
+                        crate::output::interface::write_interface_vtu(&file, snapshot)
+                    }
+                    None => Ok(()),
+                })
         } else {
             Ok(())
         };
@@ -225,14 +236,35 @@ impl ElasticityProblem<'_> {
                         crate::output::pvd::write_pvd(&pvd, &entries)?;
                         written.push(pvd);
                         let title = self.scene.title.clone().unwrap_or_else(|| "load path".into());
-                        written.extend(crate::evolution::history::write_load_path_outputs(
+                        let interface = self.interface_history.borrow();
+                        written.extend(crate::evolution::history::write_load_path_outputs_with_interface(
                             dir,
                             &path.steps,
                             &path.profiles,
                             &title,
+                            interface.as_ref(),
                         )?);
+                        if let Some(history) = interface.as_ref() {
+                            // The interface's increments, as written by write_step_output.
+                            let entries: Vec<(f64, String)> = path
+                                .steps
+                                .iter()
+                                .filter(|s| history.at(s.step).is_some())
+                                .map(|s| (s.time, crate::output::pvd::interface_step_file_name(s.step)))
+                                .collect();
+                            if !entries.is_empty() {
+                                let pvd = dir.join(crate::output::interface::INTERFACE_PVD);
+                                crate::output::pvd::write_pvd(&pvd, &entries)?;
+                                written.push(pvd);
+                            }
+                        }
                     }
                     None => self.write_body_files(dir, &fields, written)?,
+                }
+                if let Some(snapshot) = self.interface.as_ref().filter(|s| !s.points.is_empty()) {
+                    let path = dir.join(crate::output::interface::INTERFACE_VTU);
+                    crate::output::interface::write_interface_vtu(&path, snapshot)?;
+                    written.push(path);
                 }
                 self.write_contact_files(dir, written)?;
             }

@@ -12,6 +12,7 @@
 //! option_warnings PETSc options no solver of the run read, with the route and prefix
 //! files          the result files of a run, written atomically, all or none
 //! bodies_files   one .vtu per body and the ParaView collection
+//! interface      the interface law's entry of the report and its history along a load path
 //! ```
 pub mod bodies;
 mod bodies_files;
@@ -19,5 +20,6 @@ pub mod contact;
 pub mod contact_curve;
 pub mod contact_zones;
 pub(crate) mod files;
+pub mod interface;
 pub(crate) mod option_warnings;
 pub mod warnings;

@@ -30,6 +30,7 @@ mod ict;
 mod interface;
 mod interface_joint;
 mod interface_rccm;
+mod interface_outputs;
 mod locking;
 mod mpi_callbacks;
 mod progress;
@@ -60,6 +61,8 @@ pub const TESTS: &[(&str, Case)] = &[
     ("rccm_published_peak_and_separation_energy", interface_rccm::rccm_published_peak_and_separation_energy),
     ("rccm_without_adhesion_is_signorini_coulomb", interface_rccm::rccm_without_adhesion_is_signorini_coulomb),
     ("rccm_adhesive_shear_debonds_then_slides", interface_rccm::rccm_adhesive_shear_debonds_then_slides),
+    ("interface_files_of_a_static_run", interface_outputs::interface_files_of_a_static_run),
+    ("interface_files_of_a_load_path", interface_outputs::interface_files_of_a_load_path),
     ("second_session_is_refused", second_session_is_refused),
     ("matrix_checks_csr_input", matrix_checks_csr_input),
     ("vector_checks_lengths", vector_checks_lengths),
