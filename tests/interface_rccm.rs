@@ -23,7 +23,7 @@ fn law(viscosity: f64, initial_adhesion: f64) -> Rccm {
 }
 
 fn point(weight: f64, slip_before: f64) -> InterfacePoint {
-    InterfacePoint { weight, gap: 0.0, slip_before }
+    InterfacePoint { weight, gap: 0.0, slip_before, traction_scale: 0.0, displacement_scale: 0.0 }
 }
 
 /// The traction of a glued point pulled open by `u` (never more before), b = 0: `C_N u` up to

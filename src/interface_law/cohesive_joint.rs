@@ -286,7 +286,8 @@ impl InterfaceLaw for CohesiveJoint {
         let tau = solution.force[1] / w;
         let opening = solution.opening;
         let slip = solution.slip_increment;
-        let mut stress = self.cohesion.max(self.tensile_strength).max(t_n.abs()).max(tau.abs());
+        let mut stress =
+            self.cohesion.max(self.tensile_strength).max(t_n.abs()).max(tau.abs()).max(point.traction_scale);
         if stress == 0.0 {
             stress = 1.0;
         }
@@ -295,6 +296,7 @@ impl InterfaceLaw for CohesiveJoint {
             .max(slip.abs())
             .max(state[LARGEST_OPENING].abs())
             .max(state[ACCUMULATED_SLIP].abs())
+            .max(point.displacement_scale)
             .max(1e-6 * w);
         let normal = (opening / length).min((f_t - t_n) / stress).abs();
         let s = self.shear_strength(c, t_n);
@@ -331,7 +333,7 @@ mod tests {
     }
 
     fn point(weight: f64) -> InterfacePoint {
-        InterfacePoint { weight, gap: 0.0, slip_before: 0.0 }
+        InterfacePoint { weight, gap: 0.0, slip_before: 0.0, traction_scale: 0.0, displacement_scale: 0.0 }
     }
 
     fn close(a: f64, b: f64, tolerance: f64) -> bool {

@@ -112,6 +112,14 @@ pub struct InterfacePoint {
     /// The whole tangential jump at the start of the increment (m; 0 in a static run): the law
     /// sees the slip increment, springs need the whole slip (their `spring_offset` along T).
     pub slip_before: f64,
+    /// The largest traction `|r| / w` over the interface's points at the solution a residual is
+    /// computed for (Pa; 0 otherwise): the stress scale of a law's residual at a point that
+    /// carries little, where its own tractions are no scale (a joint without cohesion).
+    pub traction_scale: f64,
+    /// The largest relative displacement `|uN|`, `|slip|` over the interface's points at that
+    /// solution (m; 0 otherwise): the length scale of a residual where every jump is round-off
+    /// (a joint that sticks everywhere).
+    pub displacement_scale: f64,
 }
 
 /// The friction the scene gives the contact force at a point (force units: Tresca's threshold

@@ -304,7 +304,15 @@ impl ContactSetup {
             law_contacts,
             law_of_point: part_of.iter().map(|&p| law_of_part[p]).collect(),
             part_laws,
-            points: (0..m).map(|i| InterfacePoint { weight: b.weight[i], gap: b.gap[i], slip_before: 0.0 }).collect(),
+            points: (0..m)
+                .map(|i| InterfacePoint {
+                    weight: b.weight[i],
+                    gap: b.gap[i],
+                    slip_before: 0.0,
+                    traction_scale: 0.0,
+                    displacement_scale: 0.0,
+                })
+                .collect(),
             friction: point_frictions(&self.friction_law(), m),
             notes,
         });
@@ -376,7 +384,8 @@ impl ContactSetup {
         let tolerance = crate::contact_routes::condensation::solver_settings(&self.spec).tolerance;
         let mut solver_iterations = 0;
         let ((u, mut outcome), step) =
-            staggered(laws, state, dt, self.acceptance(tolerance), |modifications, last| {
+            // The law's residual settles at the staggered loop's own tolerance: never ask less of it.
+            staggered(laws, state, dt, self.acceptance(tolerance).max(100.0 * STAGGERED_TOLERANCE), |modifications, last| {
                 let increment = Increment {
                     interface: Some(InterfaceIncrement {
                         modifications: modifications.to_vec(),
@@ -543,9 +552,20 @@ pub fn staggered<T>(
             last_contact_force = Some(contact_force);
             continue;
         }
+        // The interface's largest traction: the stress scale of the residual at points that
+        // carry little.
+        let traction_scale = (0..m)
+            .map(|i| solutions[i].force[0].hypot(solutions[i].force[1]) / points[i].weight)
+            .fold(0.0f64, f64::max);
+        let displacement_scale = (0..m)
+            .map(|i| (solutions[i].opening - points[i].gap).abs().max(solutions[i].slip.abs()))
+            .fold(0.0f64, f64::max);
         let law_residuals: Vec<f64> = (0..m)
             .map(|i| match laws.law_of_point[i] {
-                Some(l) => laws.laws[l].residual(&points[i], &state.committed[i], &updated[i], &solutions[i], dt),
+                Some(l) => {
+                    let point = InterfacePoint { traction_scale, displacement_scale, ..points[i] };
+                    laws.laws[l].residual(&point, &state.committed[i], &updated[i], &solutions[i], dt)
+                }
                 None => 0.0,
             })
             .collect();

@@ -473,7 +473,7 @@ fn staggered_loop_converges_to_the_softening_fixed_point() {
     let base = CondensedProblem::new(Delassus::Dense(w2()), vec![z, 0.0], vec![0.0], FrictionLaw::None, None).unwrap();
     let laws = one_law(
         Box::new(Softening { k0, delta }),
-        vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0 }],
+        vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0, traction_scale: 0.0, displacement_scale: 0.0 }],
         vec![PointFriction::None],
     );
     let step = run_staggered(&laws, &base, &laws.initial_state()).unwrap();
@@ -509,8 +509,16 @@ fn staggered_loop_solves_mixed_tresca_and_coulomb_points() {
     let friction = vec![PointFriction::Tresca(0.05), PointFriction::Coulomb(0.3)];
     let base =
         CondensedProblem::new(Delassus::Dense(w.clone()), uf.clone(), gap.clone(), FrictionLaw::None, None).unwrap();
-    let points: Vec<InterfacePoint> =
-        gap.iter().map(|&g| InterfacePoint { weight: 1.0, gap: g, slip_before: 0.0 }).collect();
+    let points: Vec<InterfacePoint> = gap
+        .iter()
+        .map(|&g| InterfacePoint {
+            weight: 1.0,
+            gap: g,
+            slip_before: 0.0,
+            traction_scale: 0.0,
+            displacement_scale: 0.0,
+        })
+        .collect();
     let laws =
         InterfaceLaws::new(vec![], vec![None, None], vec!["signorini".into()], points, friction.clone()).unwrap();
     let step = run_staggered(&laws, &base, &laws.initial_state()).unwrap();
@@ -527,7 +535,8 @@ fn staggered_loop_that_cannot_converge_or_fails_its_law_check_is_an_error() {
     // k = 0.1 gives |rN| = 0.08 (< 0.2: stiffen), k = 10 gives 0.48 (> 0.2: soften), and so on.
     let base =
         CondensedProblem::new(Delassus::Dense(w2()), vec![-1.0, 0.0], vec![0.0], FrictionLaw::None, None).unwrap();
-    let point = vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0 }];
+    let point =
+        vec![InterfacePoint { weight: 1.0, gap: 0.0, slip_before: 0.0, traction_scale: 0.0, displacement_scale: 0.0 }];
     let laws = one_law(Box::new(Flipping), point.clone(), vec![PointFriction::None]);
     match run_staggered(&laws, &base, &laws.initial_state()) {
         Err(signorini::Error::SolverDiverged { reason, iterations, .. }) => {
