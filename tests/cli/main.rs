@@ -9,6 +9,7 @@ mod dual_outputs;
 mod errors;
 mod examples;
 mod formulations;
+mod interface_laws;
 mod interface_outputs;
 mod load_paths;
 mod mpi;
