@@ -75,6 +75,8 @@
 //! - [`report`]: what a run reports (contact, several bodies, warnings) and the files it writes.
 //! - [`problem`]: the driver, whose methods read like the algorithm.
 //! - [`evolution`]: load paths, increments with friction memory, their records.
+//! - [`interface_law`]: interface laws on a contact (thin layer, RCCM adhesion, cohesive joint),
+//!   the modified condensed problem and the staggered loop.
 //! - [`adapt`]: the optimal size map, remeshing, the adaptive loop and studies of the estimator.
 //! - [`export`]: the condensed contact problem in the FCLIB format (HDF5), for other solvers.
 //! - [`bench`](mod@bench): the benchmark cases the `signorini bench` subcommands run.
