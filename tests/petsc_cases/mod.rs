@@ -48,6 +48,7 @@ pub const TESTS: &[(&str, Case)] = &[
     ("thin_layer_load_path", interface::thin_layer_load_path),
     ("interface_law_refusals", interface::interface_law_refusals),
     ("thin_layer_on_one_pair_of_three_bodies", interface::thin_layer_on_one_pair_of_three_bodies),
+    ("rccm_glues_two_bodies_until_they_pull_off", interface::rccm_glues_two_bodies_until_they_pull_off),
     ("load_path_proportional_equals_static", evolution::load_path_proportional_equals_static),
     ("mindlin_deresiewicz_fretting_cycle", evolution::mindlin_deresiewicz_fretting_cycle),
     ("stick_patch_exact_at_every_increment", evolution::stick_patch_exact_at_every_increment),
