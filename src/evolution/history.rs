@@ -43,7 +43,7 @@ tangential_N_per_m,open,stick,slip,closed,iterations,worst_residual,dissipation_
 work_J_per_m,stored_energy_J_per_m,monitor_displacement_m,estimate_percent,seconds";
 
 /// The columns a run with an interface law adds after [`HISTORY_CSV_HEADER`]'s (the
-/// [`InterfaceSummary`] of each increment; a cell is empty when no law of the run has the
+/// [`InterfaceSummary`](crate::output::interface::InterfaceSummary) of each increment; a cell is empty when no law of the run has the
 /// variable: `interface_min_adhesion` without RCCM, `interface_max_damage` without a joint).
 pub const HISTORY_CSV_INTERFACE_COLUMNS: &str = "interface_min_adhesion,interface_max_damage,interface_max_opening_m,\
 interface_max_slip_m,interface_worst_law_residual";
