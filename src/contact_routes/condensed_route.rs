@@ -610,7 +610,7 @@ impl ContactSetup {
         let mut interface_base_force = increment.start_force.clone();
         // With interface laws the solver's unknown is the contact force r' (all points), not r.
         let mut initial_force: Option<Vec<f64>> = match &increment.interface {
-            Some(i) => i.start_contact_force.clone(),
+            Some(i) => i.last_contact_force.clone(),
             None => increment.start_force.clone(),
         };
         let (mut total_iterations, mut all_changes, mut all_residuals) = (0usize, Vec::new(), Vec::<f64>::new());
@@ -1016,11 +1016,10 @@ pub(crate) struct Increment {
 pub(crate) struct InterfaceIncrement {
     /// One per contact point.
     pub(crate) modifications: Vec<crate::interface_law::PointModification>,
-    /// The last iterate's contact force `r'` (2m): the thresholds of Coulomb points mixed with
-    /// Tresca points ([`crate::interface_law::condensed::unify_friction`]).
+    /// The last iterate's contact force `r'` (2m): where the solver starts (zero if `None`), and
+    /// the thresholds of Coulomb points mixed with Tresca points
+    /// ([`crate::interface_law::condensed::unify_friction`]).
     pub(crate) last_contact_force: Option<Vec<f64>>,
-    /// The contact force `r'` the solver starts from (all points; zero if `None`).
-    pub(crate) start_contact_force: Option<Vec<f64>>,
 }
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two

@@ -390,7 +390,6 @@ impl ContactSetup {
                     interface: Some(InterfaceIncrement {
                         modifications: modifications.to_vec(),
                         last_contact_force: last.map(<[f64]>::to_vec),
-                        start_contact_force: last.map(<[f64]>::to_vec),
                     }),
                     ..base.clone()
                 };
