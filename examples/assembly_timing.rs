@@ -45,6 +45,7 @@ fn grid(m: usize) -> Mesh {
             PhysicalGroup { name: "top".into(), tag: 1, dim: 1 },
             PhysicalGroup { name: "left".into(), tag: 2, dim: 1 },
         ],
+        measure: Default::default(),
     }
 }
 

@@ -36,6 +36,7 @@ fn grid(m: usize) -> Mesh {
         edge_group: vec![0; edges.len() / 2],
         edges,
         groups: vec![PhysicalGroup { name: "top".into(), tag: 1, dim: 1 }],
+        measure: Default::default(),
     }
 }
 

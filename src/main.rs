@@ -180,6 +180,7 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
     if dual || estimate {
         let what = if dual { "the dual formulation" } else { "the estimate (--estimate)" };
         signorini::interface_law::refuse_dual(&scene, what)?;
+        signorini::problem::axisymmetry::refuse_in_axisymmetry(&scene, what)?;
     }
     // What of the dual contact cannot run on several ranks is refused before any work starts.
     if (dual || estimate) && scene.contact.is_some() {
@@ -300,19 +301,17 @@ fn export_command(session: &Session, args: &ExportArgs) -> Result<(), Failure> {
         "signorini {} ({}): the condensed contact problem of the scene {}: {} contact points (the nodes of the \
          part '{contact}', {} elements, {} nodes) of a linear elastic body (plane {}, E = {:e} Pa, nu = {}) against a \
          rigid obstacle. W = B K^-1 B^T is the flexibility in the local frames (normal: the obstacle's normal, \
-         towards the body); q = gap - B K^-1 f. u are displacements (m), r nodal forces (N per unit thickness).",
+         towards the body); q = gap - B K^-1 f. u are displacements (m), r nodal forces ({}).",
         env!("CARGO_PKG_VERSION"),
         option_env!("SIGNORINI_COMMIT").unwrap_or("unknown"),
         path.display(),
         condensed.points(),
         problem.mesh.num_cells(),
         problem.mesh.num_nodes(),
-        match problem.material.plane {
-            signorini::fem::material::PlaneModel::Strain => "strain",
-            signorini::fem::material::PlaneModel::Stress => "stress",
-        },
+        problem.material.plane.name(),
         problem.material.young,
         problem.material.poisson,
+        if problem.mesh.measure.is_axisymmetric() { "N, for the full revolution" } else { "N per unit thickness" },
     );
     let title = problem.scene.title.clone().unwrap_or_else(|| path.display().to_string());
     let info = FclibInfo::new(title, description, &condensed);

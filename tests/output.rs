@@ -57,6 +57,7 @@ fn p1_mesh() -> Mesh {
         edges: vec![0, 1, 2, 3, 3, 0],
         edge_group: vec![1, 2, 1],
         groups: groups(),
+        measure: Default::default(),
     }
 }
 
@@ -84,6 +85,7 @@ fn p2_mesh() -> Mesh {
         edges: vec![0, 1, 4, 2, 3, 7, 1, 2, 5],
         edge_group: vec![1, 2, 2],
         groups: groups(),
+        measure: Default::default(),
     }
 }
 
@@ -304,6 +306,7 @@ fn vtu_of_a_larger_mesh_reads_back_in_meshio() {
         cells,
         edges,
         groups: groups(),
+        measure: Default::default(),
     };
     round_trip(&mesh, true, "grid");
 }

@@ -387,6 +387,7 @@ pub fn adapt_inspecting(
     inspect: &mut dyn FnMut(usize, &ElasticityProblem) -> Result<()>,
 ) -> Result<AdaptOutcome> {
     options.check()?;
+    crate::problem::axisymmetry::refuse_in_axisymmetry(scene, "mesh adaptation (signorini adapt)")?;
     let request = mesh_request(scene, "adapt")?;
     let mut steps: Vec<AdaptStep> = Vec::new();
     let mut warnings = Vec::new();

@@ -310,6 +310,7 @@ pub fn study(
     options: StudyOptions,
     on_level: &mut dyn FnMut(Option<&StudyLevel>, &StudyReference),
 ) -> Result<StudyOutcome> {
+    crate::problem::axisymmetry::refuse_in_axisymmetry(scene, "the convergence study (signorini study)")?;
     if options.levels == 0 {
         return Err(Error::Usage("study: --levels must be at least 1".into()));
     }

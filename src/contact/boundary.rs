@@ -113,7 +113,7 @@ use super::obstacle::Obstacle;
 use crate::error::{Error, Result};
 use crate::fem::lagrange::map_edge_point;
 use crate::fem::quadrature::gauss_legendre;
-use crate::mesh::Mesh;
+use crate::mesh::{Measure, Mesh};
 
 /// Gauss–Legendre points per edge for weights and the boundary mass matrix (exact to degree 11).
 const EDGE_QUADRATURE_POINTS: usize = 6;
@@ -130,7 +130,8 @@ pub struct ContactBoundary {
     pub tangent: Vec<[f64; 2]>,
     /// `g0_i` = signed distance to the obstacle + extra gap (`≥ 0` when not overlapping).
     pub gap: Vec<f64>,
-    /// `w_i = ∫_Γc φ_i ds` over the part's edges (consistent weights, `> 0`).
+    /// `w_i = ∫_Γc φ_i ds` over the part's edges (consistent weights, `> 0`; in axisymmetry
+    /// `∫ φ_i 2π r ds`, which vanishes at a P2 vertex on the axis, see [`AxisPressure`]).
     pub weight: Vec<f64>,
     /// The mesh boundary edges of the part, increasing.
     pub edges: Vec<usize>,
@@ -148,6 +149,24 @@ pub struct ContactBoundary {
     /// out of its rows: the direction of the force between the two sides (equal to
     /// `(normal, tangent)` where nothing is prescribed).
     pub frame: Vec<[[f64; 2]; 2]>,
+    /// In axisymmetry: the contact nodes on the axis whose weight vanishes (P2 vertices), with
+    /// the extrapolation that gives their pressure (empty otherwise).
+    pub axis_pressure: Vec<AxisPressure>,
+}
+
+/// A contact node on the axis whose consistent weight `∫ φ_i 2π r ds` vanishes (the vertex of a
+/// straight P2 edge on the axis: `∫₀¹ (1 − s)(1 − 2s) s ds = 0`), so that `−rN_i / w_i` says
+/// nothing about its pressure. Its pressure is extrapolated from the two other nodes of its
+/// edge with the even profile `p(r) = A + B r²` that symmetry imposes about the axis:
+/// `p_i = c_1 p_1 + c_2 p_2`, `c_1 = r_2² / (r_2² − r_1²)`, `c_2 = −r_1² / (r_2² − r_1²)` (4/3 and
+/// −1/3 for the mid node and far vertex of a straight edge); its friction traction is 0 (the
+/// radial shear vanishes on the axis by symmetry).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisPressure {
+    /// The node on the axis.
+    pub node: usize,
+    /// The two nodes it is extrapolated from, with their coefficients.
+    pub from: [(usize, f64); 2],
 }
 
 /// A node of the other body in the rows of a contact point between two bodies: `B_N` has
@@ -178,12 +197,43 @@ pub struct LeftOutNode {
 }
 
 /// `(shape values, quadrature weight × ds)` at the Gauss points of an edge (parameter `s ∈ [0, 1]`).
-fn edge_quadrature(coords: &[[f64; 2]]) -> impl Iterator<Item = ([f64; 3], f64)> + '_ {
+fn edge_quadrature(coords: &[[f64; 2]], measure: Measure) -> impl Iterator<Item = ([f64; 3], f64)> + '_ {
     let rule = gauss_legendre(EDGE_QUADRATURE_POINTS);
     (0..rule.points.len()).map(move |q| {
         let p = map_edge_point(coords, rule.points[q]);
-        (p.values, rule.weights[q] * p.length_element)
+        (p.values, rule.weights[q] * p.length_element * measure.factor(p.x))
     })
+}
+
+/// The contact nodes `nodes` (with weights `weight`) for which `on_axis(i, w_i)` holds, with the
+/// extrapolation of their pressure from the other nodes of their edge ([`AxisPressure`]).
+fn axis_pressures(
+    mesh: &Mesh,
+    edges: &[usize],
+    nodes: &[usize],
+    weight: &[f64],
+    on_axis: &dyn Fn(usize, f64) -> bool,
+) -> Vec<AxisPressure> {
+    let mut out = Vec::new();
+    for (i, (&node, &w)) in nodes.iter().zip(weight).enumerate() {
+        if !on_axis(i, w) {
+            continue;
+        }
+        // The edge of the part through the node (one, since the part meets the axis there).
+        let Some(edge) = edges.iter().map(|&e| mesh.edge(e)).find(|edge| edge.contains(&node)) else { continue };
+        let mut others: Vec<usize> = edge.iter().copied().filter(|&k| k != node).collect();
+        others.sort_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]));
+        let from = match others[..] {
+            [near, far] => {
+                let (r1, r2) = (mesh.nodes[near][0].powi(2), mesh.nodes[far][0].powi(2));
+                [(near, r2 / (r2 - r1)), (far, -r1 / (r2 - r1))]
+            }
+            [near] => [(near, 1.0), (near, 0.0)],
+            _ => continue,
+        };
+        out.push(AxisPressure { node, from });
+    }
+    out
 }
 
 /// The consistent weights `w_k = ∫ φ_k ds` of the nodes of boundary edges `edges` (module
@@ -195,7 +245,7 @@ pub fn edge_weights(mesh: &Mesh, edges: &[usize]) -> Vec<(usize, f64)> {
         let edge = mesh.edge(e);
         coords.clear();
         coords.extend(edge.iter().map(|&k| mesh.nodes[k]));
-        for (values, wds) in edge_quadrature(&coords) {
+        for (values, wds) in edge_quadrature(&coords, mesh.measure) {
             for (a, &k) in edge.iter().enumerate() {
                 *weights.entry(k).or_insert(0.0) += wds * values[a];
             }
@@ -340,7 +390,7 @@ impl ContactBoundary {
             let edge = mesh.edge(e);
             coords.clear();
             coords.extend(edge.iter().map(|&k| mesh.nodes[k]));
-            for (values, wds) in edge_quadrature(&coords) {
+            for (values, wds) in edge_quadrature(&coords, mesh.measure) {
                 for (a, &k) in edge.iter().enumerate() {
                     if let Ok(i) = nodes.binary_search(&k) {
                         weight[i] += wds * values[a];
@@ -348,7 +398,13 @@ impl ContactBoundary {
                 }
             }
         }
-        if let Some(i) = weight.iter().position(|&w| !(w > 0.0 && w.is_finite())) {
+        // In axisymmetry a P2 vertex on the axis has a vanishing weight (see `AxisPressure`).
+        let largest = weight.iter().fold(0.0f64, |m, &w| m.max(w.abs()));
+        let on_axis = |i: usize, w: f64| {
+            mesh.measure.is_axisymmetric() && mesh.nodes[nodes[i]][0] == 0.0 && w.abs() <= 1e-10 * largest
+        };
+        let axis_pressure = axis_pressures(mesh, &edges, &nodes, &weight, &on_axis);
+        if let Some(i) = weight.iter().enumerate().position(|(i, &w)| !(w > 0.0 && w.is_finite()) && !on_axis(i, w)) {
             return Err(Error::mesh(
                 format!("node {} of contact part '{name}'", nodes[i]),
                 format!(
@@ -394,6 +450,7 @@ impl ContactBoundary {
             left_out,
             coupled: Vec::new(),
             frame,
+            axis_pressure,
         })
     }
 
@@ -538,8 +595,18 @@ impl ContactBoundary {
     /// If `r` does not hold `2m` values.
     pub fn tractions(&self, r: &[f64]) -> (Vec<f64>, Vec<f64>) {
         assert_eq!(r.len(), 2 * self.points(), "contact boundary: r must hold 2 values per contact point");
-        let pressure = self.weight.iter().enumerate().map(|(i, w)| -r[2 * i] / w).collect();
-        let friction = self.weight.iter().enumerate().map(|(i, w)| r[2 * i + 1] / w).collect();
+        let mut pressure: Vec<f64> = self.weight.iter().enumerate().map(|(i, w)| -r[2 * i] / w).collect();
+        let mut friction: Vec<f64> = self.weight.iter().enumerate().map(|(i, w)| r[2 * i + 1] / w).collect();
+        let point = |node: usize| self.nodes.iter().position(|&k| k == node);
+        for axis in &self.axis_pressure {
+            let Some(i) = point(axis.node) else { continue };
+            let mut p = 0.0;
+            for &(k, c) in &axis.from {
+                p += c * point(k).map_or(0.0, |j| pressure[j]);
+            }
+            pressure[i] = p;
+            friction[i] = 0.0;
+        }
         (pressure, friction)
     }
 
@@ -572,7 +639,7 @@ impl ContactBoundary {
             coords.clear();
             coords.extend(edge.iter().map(|&k| mesh.nodes[k]));
             let mut element = [[0.0; 3]; 3];
-            for (values, wds) in edge_quadrature(&coords) {
+            for (values, wds) in edge_quadrature(&coords, mesh.measure) {
                 for a in 0..edge.len() {
                     for b in 0..edge.len() {
                         element[a][b] += wds * values[a] * values[b];

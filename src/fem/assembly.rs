@@ -32,6 +32,28 @@
 //!
 //! On curved P2 edges `n ds = (y', −x') dt` is polynomial, so pressure loads integrate exactly.
 //!
+//! # Axisymmetry
+//!
+//! On a mesh of the meridian half-plane (`mesh.measure` is [`crate::mesh::Measure::Axisymmetric`],
+//! the material's plane model [`PlaneModel::Axisymmetric`]), `(x, y) = (r, z)`, the strain gains the
+//! hoop component `εθθ = u_r / r` and every integral the factor `2π r`:
+//!
+//! ```text
+//!         [ ∂N_a/∂r     0     ]
+//!   B_a = [    0     ∂N_a/∂z  ] ,   K_ab = ∫ B_aᵀ C B_b 2π r dA,   f_a = ∫ F N_a 2π r dA + ∫ t N_a 2π r ds,
+//!         [ ∂N_a/∂z  ∂N_a/∂r  ]
+//!         [  N_a/r      0     ]
+//! ```
+//!
+//! so forces are those of the full revolution (N). The hoop term `N_a N_b / r` is rational: P1
+//! cells take 3 points (degree 2), P2 cells 6 (degree 4, straight) or 7 (degree 5, curved). The
+//! quadrature points are inside the cells, so `r > 0` wherever `1/r` is evaluated, also in cells
+//! touching the axis; the axis nodes themselves get `u_r = 0` from the driver (the hoop strain
+//! `u_r / r` would be infinite otherwise). The internal forces of a constant stress field are
+//! integrated exactly (`N_a/r · σθθ · r` is a polynomial), so the patch test `u = (a r, b z)`
+//! holds to round-off. (Zienkiewicz, Taylor, Zhu, *The Finite Element Method: Its Basis and
+//! Fundamentals*, 7th ed., 2013, §6.2.)
+//!
 //! [`assemble_with`] and [`residual_forces_with`] take the element: the Lagrange element above,
 //! or the locking-free P2–P0 element of [`super::mixed_pressure`] (same dofs and sparsity, its
 //! own element matrices).
@@ -62,7 +84,7 @@ use std::borrow::Cow;
 use std::ops::Range;
 
 use super::lagrange::{self, MAX_CELL_NODES};
-use super::material::{CellMaterials, Material};
+use super::material::{CellMaterials, Material, PlaneModel};
 use super::mixed_pressure::{Element, MixedKernel};
 use super::quadrature;
 use crate::error::{Error, Result};
@@ -136,7 +158,21 @@ impl Constraints {
     /// the test does not depend on units or position), the motions are all blocked iff the 3×3
     /// Gram matrix of the rows has rank 3; the rank counts eigenvalues above `1e-10` times the
     /// largest.
+    ///
+    /// In axisymmetry the one rigid motion is the translation along the axis (`u_z` constant): a
+    /// radial translation and an in-plane rotation stretch the hoop fibres. It is blocked iff
+    /// some `u_z` (y dof) is fixed.
     pub fn check_rigid_motions(&self, mesh: &Mesh) -> Result<()> {
+        if mesh.measure.is_axisymmetric() {
+            if self.fixed().any(|(dof, _)| dof % 2 == 1 && dof / 2 < mesh.num_nodes()) {
+                return Ok(());
+            }
+            return Err(Error::Unconstrained(
+                "the displacement conditions leave 1 rigid motion free: translation in z (along the axis; no uy \
+                 component is fixed); fix uy on a boundary part (e.g. a symmetry plane z = const) or at one node"
+                    .into(),
+            ));
+        }
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in &mesh.nodes {
             for k in 0..2 {
@@ -207,7 +243,8 @@ impl Constraints {
 /// A surface load on the edges of a boundary group.
 #[derive(Clone, Copy)]
 pub enum Traction<'a> {
-    /// A constant traction vector `t` (force per unit length).
+    /// A constant traction vector `t` (force per unit area of the boundary: per unit length of
+    /// an edge and unit thickness in the plane, per unit area of the revolved surface in axisymmetry).
     Constant([f64; 2]),
     /// A pressure `p`: `t = −p n` (positive pushes into the body).
     Pressure(f64),
@@ -238,7 +275,7 @@ pub struct EdgeLoad<'a> {
 /// Volume and surface loads.
 #[derive(Clone, Default)]
 pub struct Loads<'a> {
-    /// Body force per unit area `F(x)`.
+    /// Body force per unit volume `F(x)` (N/m³).
     pub body_force: Option<&'a (dyn Fn([f64; 2]) -> [f64; 2] + Sync)>,
     /// Tractions on boundary groups.
     pub edge_loads: Vec<EdgeLoad<'a>>,
@@ -304,16 +341,99 @@ struct StiffnessKernel {
     /// P2 straight cells (degree 2) and curved cells (degree 4): weights and reference gradients.
     straight: ReferenceTable,
     curved: ReferenceTable,
+    /// In axisymmetry: the hoop terms and their quadrature tables.
+    axisymmetric: Option<AxisymmetricKernel>,
 }
 
-struct ReferenceTable {
-    weights: Vec<f64>,
-    values: Vec<[f64; MAX_CELL_NODES]>,
-    grads: Vec<[[f64; 2]; MAX_CELL_NODES]>,
+/// The axisymmetric element matrices `K_ab = ∫ B_aᵀ C B_b 2π r dA` (module doc): the strain
+/// operator of node `a` has the hoop row `(N_a / r, 0)`, and `C` couples the hoop strain to the
+/// normal strains with `coupling` and to itself with `diagonal` (`λ` and `λ + 2μ` for Hooke's law;
+/// `−2G/3` and `4G/3` for the deviatoric part of [`super::mixed_pressure`]).
+pub(super) struct AxisymmetricKernel {
+    pub(super) coupling: f64,
+    pub(super) diagonal: f64,
+    /// P1 cells: degree 2 (3 points); P2 straight: degree 4 (6 points); P2 curved: degree 5 (7).
+    p1: ReferenceTable,
+    pub(super) straight: ReferenceTable,
+    pub(super) curved: ReferenceTable,
+}
+
+impl AxisymmetricKernel {
+    pub(super) fn new(coupling: f64, diagonal: f64) -> Self {
+        AxisymmetricKernel {
+            coupling,
+            diagonal,
+            p1: ReferenceTable::new(Order::P1, 2),
+            straight: ReferenceTable::new(Order::P2, 4),
+            curved: ReferenceTable::new(Order::P2, 5),
+        }
+    }
+
+    /// `∫ B_aᵀ C B_b 2π r dA` over the cell of coordinates `x` (3 or 6 nodes), `c` the in-plane
+    /// block of `C`. Every quadrature point is inside the cell, so `r > 0` there (the mesh has
+    /// `r ≥ 0` and cells of positive area).
+    pub(super) fn cell<const N: usize>(&self, c: &[[f64; 3]; 3], x: &[[f64; 2]; N]) -> [[Block; N]; N] {
+        let table = match N {
+            3 => &self.p1,
+            _ if lagrange::is_affine(x) => &self.straight,
+            _ => &self.curved,
+        };
+        let mut k = [[[[0.0; 2]; 2]; N]; N];
+        for q in 0..table.weights.len() {
+            let (values, rg) = (&table.values[q][..N], &table.grads[q][..N]);
+            let j = lagrange::jacobian(x, rg);
+            let det = lagrange::determinant(&j);
+            let g = lagrange::physical_gradients(&j, det, rg);
+            let r = lagrange::map_point(x, values)[0];
+            let w = table.weights[q] * det * 2.0 * std::f64::consts::PI * r;
+            let inv_r = 1.0 / r;
+            for a in 0..N {
+                for b in a..N {
+                    add_btcb(&mut k[a][b], c, g[a], g[b], w);
+                    add_hoop(
+                        &mut k[a][b],
+                        self.coupling,
+                        self.diagonal,
+                        g[a],
+                        g[b],
+                        values[a] * inv_r,
+                        values[b] * inv_r,
+                        w,
+                    );
+                }
+            }
+        }
+        symmetrize(&mut k);
+        k
+    }
+}
+
+/// The hoop terms of `w · B_aᵀ C B_b` in axisymmetry: `ha = N_a / r`, `hb = N_b / r`, `C` with
+/// `C_θθ,rr = C_θθ,zz = coupling` and `C_θθ,θθ = diagonal` (and `C_θθ,rz = 0`).
+#[inline(always)]
+pub(super) fn add_hoop(
+    block: &mut Block,
+    coupling: f64,
+    diagonal: f64,
+    ga: [f64; 2],
+    gb: [f64; 2],
+    ha: f64,
+    hb: f64,
+    w: f64,
+) {
+    block[0][0] += w * (coupling * (ha * gb[0] + ga[0] * hb) + diagonal * ha * hb);
+    block[0][1] += w * coupling * ha * gb[1];
+    block[1][0] += w * coupling * ga[1] * hb;
+}
+
+pub(super) struct ReferenceTable {
+    pub(super) weights: Vec<f64>,
+    pub(super) values: Vec<[f64; MAX_CELL_NODES]>,
+    pub(super) grads: Vec<[[f64; 2]; MAX_CELL_NODES]>,
 }
 
 impl ReferenceTable {
-    fn new(order: Order, degree: usize) -> Self {
+    pub(super) fn new(order: Order, degree: usize) -> Self {
         let rule = quadrature::triangle(degree);
         ReferenceTable {
             values: rule.points.iter().map(|&p| lagrange::shape_values(order, p)).collect(),
@@ -351,16 +471,22 @@ fn symmetrize<const N: usize>(k: &mut [[Block; N]; N]) {
 
 impl StiffnessKernel {
     fn new(material: &Material) -> Self {
+        let (lambda, mu) = material.lame();
         StiffnessKernel {
             c: material.elasticity(),
             straight: ReferenceTable::new(Order::P2, 2),
             curved: ReferenceTable::new(Order::P2, 4),
+            axisymmetric: (material.plane == PlaneModel::Axisymmetric)
+                .then(|| AxisymmetricKernel::new(lambda, lambda + 2.0 * mu)),
         }
     }
 
-    /// P1: gradients are constant, `K_ab = area · B_aᵀ C B_b`.
+    /// P1: gradients are constant, `K_ab = area · B_aᵀ C B_b` (axisymmetric: quadrature).
     #[inline(always)]
     fn p1(&self, x: &[[f64; 2]; 3]) -> [[Block; 3]; 3] {
+        if let Some(axi) = &self.axisymmetric {
+            return axi.cell(&self.c, x);
+        }
         let j = [[x[1][0] - x[0][0], x[2][0] - x[0][0]], [x[1][1] - x[0][1], x[2][1] - x[0][1]]];
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         let inv = 1.0 / det;
@@ -381,6 +507,9 @@ impl StiffnessKernel {
 
     /// P2 (straight or curved): quadrature on the reference triangle.
     fn p2(&self, x: &[[f64; 2]; 6]) -> [[Block; 6]; 6] {
+        if let Some(axi) = &self.axisymmetric {
+            return axi.cell(&self.c, x);
+        }
         let table = if lagrange::is_affine(x) { &self.straight } else { &self.curved };
         let mut k = [[[[0.0; 2]; 2]; 6]; 6];
         for (w, rg) in table.weights.iter().zip(&table.grads) {
@@ -451,8 +580,9 @@ fn integrate_loads(mesh: &Mesh, loads: &Loads, touches: impl Fn(usize) -> bool, 
                     lagrange::determinant(&lagrange::jacobian(&x[..npc], rg))
                 };
                 let nv = &table.values[q];
-                let f = force(lagrange::map_point(&x[..npc], &nv[..npc]));
-                let w = table.weights[q] * det;
+                let point = lagrange::map_point(&x[..npc], &nv[..npc]);
+                let f = force(point);
+                let w = table.weights[q] * det * mesh.measure.factor(point);
                 for a in 0..npc {
                     fe[a][0] += w * nv[a] * f[0];
                     fe[a][1] += w * nv[a] * f[1];
@@ -480,7 +610,7 @@ fn integrate_loads(mesh: &Mesh, loads: &Loads, touches: impl Fn(usize) -> bool, 
             for (&t, &w) in rule.points.iter().zip(&rule.weights) {
                 let p = lagrange::map_edge_point(&x, t);
                 let tr = load.traction.at(p.x, p.normal);
-                let wds = w * p.length_element;
+                let wds = w * p.length_element * mesh.measure.factor(p.x);
                 for a in 0..npe {
                     fe[a][0] += wds * p.values[a] * tr[0];
                     fe[a][1] += wds * p.values[a] * tr[1];

@@ -33,6 +33,23 @@
 //! The von Mises stress includes σzz (nonzero in plane strain):
 //! `σ_vm = √( ½[(σxx − σyy)² + (σyy − σzz)² + (σzz − σxx)²] + 3 σxy² )`.
 //!
+//! Axisymmetric (a body of revolution under loads without torsion, in the meridian half-plane
+//! `(r, z) = (x, y)`): the strain has a fourth component, the hoop strain `εθθ = u_r / r`, and
+//! Hooke's law is the 3D one on `e = (εrr, εzz, γrz, εθθ)`:
+//!
+//! ```text
+//!       [ λ + 2μ    λ      0     λ    ]
+//!   C = [   λ     λ + 2μ   0     λ    ] ,   σθθ = λ (εrr + εzz + εθθ) + 2μ εθθ
+//!       [   0       0      μ     0    ]
+//!       [   λ       λ      0   λ + 2μ ]
+//! ```
+//!
+//! with the 3D `λ` of plane strain. The in-plane block `(rr, zz, rz)` equals plane strain's, so
+//! [`Material::elasticity`] and [`Material::lame`] return it; the hoop row enters through
+//! [`Material::axisymmetric_stress`] (Zienkiewicz, Taylor, Zhu, *The Finite Element Method: Its
+//! Basis and Fundamentals*, 7th ed., Butterworth-Heinemann 2013, §6.2 "Axisymmetric stress
+//! analysis"; Hughes, *The Finite Element Method*, §2.12).
+//!
 //! References: S. Timoshenko, J. N. Goodier, *Theory of Elasticity*, 3rd ed., McGraw-Hill 1970,
 //! §§8–17 (plane stress / plane strain); T. J. R. Hughes, *The Finite Element Method*, Dover 2000,
 //! §2.7 (the Voigt matrices above).
@@ -44,6 +61,20 @@ pub enum PlaneModel {
     Strain,
     /// `σzz = 0` (thin plates).
     Stress,
+    /// A body of revolution in its meridian half-plane `(r, z) = (x, y)`, `r ≥ 0`: the hoop
+    /// strain `u_r / r` joins the in-plane strains (see the module doc).
+    Axisymmetric,
+}
+
+impl PlaneModel {
+    /// The name the scene, the summary and `report.json` use: "strain", "stress", "axisymmetric".
+    pub fn name(self) -> &'static str {
+        match self {
+            PlaneModel::Strain => "strain",
+            PlaneModel::Stress => "stress",
+            PlaneModel::Axisymmetric => "axisymmetric",
+        }
+    }
 }
 
 /// An isotropic linear elastic material.
@@ -141,17 +172,18 @@ impl Material {
     /// component free.
     pub fn plane_modulus(&self) -> f64 {
         match self.plane {
-            PlaneModel::Strain => self.young / (1.0 - self.poisson * self.poisson),
+            PlaneModel::Strain | PlaneModel::Axisymmetric => self.young / (1.0 - self.poisson * self.poisson),
             PlaneModel::Stress => self.young,
         }
     }
 
-    /// In-plane Lamé parameters `(λ*, μ)` of the model (see the module doc).
+    /// In-plane Lamé parameters `(λ*, μ)` of the model (see the module doc; the 3D `λ` in plane
+    /// strain and in axisymmetry).
     pub fn lame(&self) -> (f64, f64) {
         let (e, nu) = (self.young, self.poisson);
         let mu = self.shear_modulus();
         let lambda = match self.plane {
-            PlaneModel::Strain => e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            PlaneModel::Strain | PlaneModel::Axisymmetric => e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
             PlaneModel::Stress => e * nu / (1.0 - nu * nu),
         };
         (lambda, mu)
@@ -167,7 +199,7 @@ impl Material {
     pub fn compliance(&self) -> [[f64; 3]; 3] {
         let (e, nu) = (self.young, self.poisson);
         match self.plane {
-            PlaneModel::Strain => {
+            PlaneModel::Strain | PlaneModel::Axisymmetric => {
                 let f = (1.0 + nu) / e;
                 [[f * (1.0 - nu), -f * nu, 0.0], [-f * nu, f * (1.0 - nu), 0.0], [0.0, 0.0, 2.0 * f]]
             }
@@ -185,12 +217,25 @@ impl Material {
         ]
     }
 
-    /// Out-of-plane stress: `ν (σxx + σyy)` in plane strain, 0 in plane stress.
+    /// Out-of-plane stress: `ν (σxx + σyy)` in plane strain, 0 in plane stress. In axisymmetry
+    /// the out-of-plane stress is the hoop stress, which needs the hoop strain: use
+    /// [`Material::axisymmetric_stress`]; this returns the plane strain value (`εθθ = 0`).
     pub fn sigma_zz(&self, s: [f64; 3]) -> f64 {
         match self.plane {
-            PlaneModel::Strain => self.poisson * (s[0] + s[1]),
+            PlaneModel::Strain | PlaneModel::Axisymmetric => self.poisson * (s[0] + s[1]),
             PlaneModel::Stress => 0.0,
         }
+    }
+
+    /// Axisymmetric stress `((σrr, σzz, σrz), σθθ)` from the strain `(εrr, εzz, γrz)` and the hoop
+    /// strain `εθθ = u_r / r` (module doc).
+    pub fn axisymmetric_stress(&self, strain: [f64; 3], hoop: f64) -> ([f64; 3], f64) {
+        let (lambda, mu) = self.lame();
+        let trace = strain[0] + strain[1] + hoop;
+        (
+            [lambda * trace + 2.0 * mu * strain[0], lambda * trace + 2.0 * mu * strain[1], mu * strain[2]],
+            lambda * trace + 2.0 * mu * hoop,
+        )
     }
 
     /// Von Mises equivalent stress, including σzz.
@@ -205,7 +250,7 @@ impl Material {
         let (e, nu) = (self.young, self.poisson);
         let (sxx, syy, sxy) = (s[0], s[1], s[2]);
         match self.plane {
-            PlaneModel::Strain => {
+            PlaneModel::Strain | PlaneModel::Axisymmetric => {
                 (1.0 + nu) / (2.0 * e) * ((1.0 - nu) * (sxx * sxx + syy * syy) - 2.0 * nu * sxx * syy + 2.0 * sxy * sxy)
             }
             PlaneModel::Stress => {

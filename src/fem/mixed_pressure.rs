@@ -67,6 +67,7 @@
 //!
 //! Quadrature: straight cells 3 points (degree 2, exact for `Bᵀ C_dev B` and for `b_E`), curved
 //! (isoparametric) cells 6 points (degree 4), as for P2 in [`super::assembly`].
+use super::assembly::AxisymmetricKernel;
 use super::lagrange::{self, MAX_CELL_NODES};
 use super::material::{CellMaterials, Material, PlaneModel};
 use super::quadrature;
@@ -116,16 +117,23 @@ impl Split {
                 shear: g,
                 plane: PlaneModel::Strain,
             },
+            PlaneModel::Axisymmetric => Split {
+                plane: PlaneModel::Axisymmetric,
+                ..Split::new(&Material { plane: PlaneModel::Strain, ..*material })
+            },
             PlaneModel::Stress => Split { dev: material.elasticity(), bulk: 0.0, shear: g, plane: PlaneModel::Stress },
         }
     }
 
-    /// Stress `(σxx, σyy, σxy)` and `σzz` from the strain `e` and the cell pressure `p`.
-    fn stress(&self, e: [f64; 3], p: f64) -> ([f64; 3], f64) {
+    /// Stress `(σxx, σyy, σxy)` and the out-of-plane `σzz` (σθθ in axisymmetry) from the strain
+    /// `e`, the hoop strain `hoop` (0 in the plane) and the cell pressure `p`.
+    fn stress(&self, e: [f64; 3], hoop: f64, p: f64) -> ([f64; 3], f64) {
         let c = &self.dev;
-        let s = [c[0][0] * e[0] + c[0][1] * e[1] + p, c[1][0] * e[0] + c[1][1] * e[1] + p, c[2][2] * e[2]];
+        let h = -2.0 * self.shear / 3.0 * hoop;
+        let s = [c[0][0] * e[0] + c[0][1] * e[1] + h + p, c[1][0] * e[0] + c[1][1] * e[1] + h + p, c[2][2] * e[2]];
         let zz = match self.plane {
             PlaneModel::Strain => -2.0 * self.shear / 3.0 * (e[0] + e[1]) + p,
+            PlaneModel::Axisymmetric => -2.0 * self.shear / 3.0 * (e[0] + e[1]) + 4.0 * self.shear / 3.0 * hoop + p,
             PlaneModel::Stress => 0.0,
         };
         (s, zz)
@@ -153,16 +161,57 @@ pub(super) struct MixedKernel {
     split: Split,
     straight: Table,
     curved: Table,
+    /// In axisymmetry: the deviatoric hoop terms (`−2G/3`, `4G/3`) and their tables.
+    axisymmetric: Option<AxisymmetricKernel>,
 }
 
 impl MixedKernel {
     pub(super) fn new(material: &Material) -> Self {
-        MixedKernel { split: Split::new(material), straight: Table::new(2), curved: Table::new(4) }
+        let split = Split::new(material);
+        let axisymmetric = (material.plane == PlaneModel::Axisymmetric)
+            .then(|| AxisymmetricKernel::new(-2.0 * split.shear / 3.0, 4.0 * split.shear / 3.0));
+        MixedKernel { split, straight: Table::new(2), curved: Table::new(4), axisymmetric }
+    }
+
+    /// Axisymmetric `K_E = ∫ Bᵀ C_dev B 2πr dA + (κ/V) b bᵀ` with `V = ∫ 2πr dA` and
+    /// `b = ∫ div φ 2πr dA`, `div (N e_r) = ∂N/∂r + N/r`, `div (N e_z) = ∂N/∂z`.
+    #[allow(clippy::needless_range_loop)] // local node indices address several arrays
+    fn p2_axisymmetric(&self, axi: &AxisymmetricKernel, x: &[[f64; 2]; 6]) -> [[Block; 6]; 6] {
+        let mut k = axi.cell(&self.split.dev, x);
+        let table = if lagrange::is_affine(x) { &axi.straight } else { &axi.curved };
+        let (mut b, mut volume) = ([[0.0; 2]; 6], 0.0);
+        for q in 0..table.weights.len() {
+            let (values, rg) = (&table.values[q][..6], &table.grads[q][..6]);
+            let j = lagrange::jacobian(x, rg);
+            let det = lagrange::determinant(&j);
+            let g = lagrange::physical_gradients(&j, det, rg);
+            let r = lagrange::map_point(x, values)[0];
+            let w = table.weights[q] * det * 2.0 * std::f64::consts::PI * r;
+            volume += w;
+            for a in 0..6 {
+                b[a][0] += w * (g[a][0] + values[a] / r);
+                b[a][1] += w * g[a][1];
+            }
+        }
+        let s = if volume > 0.0 { self.split.bulk / volume } else { 0.0 };
+        for a in 0..6 {
+            for bb in 0..6 {
+                for r in 0..2 {
+                    for q in 0..2 {
+                        k[a][bb][r][q] += s * b[a][r] * b[bb][q];
+                    }
+                }
+            }
+        }
+        k
     }
 
     /// `K_E = ∫ Bᵀ C_dev B + (κ/|E|) b bᵀ` of the P2 cell with node coordinates `x`.
     #[allow(clippy::needless_range_loop)] // local node indices address several arrays
     pub(super) fn p2(&self, x: &[[f64; 2]; 6]) -> [[Block; 6]; 6] {
+        if let Some(axi) = &self.axisymmetric {
+            return self.p2_axisymmetric(axi, x);
+        }
         let table = if lagrange::is_affine(x) { &self.straight } else { &self.curved };
         let c = &self.split.dev;
         let mut k = [[[[0.0; 2]; 2]; 6]; 6];
@@ -253,8 +302,9 @@ pub fn cell_pressure(mesh: &Mesh, material: &Material, element: Element, u: &[f6
     if element == Element::Lagrange || mesh.order == Order::P1 || split.bulk == 0.0 {
         return vec![0.0; mesh.num_cells()];
     }
-    let rule = quadrature::triangle(2);
-    let curved_rule = quadrature::triangle(4);
+    let axisymmetric = material.plane == PlaneModel::Axisymmetric;
+    let rule = quadrature::triangle(if axisymmetric { 4 } else { 2 });
+    let curved_rule = quadrature::triangle(if axisymmetric { 5 } else { 4 });
     (0..mesh.num_cells())
         .map(|c| {
             let nodes = mesh.cell(c);
@@ -264,8 +314,10 @@ pub fn cell_pressure(mesh: &Mesh, material: &Material, element: Element, u: &[f6
             for (&xi, &w) in rule.points.iter().zip(&rule.weights) {
                 let p = lagrange::map_cell_point(Order::P2, &x[..6], xi);
                 let e = strain(&p.gradients[..6], nodes, u);
-                div += w * p.det * (e[0] + e[1]);
-                area += w * p.det;
+                let hoop = hoop_strain(material, &p, nodes, u);
+                let w = w * p.det * mesh.measure.factor(p.x);
+                div += w * (e[0] + e[1] + hoop);
+                area += w;
             }
             split.bulk * div / area
         })
@@ -288,11 +340,28 @@ fn stress_at(
     let x = cell_coords(mesh, nodes);
     let p = lagrange::map_cell_point(mesh.order, &x[..npc], xi);
     let e = strain(&p.gradients[..npc], nodes, u);
-    if element == Element::P2P0 && mesh.order == Order::P2 && material.plane == PlaneModel::Strain {
-        Split::new(material).stress(e, pressure[c])
+    let hoop = hoop_strain(material, &p, nodes, u);
+    if element == Element::P2P0 && mesh.order == Order::P2 && material.plane != PlaneModel::Stress {
+        Split::new(material).stress(e, hoop, pressure[c])
+    } else if material.plane == PlaneModel::Axisymmetric {
+        material.axisymmetric_stress(e, hoop)
     } else {
         let s = material.stress(e);
         (s, material.sigma_zz(s))
+    }
+}
+
+/// The hoop strain `εθθ = u_r / r` at the mapped point `p` in axisymmetry (0 in the plane). On
+/// the axis (`r` below `1e-12` times the cell's size) it is the limit `∂u_r/∂r`.
+fn hoop_strain(material: &Material, p: &lagrange::MappedPoint, nodes: &[usize], u: &[f64]) -> f64 {
+    if material.plane != PlaneModel::Axisymmetric {
+        return 0.0;
+    }
+    let size = p.det.abs().sqrt();
+    if p.x[0] <= 1e-12 * size {
+        nodes.iter().zip(&p.gradients).map(|(&n, g)| g[0] * u[2 * n]).sum()
+    } else {
+        nodes.iter().zip(&p.values).map(|(&n, v)| v * u[2 * n]).sum::<f64>() / p.x[0]
     }
 }
 
@@ -344,7 +413,9 @@ pub fn von_mises(s: [f64; 3], zz: f64) -> f64 {
 }
 
 /// `‖σ_h − σ‖_L2` over the mesh (Frobenius norm of the 3D stress tensor, σzz included), with the
-/// exact stress `exact(x) = (σxx, σyy, σxy, σzz)`; degree-5 quadrature on every cell.
+/// exact stress `exact(x) = (σxx, σyy, σxy, σzz)`; degree-5 quadrature on every cell. In
+/// axisymmetry `σzz` is the hoop stress σθθ and the integral is over the body of revolution
+/// (`2π r dA`).
 pub fn stress_l2_error(
     mesh: &Mesh,
     material: &Material,
@@ -363,7 +434,8 @@ pub fn stress_l2_error(
             let (s, zz) = stress_at(mesh, material, element, &pressure, u, c, xi);
             let t = exact(p.x);
             let d = [s[0] - t[0], s[1] - t[1], s[2] - t[2], zz - t[3]];
-            total += w * p.det * (d[0] * d[0] + d[1] * d[1] + 2.0 * d[2] * d[2] + d[3] * d[3]);
+            total +=
+                w * p.det * mesh.measure.factor(p.x) * (d[0] * d[0] + d[1] * d[1] + 2.0 * d[2] * d[2] + d[3] * d[3]);
         }
     }
     total.max(0.0).sqrt()

@@ -73,7 +73,7 @@ impl ThinLayer {
         let (e, nu, h) = (spec.young, spec.poisson, spec.thickness);
         let shear = e / (2.0 * (1.0 + nu));
         let normal_modulus = match plane {
-            PlaneModel::Strain => e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            PlaneModel::Strain | PlaneModel::Axisymmetric => e * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)),
             PlaneModel::Stress => e / (1.0 - nu * nu),
         };
         ThinLayer { spec: *spec, normal_stiffness: normal_modulus / h, tangential_stiffness: shear / h }

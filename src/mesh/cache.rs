@@ -41,7 +41,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, SystemTime};
 
-use super::{Mesh, Order, PhysicalGroup, NO_GROUP};
+use super::{Measure, Mesh, Order, PhysicalGroup, NO_GROUP};
 use crate::error::{Error, Result};
 
 /// Version of the entry layout above; part of every key too.
@@ -418,7 +418,7 @@ pub fn decode_entry(bytes: &[u8], key: &str) -> std::result::Result<Mesh, String
     if !r.bytes.is_empty() {
         return Err(format!("{} bytes after the mesh", r.bytes.len()));
     }
-    let mut mesh = Mesh { order, nodes, cells, cell_group, edges, edge_group, groups };
+    let mut mesh = Mesh { order, nodes, cells, cell_group, edges, edge_group, groups, measure: Measure::Plane };
     mesh.validate().map_err(|e| format!("invalid mesh: {e}"))?;
     Ok(mesh)
 }

@@ -94,9 +94,61 @@ pub struct Mesh {
     pub edge_group: Vec<usize>,
     /// The physical groups: regions (dim 2) and boundary parts (dim 1).
     pub groups: Vec<PhysicalGroup>,
+    /// What the mesh stands for: a plane section of unit thickness, or the meridian half-plane
+    /// of a body of revolution (every integral then carries `2π r`).
+    pub measure: Measure,
+}
+
+/// The measure of the integrals over a mesh: what a unit of area and of boundary length stand for.
+///
+/// In axisymmetry the mesh is the meridian half-plane `(r, z) = (x, y)`, `r ≥ 0`, of a body of
+/// revolution; a cell of area `dA` at radius `r` is a ring of volume `2π r dA` and a boundary
+/// edge of length `ds` a band of area `2π r ds`. Every integral (stiffness, loads, contact
+/// weights, mortar integrals) takes the factor `2π r`: forces, reactions and energies are those
+/// of the **full revolution** (N and J, not per radian).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Measure {
+    /// A plane section of unit thickness (plane strain, plane stress): forces per unit thickness.
+    #[default]
+    Plane,
+    /// The meridian half-plane of a body of revolution: `x = r ≥ 0`, `y = z`, the axis at `r = 0`.
+    Axisymmetric,
+}
+
+impl Measure {
+    /// The factor of `dA` and `ds` at `x`: 1 (plane) or `2π x[0]` (axisymmetric).
+    #[inline(always)]
+    pub fn factor(self, x: [f64; 2]) -> f64 {
+        match self {
+            Measure::Plane => 1.0,
+            Measure::Axisymmetric => 2.0 * std::f64::consts::PI * x[0],
+        }
+    }
+
+    /// Whether this is the axisymmetric measure.
+    pub fn is_axisymmetric(self) -> bool {
+        self == Measure::Axisymmetric
+    }
 }
 
 impl Mesh {
+    /// The length that turns a stress times a length of the section into a force: 1 (m, plane:
+    /// forces per unit thickness) or `2π r_max` (axisymmetric: forces of the full revolution).
+    /// Scales of force checks use it.
+    pub fn force_length(&self) -> f64 {
+        match self.measure {
+            Measure::Plane => 1.0,
+            Measure::Axisymmetric => {
+                let r_max = self.nodes.iter().fold(0.0f64, |m, p| m.max(p[0]));
+                if r_max > 0.0 {
+                    2.0 * std::f64::consts::PI * r_max
+                } else {
+                    1.0
+                }
+            }
+        }
+    }
+
     /// Number of nodes (P2 mid nodes included).
     pub fn num_nodes(&self) -> usize {
         self.nodes.len()

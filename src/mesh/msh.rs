@@ -519,7 +519,7 @@ impl<'a> MshReader<'a> {
         for v in cells.iter_mut().chain(edges.iter_mut()) {
             *v = new_index[*v];
         }
-        Ok(Mesh { order, nodes, cells, cell_group, edges, edge_group, groups })
+        Ok(Mesh { order, nodes, cells, cell_group, edges, edge_group, groups, measure: super::Measure::Plane })
     }
 }
 

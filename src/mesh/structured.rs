@@ -26,7 +26,7 @@
 //! their P1 numbers and the mid nodes follow: first those of the horizontal sides
 //! (`nx (ny + 1)` of them, row by row), then the vertical sides (`(nx + 1) ny`), then the cell
 //! diagonals (`nx ny`, one per cell, at the cell centre).
-use super::{Mesh, Order, PhysicalGroup};
+use super::{Measure, Mesh, Order, PhysicalGroup};
 use crate::error::{Error, Result};
 
 /// Numbers of cells `(nx, ny)` so that cells are at most `cell_size` wide and high:
@@ -173,7 +173,16 @@ pub fn rectangle(origin: [f64; 2], size: [f64; 2], nx: usize, ny: usize, order: 
         group("left", 4, 1),
         group("domain", 5, 2),
     ];
-    let mut mesh = Mesh { order, nodes, cell_group: vec![4; 2 * nx * ny], cells, edges, edge_group, groups };
+    let mut mesh = Mesh {
+        order,
+        nodes,
+        cell_group: vec![4; 2 * nx * ny],
+        cells,
+        edges,
+        edge_group,
+        groups,
+        measure: Measure::Plane,
+    };
     // Correct by construction; validation costs a fraction of the build and keeps the promise
     // every constructor makes.
     mesh.validate()?;

@@ -110,6 +110,7 @@ pub fn disjoint_union(bodies: &[(&str, &Mesh)]) -> Result<(Mesh, BodyLayout)> {
         edges: Vec::new(),
         edge_group: Vec::new(),
         groups: Vec::new(),
+        measure: first.measure,
     };
     let mut layout = BodyLayout { bodies: Vec::with_capacity(bodies.len()), cell_body: Vec::new() };
     for (index, (name, mesh)) in bodies.iter().enumerate() {

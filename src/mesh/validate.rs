@@ -635,6 +635,7 @@ impl Mesh {
             edges,
             edge_group: self.edge_group.clone(),
             groups: self.groups.clone(),
+            measure: self.measure,
         }
     }
 }

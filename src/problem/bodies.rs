@@ -134,12 +134,21 @@ pub(super) fn material_of(spec: &scene::MaterialSpec) -> Material {
         plane: match spec.plane {
             scene::PlaneSpec::Strain => PlaneModel::Strain,
             scene::PlaneSpec::Stress => PlaneModel::Stress,
+            scene::PlaneSpec::Axisymmetric => PlaneModel::Axisymmetric,
         },
     }
 }
 
 /// Set up a scene with several bodies on its model (see the module documentation).
-pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSetup> {
+pub(super) fn setup_bodies(scene: Scene, mut model: BodiesModel) -> Result<BodiesSetup> {
+    // Axisymmetry: the union's measure and axis nodes, copied to every body's own mesh.
+    let plane = material_of(&model.bodies[0].material).plane;
+    super::axisymmetry::prepare_mesh(&mut model.mesh, plane, None)?;
+    super::axisymmetry::refuse_interface_laws(&scene)?;
+    for (body, range) in model.body_meshes.iter_mut().zip(&model.layout.bodies) {
+        body.measure = model.mesh.measure;
+        body.nodes.copy_from_slice(&model.mesh.nodes[range.nodes.clone()]);
+    }
     let flat = flatten(&scene, &model)?;
     let mesh = model.mesh.clone();
     // Materials: one per body, in body order.
@@ -157,6 +166,7 @@ pub(super) fn setup_bodies(scene: Scene, model: BodiesModel) -> Result<BodiesSet
             }
         }
     }
+    super::axisymmetry::fix_axis(&mesh, &mut constraints)?;
     let free_motions = free_motions_of_bodies(&model, &constraints);
     let mut warnings = Vec::new();
     let contact = contact_of_bodies(&model, &constraints, free_motions.clone(), scene.contact_solver, &mut warnings)?;

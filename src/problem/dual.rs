@@ -135,6 +135,7 @@ impl<'s> ElasticityProblem<'s> {
     pub fn solve_dual(&mut self) -> Result<()> {
         self.refuse_bodies()?;
         crate::interface_law::refuse_dual(&self.scene, "the dual formulation")?;
+        super::axisymmetry::refuse_in_axisymmetry(&self.scene, "the dual formulation")?;
         self.progress().phase_started(super::Phase::Dual);
         let start = std::time::Instant::now();
         self.solve_dual_unobserved()?;
@@ -261,6 +262,7 @@ impl<'s> ElasticityProblem<'s> {
     pub fn estimate(&mut self) -> Result<()> {
         self.refuse_bodies()?;
         crate::interface_law::refuse_dual(&self.scene, "the estimate")?;
+        super::axisymmetry::refuse_in_axisymmetry(&self.scene, "the estimate")?;
         self.progress().phase_started(super::Phase::Estimate);
         let start = std::time::Instant::now();
         self.estimate_unobserved()?;

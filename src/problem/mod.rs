@@ -27,6 +27,7 @@
 //! failing one its own and the others [`Error::OtherRank`], instead of waiting forever.
 use std::ops::Range;
 
+pub mod axisymmetry;
 pub(crate) mod bodies;
 mod condensed;
 pub(crate) mod dual;
@@ -46,7 +47,7 @@ pub use progress::{NoProgress, Phase, Progress};
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::{self, Constraints, EdgeLoad, Loads, Traction};
-use crate::fem::material::{CellMaterials, Material, PlaneModel};
+use crate::fem::material::{CellMaterials, Material};
 use crate::fem::mixed_pressure;
 use crate::mesh::cache::CacheReport;
 use crate::mesh::{self, Mesh, Order};
@@ -320,10 +321,16 @@ impl<'s> ElasticityProblem<'s> {
         mut timings: Timings,
         progress: Box<dyn Progress>,
     ) -> Result<Self> {
-        let mesh = consistent_across_ranks(session, mesh)?;
+        let mut mesh = consistent_across_ranks(session, mesh)?;
+        let material = bodies::material_of(&scene.material);
+        let mesh_file = match &scene.mesh {
+            crate::scene::MeshSpec::File { path, .. } => Some(path.clone()),
+            _ => None,
+        };
+        axisymmetry::prepare_mesh(&mut mesh, material.plane, mesh_file.as_deref())?;
+        axisymmetry::refuse_interface_laws(&scene)?;
         scene.check_against_mesh(&mesh)?;
         scene.check_magnitudes(&mesh)?;
-        let material = bodies::material_of(&scene.material);
         let start = std::time::Instant::now();
         let mut constraints = Constraints::new(2 * mesh.num_nodes());
         for d in &scene.dirichlet {
@@ -336,6 +343,7 @@ impl<'s> ElasticityProblem<'s> {
                 }
             }
         }
+        axisymmetry::fix_axis(&mesh, &mut constraints)?;
         check_every_piece_is_held(&mesh, &scene, &constraints)?;
         let free_motions = constraints.check_rigid_motions(&mesh).err();
         let contact = match &scene.contact {
@@ -705,10 +713,7 @@ impl<'s> ElasticityProblem<'s> {
             title: self.scene.title.clone(),
             formulation: if dual_only { "dual" } else { "primal" },
             element: if dual_only { "HCT" } else { self.scene.element.report_name(self.mesh.order) },
-            plane: match self.material.plane {
-                PlaneModel::Strain => "strain",
-                PlaneModel::Stress => "stress",
-            },
+            plane: self.material.plane.name(),
             nodes: self.mesh.num_nodes(),
             elements: self.mesh.num_cells(),
             boundary_edges: self.mesh.num_edges(),

@@ -82,8 +82,17 @@ impl ElasticityProblem<'_> {
         }
         // With no load and no contact force (a body moved rigidly, a gap that stays open) every
         // force is round-off: the stiffness times the displacement is then the force scale.
-        let magnitude = magnitude.max(self.material.plane_modulus() * max_displacement);
-        let imbalance = (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1]);
+        // In axisymmetry forces are for the full revolution (2π r ds): the stiffness scale is
+        // E u 2π r_max, and the radial components of ring forces do not add up to a balance (a
+        // ring pulled outwards all round is in equilibrium): only the axial resultant is checked,
+        // the radial equilibrium being node by node in the solver's residual.
+        let axisymmetric = self.mesh.measure.is_axisymmetric();
+        let magnitude = magnitude.max(self.material.plane_modulus() * max_displacement * self.mesh.force_length());
+        let imbalance = if axisymmetric {
+            (applied_force[1] + total_reaction[1]).abs()
+        } else {
+            (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1])
+        };
         let equilibrium_residual = if magnitude > 0.0 { imbalance / magnitude } else { 0.0 };
         if equilibrium_residual > EQUILIBRIUM_CHECK {
             return Err(Error::SolverDiverged {

@@ -416,10 +416,7 @@ pub(super) fn body_specs(src: &Source, raw: &[RawBody], scene_dir: &Path) -> Res
                     Some(v) => v.span(),
                     None => scope.table(src, "material", false, 0, None).span,
                 };
-                let named = |p: PlaneSpec| match p {
-                    PlaneSpec::Strain => "\"strain\"",
-                    PlaneSpec::Stress => "\"stress\"",
-                };
+                let named = |p: PlaneSpec| format!("\"{}\"", p.name());
                 return Err(src.error(
                     &span,
                     format!(
@@ -430,7 +427,7 @@ pub(super) fn body_specs(src: &Source, raw: &[RawBody], scene_dir: &Path) -> Res
                         named(first.material.plane)
                     ),
                     "the plane model is an assumption about the whole assembly (plane strain: long bodies; \
-                     plane stress: thin plates): give every body the same [body.material] plane",
+                     plane stress: thin plates; axisymmetric: bodies of revolution): give every body the same [body.material] plane",
                 ));
             }
         }

@@ -312,7 +312,7 @@ fn write_body(t: &mut String, body: &BodySpec, prefix: &str, top: Option<(Formul
         "[{prefix}material]\nyoung = {}\npoisson = {}\nplane = \"{}\"",
         num(young),
         num(poisson),
-        if plane == PlaneSpec::Stress { "stress" } else { "strain" }
+        plane.name()
     );
     let _ = writeln!(t, "[{prefix}loads]\nbody_force = {}", pair(body.body_force));
     name_line(t, &body.body_force_name);
@@ -472,7 +472,7 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
 /// | [`title`](Self::title) | `title` |
 /// | [`quadratic`](Self::quadratic), [`p2p0`](Self::p2p0) | `[discretization]` `order = 2`, `element = "p2p0"` |
 /// | [`formulation`](Self::formulation), [`dual_constraints`](Self::dual_constraints), [`estimate`](Self::estimate) | `[discretization]` `formulation`, `dual_constraints`; `[estimate]` |
-/// | [`material`](Self::material), [`plane_stress`](Self::plane_stress) | `[material]` |
+/// | [`material`](Self::material), [`plane_stress`](Self::plane_stress), [`axisymmetric`](Self::axisymmetric) | `[material]` |
 /// | [`body_force`](Self::body_force) | `[loads]` |
 /// | [`traction`](Self::traction), [`pressure`](Self::pressure) (any number) | `[[traction]]` |
 /// | [`dirichlet`](Self::dirichlet), [`dirichlet_point`](Self::dirichlet_point) (any number) | `[[dirichlet]]` |
@@ -750,6 +750,13 @@ impl SceneBuilder {
     pub fn plane_stress(mut self) -> Self {
         self.once("plane_stress", "the plane model");
         self.scene.material.plane = PlaneSpec::Stress;
+        self
+    }
+    /// A body of revolution (`plane = "axisymmetric"`): the mesh is the meridian half-plane
+    /// `(r, z) = (x, y)` with `r ≥ 0`, and forces are for the full revolution.
+    pub fn axisymmetric(mut self) -> Self {
+        self.once("axisymmetric", "the plane model");
+        self.scene.material.plane = PlaneSpec::Axisymmetric;
         self
     }
     /// Force per unit volume (N/m³), e.g. `[0.0, -ρ g]` (`[loads] body_force`).
@@ -1432,6 +1439,7 @@ fn builder_call(text: &str, line: usize) -> String {
         ("discretization", Some("formulation")) => "SceneBuilder::formulation".into(),
         ("discretization", Some("dual_constraints")) => "SceneBuilder::dual_constraints".into(),
         ("discretization", _) => "SceneBuilder::quadratic".into(),
+        ("material", Some("plane")) if value("plane").contains("axisymmetric") => "SceneBuilder::axisymmetric".into(),
         ("material", Some("plane")) => "SceneBuilder::plane_stress".into(),
         ("material", _) => "SceneBuilder::material".into(),
         ("loads", _) => "SceneBuilder::body_force".into(),

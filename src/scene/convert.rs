@@ -411,8 +411,12 @@ pub(super) fn material_spec(src: &Source, scope: &Scope, m: &RawMaterial) -> Res
         ));
     }
     let plane = match &m.plane {
-        Some(v) if src.choice(v, "plane", &["strain", "stress"])? == "stress" => PlaneSpec::Stress,
-        _ => PlaneSpec::Strain,
+        Some(v) => match src.choice(v, "plane", &["strain", "stress", "axisymmetric"])? {
+            "stress" => PlaneSpec::Stress,
+            "axisymmetric" => PlaneSpec::Axisymmetric,
+            _ => PlaneSpec::Strain,
+        },
+        None => PlaneSpec::Strain,
     };
     Ok(MaterialSpec { young, poisson, plane })
 }

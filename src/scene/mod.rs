@@ -201,7 +201,7 @@ pub struct MaterialSpec {
     pub young: f64,
     /// Poisson's ratio ν, in (-1, 0.5).
     pub poisson: f64,
-    /// Plane strain or plane stress.
+    /// Plane strain, plane stress or axisymmetric.
     pub plane: PlaneSpec,
 }
 
@@ -212,6 +212,20 @@ pub enum PlaneSpec {
     Strain,
     /// σzz = 0: a thin plate loaded in its plane.
     Stress,
+    /// A body of revolution: the mesh is its meridian half-plane `(r, z) = (x, y)`, `r ≥ 0`;
+    /// forces are for the full revolution.
+    Axisymmetric,
+}
+
+impl PlaneSpec {
+    /// The scene's spelling: "strain", "stress" or "axisymmetric".
+    pub fn name(self) -> &'static str {
+        match self {
+            PlaneSpec::Strain => "strain",
+            PlaneSpec::Stress => "stress",
+            PlaneSpec::Axisymmetric => "axisymmetric",
+        }
+    }
 }
 
 /// Prescribed displacement components on a boundary part or at a node.

@@ -173,7 +173,16 @@ impl Grid {
             .map(|(k, name)| PhysicalGroup { name: name.to_string(), tag: k as i32 + 1, dim: 1 })
             .chain(std::iter::once(PhysicalGroup { name: "domain".into(), tag: 5, dim: 2 }))
             .collect();
-        let mesh = Mesh { order: self.order, nodes, cells, cell_group: vec![4; num_cells], edges, edge_group, groups };
+        let mesh = Mesh {
+            order: self.order,
+            nodes,
+            cells,
+            cell_group: vec![4; num_cells],
+            edges,
+            edge_group,
+            groups,
+            measure: Default::default(),
+        };
         assert_positive_jacobians(&mesh);
         mesh
     }

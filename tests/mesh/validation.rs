@@ -25,6 +25,7 @@ fn square(order: Order) -> Mesh {
             edges: vec![0, 1, 1, 2, 2, 3, 3, 0],
             edge_group: vec![0; 4],
             groups,
+            measure: Default::default(),
         },
         Order::P2 => {
             // mids: 4 (0-1), 5 (1-2), 6 (2-3), 7 (3-0), 8 (0-2)
@@ -37,6 +38,7 @@ fn square(order: Order) -> Mesh {
                 edges: vec![0, 1, 4, 1, 2, 5, 2, 3, 6, 3, 0, 7],
                 edge_group: vec![0; 4],
                 groups,
+                measure: Default::default(),
             }
         }
     }
@@ -79,6 +81,7 @@ fn validate_rejects_mixed_orientation() {
         edges: vec![],
         edge_group: vec![],
         groups: vec![],
+        measure: Default::default(),
     };
     let e = mesh.validate().unwrap_err();
     let text = e.to_string();

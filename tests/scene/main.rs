@@ -122,6 +122,7 @@ fn two_triangles() -> Mesh {
             group("left", 4, 1),
             group("domain", 5, 2),
         ],
+        measure: Default::default(),
     }
 }
 

@@ -42,6 +42,7 @@ impl ContactBoundary {
             left_out: Vec::new(),
             coupled: Vec::with_capacity(m),
             frame: Vec::with_capacity(m),
+            axis_pressure: Vec::new(),
         };
         for i in 0..m {
             let k = coupling.nodes[i];
@@ -95,6 +96,7 @@ impl ContactBoundary {
             left_out: Vec::new(),
             coupled: Vec::new(),
             frame: Vec::new(),
+            axis_pressure: Vec::new(),
         };
         let any_coupled = parts.iter().any(|p| p.is_coupled());
         let mut part_of = Vec::new();
@@ -113,6 +115,7 @@ impl ContactBoundary {
             all.left_out.extend(b.left_out);
             all.coupled.extend(b.coupled);
             all.frame.extend(b.frame);
+            all.axis_pressure.extend(b.axis_pressure);
             part_of.extend(std::iter::repeat_n(p, m));
         }
         let mut order: Vec<usize> = (0..all.nodes.len()).collect();
