@@ -170,7 +170,8 @@ fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
         clear(&out)?;
     }
     let show_progress = session.rank() == 0 && terminal_progress::wanted(args.quiet);
-    let progress = Box::new(terminal_progress::TerminalProgress::new(show_progress));
+    let force_unit = if signorini::problem::axisymmetry::is_axisymmetric(&scene) { "N" } else { "N/m" };
+    let progress = Box::new(terminal_progress::TerminalProgress::new(show_progress).with_force_unit(force_unit));
     let dual = match args.formulation.as_deref() {
         Some("dual") => true,
         Some(_) => false,

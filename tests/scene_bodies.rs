@@ -297,6 +297,13 @@ fn bodies_share_their_order_and_plane_model() {
     let (line, message, _) = scene_error(parse(&text));
     assert_eq!(line, line_of(&text, "plane = \"stress\""));
     assert_eq!(message, "body `bottom` is in plane = \"stress\", but body `top` (line 4) is in plane = \"strain\"");
+    let text = two_with("poisson = 0.25 }", "poisson = 0.25, plane = \"axisymmetric\" }");
+    let (_, message, hint) = scene_error(parse(&text));
+    assert_eq!(
+        message,
+        "body `bottom` is in plane = \"axisymmetric\", but body `top` (line 4) is in plane = \"strain\""
+    );
+    assert!(hint.contains("axisymmetric: bodies of revolution"), "{hint}");
 }
 
 #[test]

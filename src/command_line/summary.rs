@@ -195,7 +195,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "path",
             &format!(
-                "{} increments, t = {} to {}, {} halving(s), {} contact iterations in all; dissipation {:.4e} J/m, \
+                "{} increments, t = {} to {}, {} halving(s), {} contact iterations in all; dissipation {:.4e} {}, \
                  energy balance {:.1e} of the work; the results below are the last increment's; {}",
                 path.increments,
                 first.time,
@@ -203,6 +203,7 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
                 path.halvings,
                 r.steps.iter().map(|s| s.iterations).sum::<usize>(),
                 last.total_dissipation,
+                if r.forces == "full revolution" { "J" } else { "J/m" },
                 e.relative_residual,
                 path.route
             ),
@@ -237,7 +238,8 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "balance",
             &format!(
-                "forces (N/m): applied {}, reactions {}; equilibrium residual {}",
+                "forces ({}): applied {}, reactions {}; equilibrium residual {}",
+                force_unit(r),
                 point_in(res.applied_force, scale),
                 if reactions.is_empty() { "none".into() } else { reactions.join(", ") },
                 relative(res.equilibrium_residual)
@@ -254,12 +256,13 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "contact",
             &format!(
-                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} N/m (normal {}, tangential {})",
+                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} {} (normal {}, tangential {})",
                 c.part,
                 c.friction,
                 c.points,
                 c.open,
                 point_in(c.resultant, scale),
+                force_unit(r),
                 number(c.normal_resultant, scale, 4),
                 number(c.tangential_resultant, scale, 4)
             ),
@@ -491,5 +494,15 @@ mod tests {
         assert_eq!(changes_list(&[3, 1, 0]), "[3, 1, 0]");
         let long: Vec<usize> = (0..111).collect();
         assert_eq!(changes_list(&long), "[0, 1, 2, 3, 4, 5, … 101 more …, 107, 108, 109, 110]");
+    }
+}
+
+/// The unit of the summary's forces: N/m (per unit thickness) or N (a body of revolution: the
+/// whole circumference, `report.json` → `forces`).
+fn force_unit(r: &Report) -> &'static str {
+    if r.forces == "full revolution" {
+        "N, full revolution"
+    } else {
+        "N/m"
     }
 }

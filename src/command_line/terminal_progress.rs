@@ -135,11 +135,18 @@ impl Drop for Spinner {
 pub struct TerminalProgress {
     spinner: Spinner,
     phase: Mutex<Option<Phase>>,
+    /// The unit of forces in the increment lines: "N/m" (plane) or "N" (axisymmetric).
+    force_unit: &'static str,
 }
 
 impl TerminalProgress {
     pub fn new(enabled: bool) -> Self {
-        TerminalProgress { spinner: Spinner::new(enabled), phase: Mutex::new(None) }
+        TerminalProgress { spinner: Spinner::new(enabled), phase: Mutex::new(None), force_unit: "N/m" }
+    }
+
+    /// The same, with forces in `unit` ("N" for a body of revolution).
+    pub fn with_force_unit(self, unit: &'static str) -> Self {
+        TerminalProgress { force_unit: unit, ..self }
     }
 
     fn phase_name(&self) -> &'static str {
@@ -178,7 +185,7 @@ impl Progress for TerminalProgress {
     }
 
     fn increment_finished(&self, step: &StepRecord, total: usize) {
-        self.spinner.print_line(&increment_line(step, total));
+        self.spinner.print_line(&increment_line(step, total, self.force_unit));
     }
 }
 
@@ -199,10 +206,11 @@ fn short_time(t: f64) -> String {
 }
 
 /// The line of a converged increment, its columns aligned from one increment of the path to
-/// the next: `increment  3/40  t = 0.075     Q = -1.234e3 N/m  stick/slip/open 12/ 4/30 …`.
+/// the next: `increment  3/40  t = 0.075     Q = -1.234e3 N/m  stick/slip/open 12/ 4/30 …`
+/// (`unit`: "N/m", or "N" for a body of revolution).
 /// The counts are `closed/open` where closed points have no friction, and all four where both
 /// kinds are closed; cut increments say how many times they were halved.
-pub fn increment_line(step: &StepRecord, total: usize) -> String {
+pub fn increment_line(step: &StepRecord, total: usize, unit: &str) -> String {
     let width = digits(total.max(step.step));
     let points = digits(step.open + step.stick + step.slip + step.closed);
     let (names, counts) = match (step.closed > 0, step.stick + step.slip > 0) {
@@ -212,7 +220,7 @@ pub fn increment_line(step: &StepRecord, total: usize) -> String {
     };
     let counts: Vec<String> = counts.iter().map(|c| format!("{c:>points$}")).collect();
     let mut line = format!(
-        "increment {:>width$}/{total}  t = {:<9}  Q = {:>9} N/m  {names} {}  {:>3} iterations  residual {:<8}  {:>7.2} s",
+        "increment {:>width$}/{total}  t = {:<9}  Q = {:>9} {unit:<3}  {names} {}  {:>3} iterations  residual {:<8}  {:>7.2} s",
         step.step,
         short_time(step.time),
         format!("{:.3e}", step.tangential_resultant),
@@ -259,7 +267,7 @@ mod tests {
 
     #[test]
     fn increment_lines_say_what_converged() {
-        let line = increment_line(&record(3, 12, 4, 0, 30), 40);
+        let line = increment_line(&record(3, 12, 4, 0, 30), 40, "N/m");
         assert_eq!(
             line,
             "increment  3/40  t = 0.075      Q =   5.000e5 N/m  stick/slip/open 12/ 4/30    4 iterations  residual \
@@ -267,10 +275,10 @@ mod tests {
         );
         let mut cut = record(7, 0, 0, 20, 26);
         cut.halvings = 2;
-        let line = increment_line(&cut, 9);
+        let line = increment_line(&cut, 9, "N/m");
         assert!(line.contains("closed/open 20/26"), "{line}");
         assert!(line.ends_with("  (halved 2 times)"), "{line}");
-        let mixed = increment_line(&record(1, 3, 2, 5, 0), 1);
+        let mixed = increment_line(&record(1, 3, 2, 5, 0), 1, "N/m");
         assert!(mixed.contains("stick/slip/closed/open  3/ 2/ 5/ 0"), "{mixed}");
         assert!(!line.contains('\u{1b}') && !mixed.contains('\u{1b}'), "no escape codes");
     }
@@ -280,7 +288,7 @@ mod tests {
         // Steps of 1 to 3 digits, counts of 1 and 2 digits, residuals of both exponent widths.
         let lines: Vec<String> = [1, 2, 9, 10, 99, 100, 120]
             .iter()
-            .map(|&k| increment_line(&record(k, k % 17, 3, 0, 60 - k % 17 - 3), 120))
+            .map(|&k| increment_line(&record(k, k % 17, 3, 0, 60 - k % 17 - 3), 120, "N/m"))
             .collect();
         for marker in ["t = ", "Q = ", "stick/slip/open", "iterations", "residual", " s"] {
             let columns: Vec<usize> = lines.iter().map(|l| l.find(marker).unwrap()).collect();

@@ -2,7 +2,8 @@
 //!
 //! - `history.csv` ([`HISTORY_CSV`]): one row per increment, the columns of
 //!   [`HISTORY_CSV_HEADER`] (units in the names: `_N_per_m` force per metre of thickness,
-//!   `_J_per_m` energy per metre of thickness, `_m` metres, `seconds` wall clock; `time` is the
+//!   `_J_per_m` energy per metre of thickness — `_N` and `_J` for the full revolution of a body
+//!   of revolution, [`ForceBasis`] — `_m` metres, `seconds` wall clock; `time` is the
 //!   load path's pseudo-time), numbers with `{:e}` (the shortest decimal that reads back to the
 //!   same `f64`); with an interface law the columns of [`HISTORY_CSV_INTERFACE_COLUMNS`] follow
 //!   (the interface's summary at each increment, `crate::output::interface::InterfaceSummary`;
@@ -115,17 +116,66 @@ pub fn write_history_csv_with_interface(
     steps: &[StepRecord],
     interface: Option<&InterfaceHistory>,
 ) -> Result<()> {
+    write_history_csv_in(path, steps, interface, ForceBasis::UnitThickness)
+}
+
+/// What the forces and energies of a history are per, which the column names and axis labels
+/// say: per metre of thickness (`_N_per_m`, `_J_per_m`, plane models) or for the full revolution
+/// of a body of revolution (`_N`, `_J`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForceBasis {
+    /// Plane strain and plane stress: N/m and J/m.
+    UnitThickness,
+    /// Axisymmetric: N and J for the whole circumference.
+    FullRevolution,
+}
+
+impl ForceBasis {
+    /// The basis of a mesh's measure.
+    pub fn of(measure: crate::mesh::Measure) -> Self {
+        if measure.is_axisymmetric() {
+            ForceBasis::FullRevolution
+        } else {
+            ForceBasis::UnitThickness
+        }
+    }
+
+    /// `header` with its unit suffixes for this basis.
+    pub fn header(self, header: &str) -> String {
+        match self {
+            ForceBasis::UnitThickness => header.to_string(),
+            ForceBasis::FullRevolution => header.replace("_N_per_m", "_N").replace("_J_per_m", "_J"),
+        }
+    }
+
+    /// The unit of a force: "N/m" or "N".
+    pub fn force_unit(self) -> &'static str {
+        match self {
+            ForceBasis::UnitThickness => "N/m",
+            ForceBasis::FullRevolution => "N",
+        }
+    }
+}
+
+/// [`write_history_csv_with_interface`] with the column names of `basis`.
+pub fn write_history_csv_in(
+    path: &Path,
+    steps: &[StepRecord],
+    interface: Option<&InterfaceHistory>,
+    basis: ForceBasis,
+) -> Result<()> {
     check_finite(path, steps)?;
     if let Some(history) = interface {
         check_interface_finite(path, history)?;
     }
     let mut text = String::with_capacity(200 * (steps.len() + 1));
+    let header = basis.header(HISTORY_CSV_HEADER);
     match interface {
         Some(_) => {
-            let _ = writeln!(text, "{HISTORY_CSV_HEADER},{HISTORY_CSV_INTERFACE_COLUMNS}");
+            let _ = writeln!(text, "{header},{}", basis.header(HISTORY_CSV_INTERFACE_COLUMNS));
         }
         None => {
-            let _ = writeln!(text, "{HISTORY_CSV_HEADER}");
+            let _ = writeln!(text, "{header}");
         }
     }
     for s in steps {
@@ -200,6 +250,11 @@ fn check_interface_finite(path: &Path, history: &InterfaceHistory) -> Result<()>
 /// linear axes, one line through the steps in the order given (not sorted) with a marker at
 /// each, atomically. Errors as [`write_history_csv`].
 pub fn write_hysteresis_svg(path: &Path, title: &str, steps: &[StepRecord]) -> Result<()> {
+    write_hysteresis_svg_in(path, title, steps, ForceBasis::UnitThickness)
+}
+
+/// [`write_hysteresis_svg`] with the force unit of `basis` on its axis.
+pub fn write_hysteresis_svg_in(path: &Path, title: &str, steps: &[StepRecord], basis: ForceBasis) -> Result<()> {
     check_finite(path, steps)?;
     let (first, last) = (steps[0].step, steps[steps.len() - 1].step);
     let series = Series {
@@ -210,7 +265,7 @@ pub fn write_hysteresis_svg(path: &Path, title: &str, steps: &[StepRecord]) -> R
         path,
         title,
         "tangential displacement of the monitored part (m)",
-        "tangential contact force (N/m)",
+        &format!("tangential contact force ({})", basis.force_unit()),
         &[series],
         &[Style::LineAndMarkers],
     )
@@ -316,6 +371,19 @@ pub fn write_load_path_outputs_with_interface(
     title: &str,
     interface: Option<&InterfaceHistory>,
 ) -> Result<Vec<PathBuf>> {
+    write_load_path_outputs_in(dir, steps, profiles, title, interface, ForceBasis::UnitThickness)
+}
+
+/// [`write_load_path_outputs_with_interface`] with the units of `basis` in the column names
+/// and axis labels.
+pub fn write_load_path_outputs_in(
+    dir: &Path,
+    steps: &[StepRecord],
+    profiles: &[ContactProfile],
+    title: &str,
+    interface: Option<&InterfaceHistory>,
+    basis: ForceBasis,
+) -> Result<Vec<PathBuf>> {
     let csv = dir.join(HISTORY_CSV);
     check_finite(&csv, steps)?;
     if let Some(history) = interface {
@@ -326,10 +394,10 @@ pub fn write_load_path_outputs_with_interface(
     }
     all_or_nothing(|| {
         let mut written = Vec::with_capacity(4);
-        write_history_csv_with_interface(&csv, steps, interface)?;
+        write_history_csv_in(&csv, steps, interface, basis)?;
         written.push(csv.clone());
         let hysteresis = dir.join(HYSTERESIS_SVG);
-        write_hysteresis_svg(&hysteresis, &format!("{title}: tangential load against displacement"), steps)?;
+        write_hysteresis_svg_in(&hysteresis, &format!("{title}: tangential load against displacement"), steps, basis)?;
         written.push(hysteresis);
         if !profiles.is_empty() {
             let path = dir.join(CONTACT_PROFILES_SVG);

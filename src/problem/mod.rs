@@ -72,8 +72,12 @@ pub struct Report {
     pub formulation: &'static str,
     /// The element, e.g. `"P1"`, `"P2"`, `"P2-P0"`, `"HCT"` for a dual-only run.
     pub element: &'static str,
-    /// The plane model: `"strain"` or `"stress"`.
+    /// The plane model: `"strain"`, `"stress"` or `"axisymmetric"`.
     pub plane: &'static str,
+    /// What the forces (loads, reactions, contact forces, resultants) are per:
+    /// `"unit thickness"` (N/m; plane strain and plane stress) or `"full revolution"` (N; a body
+    /// of revolution: the ring forces of the whole circumference, `2π r` in every integral).
+    pub forces: &'static str,
     /// Mesh nodes (P2 mid nodes included).
     pub nodes: usize,
     /// Mesh triangles.
@@ -714,6 +718,7 @@ impl<'s> ElasticityProblem<'s> {
             formulation: if dual_only { "dual" } else { "primal" },
             element: if dual_only { "HCT" } else { self.scene.element.report_name(self.mesh.order) },
             plane: self.material.plane.name(),
+            forces: if self.mesh.measure.is_axisymmetric() { "full revolution" } else { "unit thickness" },
             nodes: self.mesh.num_nodes(),
             elements: self.mesh.num_cells(),
             boundary_edges: self.mesh.num_edges(),

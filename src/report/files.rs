@@ -237,12 +237,13 @@ impl ElasticityProblem<'_> {
                         written.push(pvd);
                         let title = self.scene.title.clone().unwrap_or_else(|| "load path".into());
                         let interface = self.interface_history.borrow();
-                        written.extend(crate::evolution::history::write_load_path_outputs_with_interface(
+                        written.extend(crate::evolution::history::write_load_path_outputs_in(
                             dir,
                             &path.steps,
                             &path.profiles,
                             &title,
                             interface.as_ref(),
+                            crate::evolution::history::ForceBasis::of(self.mesh.measure),
                         )?);
                         if let Some(history) = interface.as_ref() {
                             // The interface's increments, as written by write_step_output.

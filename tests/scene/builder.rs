@@ -323,6 +323,7 @@ fn a_call_that_would_be_ignored_is_refused() {
         ("SceneBuilder::tresca", block().contact_line("bottom", [0.0, 0.0], [0.0, 1.0]).coulomb(0.3).tresca(1e5)),
         ("SceneBuilder::quadratic", block().quadratic().quadratic()),
         ("SceneBuilder::title", block().title("a").title("b")),
+        ("SceneBuilder::axisymmetric", block().plane_stress().axisymmetric()),
     ] {
         let (message, _) = builder_error(b.build());
         assert!(message.starts_with(call) && message.contains("set twice (by SceneBuilder::"), "{call}: {message}");
@@ -454,4 +455,29 @@ dir = "out/two"
         assert!(message.starts_with("BodiesBuilder::body(\"top\", ..)") && message.contains(what), "{message}");
         assert!(hint.contains("BodiesBuilder"), "{hint}");
     }
+}
+
+#[test]
+fn axisymmetric_call_gives_the_plane_key() {
+    let built = SceneBuilder::rectangle([0.0, 0.0], [1.0, 2.0], 0.5)
+        .material(2e11, 0.3)
+        .axisymmetric()
+        .dirichlet("bottom", None, Some(0.0))
+        .build();
+    let text = r#"
+[mesh]
+shape = "rectangle"
+origin = [0.0, 0.0]
+size = [1.0, 2.0]
+cell_size = 0.5
+[material]
+young = 2e11
+poisson = 0.3
+plane = "axisymmetric"
+[[dirichlet]]
+part = "bottom"
+uy = 0.0
+"#;
+    let s = same_scene(built, text);
+    assert_eq!(s.material.plane, PlaneSpec::Axisymmetric);
 }

@@ -113,6 +113,11 @@ fn unknown_plane_model() {
 
     let s = parse(&base_with("poisson = 0.3", "poisson = 0.3\nplane = \"stress\"")).unwrap();
     assert_eq!(s.material.plane, PlaneSpec::Stress);
+    let s = parse(&base_with("poisson = 0.3", "poisson = 0.3\nplane = \"axisymmetric\"")).unwrap();
+    assert_eq!(s.material.plane, PlaneSpec::Axisymmetric);
+    let text = base_with("poisson = 0.3", "poisson = 0.3\nplane = \"axisymetric\"");
+    let e = scene_error(&text);
+    assert!(e.hint.contains("did you mean \"axisymmetric\"?"), "{}", e.hint);
 }
 
 #[test]
