@@ -161,7 +161,8 @@ pub struct ResultsReport {
     pub max_displacement: f64,
     /// Largest von Mises stress over the nodes (Pa).
     pub max_von_mises: f64,
-    /// Applied load resultant (body force + tractions), N per unit thickness.
+    /// Applied load resultant (body force + tractions), N per unit thickness (N for the full
+    /// revolution of a body of revolution: the radial component is then a sum of ring forces, not a balance).
     pub applied_force: [f64; 2],
     /// Reaction resultant on each Dirichlet part.
     pub reactions: std::collections::BTreeMap<String, [f64; 2]>,

@@ -57,11 +57,11 @@ pub struct BodyReport {
     pub nodes: usize,
     /// The body's triangles.
     pub elements: usize,
-    /// Resultant of the loads on the body: body force and tractions (N per unit thickness).
+    /// Resultant of the loads on the body: body force and tractions (N per unit thickness; N for the full revolution of a body of revolution).
     pub applied_force: [f64; 2],
-    /// Resultant of its Dirichlet reactions (N per unit thickness).
+    /// Resultant of its Dirichlet reactions (N per unit thickness; N for the full revolution of a body of revolution).
     pub reaction: [f64; 2],
-    /// Resultant of the contact forces on it (N per unit thickness).
+    /// Resultant of the contact forces on it (N per unit thickness; N for the full revolution of a body of revolution).
     pub contact_force: [f64; 2],
     /// Largest displacement magnitude over its nodes (m).
     pub max_displacement: f64,
@@ -86,7 +86,7 @@ pub struct ContactPartReport {
     pub stick: usize,
     /// Points in contact, slipping.
     pub slip: usize,
-    /// The force the part's contact exerts on its slave body (N/m).
+    /// The force the part's contact exerts on its slave body (N/m; N in axisymmetry).
     pub slave_resultant: [f64; 2],
     /// On the master body (pairs; absent for a rigid obstacle).
     #[serde(skip_serializing_if = "Option::is_none")]

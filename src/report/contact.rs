@@ -183,7 +183,7 @@ pub struct ContactResidualsReport {
     /// Largest violation of the friction law: a sticking point that moves, or a slipping point that
     /// does not slip against its force (the natural-map residual).
     pub tangential_complementarity: f64,
-    /// The force scale `F` the residuals are relative to (N per unit thickness).
+    /// The force scale `F` the residuals are relative to (N per unit thickness; N for the full revolution of a body of revolution).
     pub force_scale: f64,
     /// The displacement scale `U` the residuals are relative to (m).
     pub displacement_scale: f64,
@@ -255,11 +255,11 @@ pub struct ContactReport {
     pub stick: usize,
     /// Points in contact, slipping (0 without friction).
     pub slip: usize,
-    /// Resultant of the contact forces on the body in x and y (N per unit thickness).
+    /// Resultant of the contact forces on the body in x and y (N per unit thickness; N for the full revolution of a body of revolution).
     pub resultant: [f64; 2],
     /// Sums of the normal and tangential contact forces (local frames).
     pub normal_resultant: f64,
-    /// Sum of the tangential contact forces in the points' local frames (N per unit thickness).
+    /// Sum of the tangential contact forces in the points' local frames (N per unit thickness; N for the full revolution of a body of revolution).
     pub tangential_resultant: f64,
     /// The largest nodal contact pressure and where it is.
     pub peak_pressure: Option<super::contact_zones::PeakPressure>,

@@ -39,13 +39,17 @@ pub fn before_solving(
     file_order: Option<Order>,
 ) -> Vec<Warning> {
     let mut out = Vec::new();
-    if poisson >= 0.49 && plane == PlaneModel::Strain && element == Element::Lagrange {
+    if poisson >= 0.49 && plane != PlaneModel::Stress && element == Element::Lagrange {
+        let (model, dual) = match plane {
+            PlaneModel::Axisymmetric => ("in axisymmetry", ""),
+            _ => ("in plane strain", ", or formulation = \"dual\" for the stresses"),
+        };
         out.push(Warning {
             kind: "locking",
             message: format!(
-                "nu = {poisson} with {:?} displacement elements in plane strain: they lock near incompressibility \
+                "nu = {poisson} with {:?} displacement elements {model}: they lock near incompressibility \
                  (stresses polluted, contact pressures low); use order = 2 with element = \"p2p0\" in \
-                 [discretization], or formulation = \"dual\" for the stresses",
+                 [discretization]{dual}",
                 mesh.order
             ),
         });
@@ -143,6 +147,8 @@ mod tests {
         assert_eq!(w[0].kind, "locking");
         assert!(before_solving(&mesh, Element::P2P0, 0.4999, PlaneModel::Strain, None).is_empty());
         assert!(before_solving(&mesh, Element::Lagrange, 0.4999, PlaneModel::Stress, None).is_empty());
+        let w = before_solving(&mesh, Element::Lagrange, 0.4999, PlaneModel::Axisymmetric, None);
+        assert!(w.len() == 1 && w[0].message.contains("in axisymmetry") && !w[0].message.contains("dual"), "{w:?}");
         let p2 = mesh.to_quadratic();
         let w = before_solving(&p2, Element::Lagrange, 0.3, PlaneModel::Strain, Some(Order::P1));
         assert_eq!(w[0].kind, "polygonal_boundary");
