@@ -398,6 +398,16 @@ fn changes_list(changes: &[usize]) -> String {
     }
 }
 
+/// The unit of the summary's forces: N/m (per unit thickness) or N (a body of revolution: the
+/// whole circumference, `report.json` → `forces`).
+fn force_unit(r: &Report) -> &'static str {
+    if r.forces == "full revolution" {
+        "N, full revolution"
+    } else {
+        "N/m"
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -494,15 +504,5 @@ mod tests {
         assert_eq!(changes_list(&[3, 1, 0]), "[3, 1, 0]");
         let long: Vec<usize> = (0..111).collect();
         assert_eq!(changes_list(&long), "[0, 1, 2, 3, 4, 5, … 101 more …, 107, 108, 109, 110]");
-    }
-}
-
-/// The unit of the summary's forces: N/m (per unit thickness) or N (a body of revolution: the
-/// whole circumference, `report.json` → `forces`).
-fn force_unit(r: &Report) -> &'static str {
-    if r.forces == "full revolution" {
-        "N, full revolution"
-    } else {
-        "N/m"
     }
 }

@@ -390,40 +390,23 @@ impl AxisymmetricKernel {
             for a in 0..N {
                 for b in a..N {
                     add_btcb(&mut k[a][b], c, g[a], g[b], w);
-                    add_hoop(
-                        &mut k[a][b],
-                        self.coupling,
-                        self.diagonal,
-                        g[a],
-                        g[b],
-                        values[a] * inv_r,
-                        values[b] * inv_r,
-                        w,
-                    );
+                    self.add_hoop(&mut k[a][b], (g[a], values[a] * inv_r), (g[b], values[b] * inv_r), w);
                 }
             }
         }
         symmetrize(&mut k);
         k
     }
-}
 
-/// The hoop terms of `w · B_aᵀ C B_b` in axisymmetry: `ha = N_a / r`, `hb = N_b / r`, `C` with
-/// `C_θθ,rr = C_θθ,zz = coupling` and `C_θθ,θθ = diagonal` (and `C_θθ,rz = 0`).
-#[inline(always)]
-pub(super) fn add_hoop(
-    block: &mut Block,
-    coupling: f64,
-    diagonal: f64,
-    ga: [f64; 2],
-    gb: [f64; 2],
-    ha: f64,
-    hb: f64,
-    w: f64,
-) {
-    block[0][0] += w * (coupling * (ha * gb[0] + ga[0] * hb) + diagonal * ha * hb);
-    block[0][1] += w * coupling * ha * gb[1];
-    block[1][0] += w * coupling * ga[1] * hb;
+    /// The hoop terms of `w · B_aᵀ C B_b`: `ha = N_a / r`, `hb = N_b / r`, `C` with
+    /// `C_θθ,rr = C_θθ,zz = coupling` and `C_θθ,θθ = diagonal` (and `C_θθ,rz = 0`).
+    #[inline(always)]
+    fn add_hoop(&self, block: &mut Block, (ga, ha): ([f64; 2], f64), (gb, hb): ([f64; 2], f64), w: f64) {
+        let (coupling, diagonal) = (self.coupling, self.diagonal);
+        block[0][0] += w * (coupling * (ha * gb[0] + ga[0] * hb) + diagonal * ha * hb);
+        block[0][1] += w * coupling * ha * gb[1];
+        block[1][0] += w * coupling * ga[1] * hb;
+    }
 }
 
 pub(super) struct ReferenceTable {
