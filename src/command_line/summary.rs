@@ -256,12 +256,17 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         out.add(
             "contact",
             &format!(
-                "part '{}', friction {}: {} points: {closed}, {} open; resultant {} {} (normal {}, tangential {})",
+                "part '{}', friction {}: {} points: {closed}, {} open; {} {} (normal {}, tangential {})",
                 c.part,
                 c.friction,
                 c.points,
                 c.open,
-                point_in(c.resultant, scale),
+                // A body of revolution: ring forces add up along the axis only.
+                if r.forces == "full revolution" {
+                    format!("axial resultant {}", number(c.resultant[1], scale, 4))
+                } else {
+                    format!("resultant {}", point_in(c.resultant, scale))
+                },
                 force_unit(r),
                 number(c.normal_resultant, scale, 4),
                 number(c.tangential_resultant, scale, 4)

@@ -120,3 +120,38 @@ fn axisymmetric_refuses_interface_laws() {
         assert!(err.contains(word), "`{word}` missing from: {err}");
     }
 }
+
+/// A solid cylinder held along its axis by friction on a rigid plane only, pressed and then
+/// squeezed radially along a load path: the axial contact resultant is the press `q π R²` at
+/// every increment, `history.csv` names its columns in N and J, the summary gives the axial
+/// resultant only.
+#[test]
+fn axisymmetric_load_path_on_a_body_held_by_the_contact() {
+    let dir = scratch("axi-path");
+    let file = dir.join("path.toml");
+    std::fs::write(
+        &file,
+        "[mesh]\nshape = \"rectangle\"\nsize = [0.02, 0.04]\ncell_size = 2.5e-3\nmesher = \"structured\"\n\
+         [material]\nyoung = 1.3e11\npoisson = 0.2\nplane = \"axisymmetric\"\n\
+         [[traction]]\npart = \"top\"\npressure = 5e7\nname = \"press\"\n\
+         [[traction]]\npart = \"right\"\npressure = 1.5e8\nname = \"push\"\n\
+         [contact]\npart = \"bottom\"\nobstacle = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n\
+         friction = \"coulomb\"\nmu = 0.3\nsolver = \"newton\"\n\
+         [evolution]\nsteps = 8\n[evolution.factor]\npress = [[0, 0], [1, 1], [2, 1]]\npush = [[0, 0], [1, 0], [2, 1]]\n",
+    )
+    .unwrap();
+    let out = run_ok(bin().arg("run").arg(&file).arg("--out").arg(dir.join("out")));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("axial resultant 6.2832e4 N, full revolution"), "{stdout}");
+    let csv = std::fs::read_to_string(dir.join("out").join("history.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert!(header.contains(&"contact_y_N") && header.contains(&"work_J"), "{header:?}");
+    assert!(!header.iter().any(|h| h.contains("per_m")), "{header:?}");
+    let column = header.iter().position(|h| *h == "contact_y_N").unwrap();
+    let press = 5e7 * std::f64::consts::PI * 0.02 * 0.02;
+    for (k, line) in csv.lines().skip(1).enumerate() {
+        let fy: f64 = line.split(',').nth(column).unwrap().parse().unwrap();
+        let expected = press * ((k + 1) as f64 / 4.0).min(1.0);
+        assert!((fy - expected).abs() < 1e-9 * press, "increment {}: {fy:e} against {expected:e}", k + 1);
+    }
+}
