@@ -349,8 +349,12 @@ impl ContactSetup {
 
     /// SNESVI route: rotate the 2×2 node blocks of the contact nodes into their (n, t) frames,
     /// `K' = Rᵀ K R`, `f' = Rᵀ f`, so that the non-penetration `uN ≤ g0` becomes an upper bound
-    /// on one unknown. Nodes with a Dirichlet component are not contact nodes, so fixed rows
-    /// (a lone diagonal) are never rotated.
+    /// on one unknown. A contact point with a prescribed component along its tangent
+    /// ([`Self::aligned_normal`]: a roller on a flat contact, the axis node of a body of
+    /// revolution on a plane normal to the axis) is not rotated: its normal is a coordinate
+    /// axis, so the bound goes on that Cartesian dof and its fixed row (a lone diagonal, whose
+    /// pattern a rotation would need to widen) stays as it is. Any other prescribed component
+    /// is refused.
     pub fn rotate_to_frames(
         &self,
         num_nodes: usize,
@@ -360,15 +364,24 @@ impl ContactSetup {
         values: &mut [f64],
         rhs: &mut [f64],
     ) -> Result<()> {
-        if let Some(i) = self.boundary.prescribed.iter().position(|p| p.is_some()) {
+        // A prescribed component along the point's tangent (`n_k = 0` exactly: a roller on a flat
+        // contact, the axis node of a body of revolution on a plane normal to the axis) keeps
+        // its lone Dirichlet row: the frame is then a signed permutation of (x, y) and the
+        // rotated tangential row is that Dirichlet row. Any other prescribed component would
+        // mix a Dirichlet row with an equation.
+        let b = &self.boundary;
+        if let Some(i) = (0..b.points()).find(|&i| b.prescribed[i].is_some() && self.aligned_normal(i).is_none()) {
             return Err(Error::Usage(format!(
-                "solver \"snes_vi\": contact node {} has a prescribed displacement component, which its rotated \
-                 bounds cannot take; use solver = \"newton_full\" (the default)",
-                self.boundary.nodes[i]
+                "solver \"snes_vi\": contact node {} has a prescribed displacement component that is not tangent to \
+                 the obstacle, which its rotated bounds cannot take; use solver = \"newton_full\" (the default)",
+                b.nodes[i]
             )));
         }
         let mut frame: Vec<Option<[[f64; 2]; 2]>> = vec![None; num_nodes];
         for (i, &node) in self.boundary.nodes.iter().enumerate() {
+            if self.aligned_normal(i).is_some() {
+                continue;
+            }
             let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);
             frame[node] = Some([[n[0], t[0]], [n[1], t[1]]]); // R = [n t]
         }
@@ -417,6 +430,25 @@ impl ContactSetup {
         Ok(())
     }
 
+    /// The SNESVI route's unrotated points: a contact point with a prescribed component `k`
+    /// along its tangent (`n_k = 0` exactly) has its normal along the other axis `c`; then
+    /// `(c, n_c)`, and its condition `n·u = n_c u_c ≤ g0` is a bound on the Cartesian dof `c`.
+    fn aligned_normal(&self, i: usize) -> Option<(usize, f64)> {
+        let (k, _) = self.boundary.prescribed[i]?;
+        let n = self.boundary.normal[i];
+        (n[k] == 0.0).then_some((1 - k, n[1 - k]))
+    }
+
+    /// The normal and tangential components `(n·v, t·v)` of the node block `v` of point `i` in
+    /// the SNESVI route's unknowns (rotated, or Cartesian at an [`Self::aligned_normal`] point).
+    fn frame_components(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
+        if self.aligned_normal(i).is_none() {
+            return v;
+        }
+        let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);
+        [n[0] * v[0] + n[1] * v[1], t[0] * v[0] + t[1] * v[1]]
+    }
+
     /// Frictionless contact on the full system with PETSc SNESVI: `v_N ≤ g0` at the contact
     /// nodes of the rotated system (see [`Self::rotate_to_frames`]).
     pub fn solve_vi<'s>(
@@ -429,10 +461,20 @@ impl ContactSetup {
         let m = b.points();
         let rows = matrix.owned_rows();
         let inf = f64::INFINITY;
-        let (lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
+        let (mut lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
         for (i, &node) in b.nodes.iter().enumerate() {
-            if rows.contains(&(2 * node)) {
-                upper[2 * node - rows.start] = b.gap[i];
+            match self.aligned_normal(i) {
+                None if rows.contains(&(2 * node)) => upper[2 * node - rows.start] = b.gap[i],
+                // n_c u_c <= g0 with n_c = ±1.
+                Some((c, nc)) if rows.contains(&(2 * node + c)) => {
+                    let bound = b.gap[i] / nc;
+                    if nc > 0.0 {
+                        upper[2 * node + c - rows.start] = bound;
+                    } else {
+                        lower[2 * node + c - rows.start] = bound;
+                    }
+                }
+                _ => {}
             }
         }
         let f = rhs.owned_values()?;
@@ -457,15 +499,17 @@ impl ContactSetup {
             let mut force = vec![0.0; 2 * m];
             let mut uc = vec![0.0; 2 * m];
             for (i, &node) in b.nodes.iter().enumerate() {
-                force[2 * i] = reaction[2 * node];
-                uc[2 * i] = v_all[2 * node];
-                uc[2 * i + 1] = v_all[2 * node + 1];
+                let [vn, vt] = self.frame_components(i, [v_all[2 * node], v_all[2 * node + 1]]);
+                force[2 * i] = self.frame_components(i, [reaction[2 * node], reaction[2 * node + 1]])[0];
+                uc[2 * i] = vn;
+                uc[2 * i + 1] = vt;
             }
             let Some(k) = self.spring else { break (run, force, uc, v_all, reaction, [0.0; 2]) };
             let (mut spring_rotated, mut largest) = (vec![[0.0f64; 2]; m], 0.0f64);
             for (i, &node) in b.nodes.iter().enumerate() {
+                let moved = [0, 1].map(|c| -k * (v_all[2 * node + c] - anchor[2 * node + c]));
+                spring_rotated[i] = self.frame_components(i, moved);
                 for c in 0..2 {
-                    spring_rotated[i][c] = -k * (v_all[2 * node + c] - anchor[2 * node + c]);
                     largest = largest.max(spring_rotated[i][c].abs());
                 }
             }
@@ -486,6 +530,9 @@ impl ContactSetup {
         // Back to Cartesian components: u = R v at the contact nodes.
         let mut u = v_all;
         for (i, &node) in b.nodes.iter().enumerate() {
+            if self.aligned_normal(i).is_some() {
+                continue;
+            }
             let (n, t) = (b.normal[i], b.tangent[i]);
             let (vn, vt) = (u[2 * node], u[2 * node + 1]);
             u[2 * node] = n[0] * vn + t[0] * vt;
@@ -495,7 +542,12 @@ impl ContactSetup {
         let scale = contact::ResidualScale::from_field(&force, &u, &b.gap);
         let force_scale = scale.force;
         // Residual of the reduced (tangential) rows: must vanish for a frictionless solution.
-        let tangential: f64 = b.nodes.iter().map(|&node| reaction[2 * node + 1].abs()).fold(0.0, f64::max);
+        let tangential: f64 = b
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, &node)| self.frame_components(i, [reaction[2 * node], reaction[2 * node + 1]])[1].abs())
+            .fold(0.0, f64::max);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);
         let tolerance = self.spec.tolerance.unwrap_or(1e-9);
         if !residuals.is_acceptable(self.acceptance(tolerance)) || tangential > 1e-6 * force_scale {
