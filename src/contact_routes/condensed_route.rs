@@ -349,12 +349,11 @@ impl ContactSetup {
 
     /// SNESVI route: rotate the 2×2 node blocks of the contact nodes into their (n, t) frames,
     /// `K' = Rᵀ K R`, `f' = Rᵀ f`, so that the non-penetration `uN ≤ g0` becomes an upper bound
-    /// on one unknown. A contact point with a prescribed component along its tangent
-    /// ([`Self::aligned_normal`]: a roller on a flat contact, the axis node of a body of
-    /// revolution on a plane normal to the axis) is not rotated: its normal is a coordinate
-    /// axis, so the bound goes on that Cartesian dof and its fixed row (a lone diagonal, whose
-    /// pattern a rotation would need to widen) stays as it is. Any other prescribed component
-    /// is refused.
+    /// on one unknown. A contact point with a prescribed component ([`Self::aligned_normal`]:
+    /// a roller or pin on the contact part, the axis node of a body of revolution, u_r = 0) is
+    /// not rotated: its row `B_N` acts on its free Cartesian dof alone, so the bound goes on
+    /// that dof and its fixed row (a lone diagonal, whose pattern a rotation would need to
+    /// widen) stays as it is.
     pub fn rotate_to_frames(
         &self,
         num_nodes: usize,
@@ -364,16 +363,15 @@ impl ContactSetup {
         values: &mut [f64],
         rhs: &mut [f64],
     ) -> Result<()> {
-        // A prescribed component along the point's tangent (`n_k = 0` exactly: a roller on a flat
-        // contact, the axis node of a body of revolution on a plane normal to the axis) keeps
-        // its lone Dirichlet row: the frame is then a signed permutation of (x, y) and the
-        // rotated tangential row is that Dirichlet row. Any other prescribed component would
-        // mix a Dirichlet row with an equation.
+        // A point with a prescribed component has its normal row on the free dof alone
+        // (`aligned_normal`): it is bounded in Cartesian components, its Dirichlet row kept.
+        // A prescribed point without a free normal component is left out of the points by
+        // `ContactBoundary`; this guards the invariant.
         let b = &self.boundary;
         if let Some(i) = (0..b.points()).find(|&i| b.prescribed[i].is_some() && self.aligned_normal(i).is_none()) {
             return Err(Error::Usage(format!(
-                "solver \"snes_vi\": contact node {} has a prescribed displacement component that is not tangent to \
-                 the obstacle, which its rotated bounds cannot take; use solver = \"newton_full\" (the default)",
+                "solver \"snes_vi\": contact node {} has a prescribed displacement component and no free normal \
+                 component, which its bounds cannot take; use solver = \"newton_full\" (the default)",
                 b.nodes[i]
             )));
         }
@@ -431,16 +429,27 @@ impl ContactSetup {
     }
 
     /// The SNESVI route's unrotated points: a contact point with a prescribed component `k`
-    /// along its tangent (`n_k = 0` exactly) has its normal along the other axis `c`; then
-    /// `(c, n_c)`, and its condition `n·u = n_c u_c ≤ g0` is a bound on the Cartesian dof `c`.
+    /// has its row `B_N = (n·d) dᵀ` on the free dof `c = 1 − k` alone (module doc of
+    /// [`crate::contact::boundary`]: `n_k = 0` in [`ContactBoundary::normal`]); then `(c, n_c)`,
+    /// and its condition `B_N u = n_c u_c ≤ g0` is a bound on the Cartesian dof `c`.
     fn aligned_normal(&self, i: usize) -> Option<(usize, f64)> {
         let (k, _) = self.boundary.prescribed[i]?;
         let n = self.boundary.normal[i];
-        (n[k] == 0.0).then_some((1 - k, n[1 - k]))
+        (n[k] == 0.0 && n[1 - k] != 0.0).then_some((1 - k, n[1 - k]))
     }
 
-    /// The normal and tangential components `(n·v, t·v)` of the node block `v` of point `i` in
-    /// the SNESVI route's unknowns (rotated, or Cartesian at an [`Self::aligned_normal`] point).
+    /// Of the residual `K v − f` at the node of point `i` in the SNESVI route's unknowns: the
+    /// normal contact force `rN` (`(K v − f)_N = rN` on a rotated node, `(K v − f)_c = n_c rN`
+    /// on an [`Self::aligned_normal`] one) and the residual of the row that must vanish (the
+    /// rotated tangential row; the prescribed dof's row, which is its Dirichlet row).
+    fn normal_force_and_free_residual(&self, i: usize, reaction: [f64; 2]) -> (f64, f64) {
+        match self.aligned_normal(i) {
+            None => (reaction[0], reaction[1]),
+            Some((c, nc)) => (reaction[c] / nc, reaction[1 - c]),
+        }
+    }
+
+    /// `(B_N u, B_T u)` of point `i` from its node block `v` in the SNESVI route's unknowns.
     fn frame_components(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
         if self.aligned_normal(i).is_none() {
             return v;
@@ -478,6 +487,9 @@ impl ContactSetup {
             }
         }
         let f = rhs.owned_values()?;
+        // SNESVI's absolute tolerance: VI_ROUND_OFF of the load |f| (not of the anchored load
+        // of the proximal iterations, whose spring part would loosen it).
+        let absolute = VI_ROUND_OFF * rhs.norm2()?;
         let mut v = matrix.create_vector()?;
         let mut rk_vec = matrix.create_vector()?;
         let mut anchor = vec![0.0; matrix.global_size()];
@@ -488,7 +500,9 @@ impl ContactSetup {
             // same in the rotated frames).
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             rk_vec.set_owned(&rk)?;
-            let run = crate::petsc::bounded::solve_vi(session, matrix, &rk_vec, &lower, &upper, &mut v, "contact_")?;
+            let run = crate::petsc::bounded::solve_vi(
+                session, matrix, &rk_vec, &lower, &upper, &mut v, absolute, "contact_",
+            )?;
             newton_steps += run.iterations;
             // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
             let mut residual = matrix.create_vector()?;
@@ -500,20 +514,24 @@ impl ContactSetup {
             let mut uc = vec![0.0; 2 * m];
             for (i, &node) in b.nodes.iter().enumerate() {
                 let [vn, vt] = self.frame_components(i, [v_all[2 * node], v_all[2 * node + 1]]);
-                force[2 * i] = self.frame_components(i, [reaction[2 * node], reaction[2 * node + 1]])[0];
+                force[2 * i] = self.normal_force_and_free_residual(i, [reaction[2 * node], reaction[2 * node + 1]]).0;
                 uc[2 * i] = vn;
                 uc[2 * i + 1] = vt;
             }
             let Some(k) = self.spring else { break (run, force, uc, v_all, reaction, [0.0; 2]) };
             let (mut spring_rotated, mut largest) = (vec![[0.0f64; 2]; m], 0.0f64);
+            let mut spring = [0.0f64; 2];
             for (i, &node) in b.nodes.iter().enumerate() {
                 let moved = [0, 1].map(|c| -k * (v_all[2 * node + c] - anchor[2 * node + c]));
-                spring_rotated[i] = self.frame_components(i, moved);
-                for c in 0..2 {
-                    largest = largest.max(spring_rotated[i][c].abs());
+                largest = largest.max(moved[0].abs()).max(moved[1].abs());
+                if self.aligned_normal(i).is_some() {
+                    // Cartesian unknowns: the spring force as it is.
+                    spring[0] += moved[0];
+                    spring[1] += moved[1];
+                } else {
+                    spring_rotated[i] = moved;
                 }
             }
-            let mut spring = [0.0f64; 2];
             for (i, sr) in spring_rotated.iter().enumerate() {
                 for c in 0..2 {
                     spring[c] += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
@@ -546,7 +564,9 @@ impl ContactSetup {
             .nodes
             .iter()
             .enumerate()
-            .map(|(i, &node)| self.frame_components(i, [reaction[2 * node], reaction[2 * node + 1]])[1].abs())
+            .map(|(i, &node)| {
+                self.normal_force_and_free_residual(i, [reaction[2 * node], reaction[2 * node + 1]]).1.abs()
+            })
             .fold(0.0, f64::max);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);
         let tolerance = self.spec.tolerance.unwrap_or(1e-9);
@@ -1073,6 +1093,11 @@ pub(crate) struct InterfaceIncrement {
     /// ([`crate::interface_law::condensed::unify_friction`]).
     pub(crate) last_contact_force: Option<Vec<f64>>,
 }
+
+/// The SNESVI route's absolute residual tolerance, relative to the load `|f|`: above the
+/// round-off floor of `|K v − f|` on stiff bodies (1.8e-12 of `|f|` on the Hertz sphere at
+/// E = 210 GPa, where PETSc's relative 1e-12 was out of reach and its line search failed).
+const VI_ROUND_OFF: f64 = 1e-11;
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two
 /// bodies the coupled nodes of the other side), increasing: where the stabilisation springs act.
