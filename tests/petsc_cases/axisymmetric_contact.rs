@@ -173,7 +173,7 @@ fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
 /// SNESVI), Tresca (those, and PETSc TAO) and Coulomb μ = 0.3 (the condensed Newton, the
 /// full-space Newton, relaxation, Uzawa, D-PANA, the Tresca fixed point) give the same
 /// displacements (within 1e-6, the iterative solvers' tolerance; measured below 2e-9) and
-/// contact forces, each passing its independent check.
+/// contact forces (measured below 3e-8), each passing its independent check.
 pub fn axisymmetric_contact_routes_agree(s: &Session) -> Result<(), String> {
     let (base, path) = refined_sphere(1e-3, 0.01);
     let families: &[(&str, &str, &[&str])] = &[
@@ -198,6 +198,14 @@ pub fn axisymmetric_contact_routes_agree(s: &Session) -> Result<(), String> {
             let o = p.contact_outcome.as_ref().unwrap();
             let worst = o.report.residuals.worst();
             ensure(worst < 1e-6, || format!("{friction}/{solver}: independent check {worst:e}"))?;
+            if *friction == "none" {
+                // The pole's pressure (a P2 vertex on the axis, on a curved edge: its weight is
+                // a small number of either sign) is AxisPressure's extrapolation, within 1 % of
+                // p0 at cells of a/5 (measured −0.59 %; dividing by the weight gave 3.4e12 Pa).
+                let (_, _, p0) = hertz_sphere(SPHERE.3);
+                let pole = loaded_points(&p).first().filter(|q| q.0 == 0.0).ok_or("no pressure at the pole")?.1;
+                ensure((pole / p0 - 1.0).abs() < 0.01, || format!("{solver}: pole pressure {pole:e}, p0 = {p0:e}"))?;
+            }
             match &reference {
                 None => reference = Some((u, o.force.clone())),
                 Some((ru, rf)) => {
