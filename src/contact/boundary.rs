@@ -412,7 +412,7 @@ impl ContactBoundary {
             mesh.measure.is_axisymmetric() && mesh.nodes[nodes[i]][0] == 0.0 && p2_vertices.contains(&nodes[i])
         };
         let axis_pressure = axis_pressures(mesh, &edges, &nodes, &weight, &on_axis);
-        if let Some(i) = weight.iter().enumerate().position(|(i, &w)| !(w > 0.0 && w.is_finite()) && !on_axis(i, w)) {
+        if let Some(i) = weight.iter().enumerate().position(|(i, &w)| !(on_axis(i, w) || w > 0.0 && w.is_finite())) {
             return Err(Error::mesh(
                 format!("node {} of contact part '{name}'", nodes[i]),
                 format!(

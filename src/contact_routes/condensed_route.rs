@@ -501,7 +501,13 @@ impl ContactSetup {
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             rk_vec.set_owned(&rk)?;
             let run = crate::petsc::bounded::solve_vi(
-                session, matrix, &rk_vec, &lower, &upper, &mut v, absolute, "contact_",
+                session,
+                matrix,
+                &rk_vec,
+                (&lower, &upper),
+                &mut v,
+                absolute,
+                "contact_",
             )?;
             newton_steps += run.iterations;
             // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
@@ -533,8 +539,8 @@ impl ContactSetup {
                 }
             }
             for (i, sr) in spring_rotated.iter().enumerate() {
-                for c in 0..2 {
-                    spring[c] += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
+                for (c, total) in spring.iter_mut().enumerate() {
+                    *total += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
                 }
             }
             history.push(largest);

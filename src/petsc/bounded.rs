@@ -86,15 +86,14 @@ fn bound_vector<'s>(like: &Vector<'s>, values: &[f64]) -> Result<Vector<'s>> {
 }
 
 /// Solve `lower ≤ v ≤ upper` complementarity for F(v) = A v − b with SNESVI (see module doc).
-/// `lower`, `upper` and `x` are this rank's owned entries (±infinity allowed); `x` holds the
-/// initial guess and receives the solution. Converged when `|F|` falls by 1e-12 or below
-/// `absolute` (the caller's round-off floor; 0 for none).
+/// `bounds = (lower, upper)` and `x` are this rank's owned entries (±infinity allowed); `x`
+/// holds the initial guess and receives the solution. Converged when `|F|` falls by 1e-12 or
+/// below `absolute` (the caller's round-off floor; 0 for none).
 pub fn solve_vi<'s>(
     session: &'s Session,
     a: &Matrix<'s>,
     b: &Vector<'s>,
-    lower: &[f64],
-    upper: &[f64],
+    (lower, upper): (&[f64], &[f64]),
     x: &mut Vector<'s>,
     absolute: f64,
     prefix: &str,
