@@ -214,7 +214,7 @@ pub enum Error {
     #[error(
         "{}: `signorini {command}` remeshes the scene's geometry, but this scene reads its mesh from the file {} \
          (shape = \"file\"), whose geometry is unknown\n  hint: describe the body with shape = \"rectangle\", \
-         \"disc\" or \"half_disc\" and a cell_size in [mesh], or (adapt only) name the Gmsh script the file was \
+         \"disc\", \"half_disc\" or \"quarter_disc\" and a cell_size in [mesh], or (adapt only) name the Gmsh script the file was \
          made from with geometry = \"part.geo\" in [mesh], or run `signorini run --estimate` on the file's mesh",
         scene.display(),
         file.display()

@@ -326,6 +326,9 @@ pub fn mesh_request(scene: &Scene, command: &'static str) -> Result<MeshRequest>
         MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
             (Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refinement(refine))
         }
+        MeshSpec::QuarterDisc { center, radius, cell_size, refine } => {
+            (Shape::QuarterDisc { center: *center, radius: *radius }, *cell_size, refinement(refine))
+        }
         MeshSpec::File { path, geometry: Some(geometry) } if command == "adapt" => {
             let script =
                 std::fs::read_to_string(geometry).map_err(|e| Error::io(geometry, "reading the geometry script", e))?;

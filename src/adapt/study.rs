@@ -143,7 +143,8 @@ pub fn scaled(scene: &Scene, factor: f64, order: Order) -> Scene {
     match &mut s.mesh {
         MeshSpec::Rectangle { cell_size, refine, .. }
         | MeshSpec::Disc { cell_size, refine, .. }
-        | MeshSpec::HalfDisc { cell_size, refine, .. } => {
+        | MeshSpec::HalfDisc { cell_size, refine, .. }
+        | MeshSpec::QuarterDisc { cell_size, refine, .. } => {
             *cell_size *= factor;
             if let Some(r) = refine {
                 r.cell_size *= factor;
@@ -159,7 +160,8 @@ pub fn cell_size(scene: &Scene) -> f64 {
     match &scene.mesh {
         MeshSpec::Rectangle { cell_size, .. }
         | MeshSpec::Disc { cell_size, .. }
-        | MeshSpec::HalfDisc { cell_size, .. } => *cell_size,
+        | MeshSpec::HalfDisc { cell_size, .. }
+        | MeshSpec::QuarterDisc { cell_size, .. } => *cell_size,
         MeshSpec::File { .. } => f64::NAN,
     }
 }

@@ -120,7 +120,7 @@ pub struct ExportArgs {
 
 #[derive(Debug, Args)]
 pub struct AdaptArgs {
-    /// The scene (a TOML file with a geometry: shape rectangle, disc or half_disc).
+    /// The scene (a TOML file with a geometry: shape rectangle, disc, half_disc or quarter_disc).
     pub scene: PathBuf,
     /// The target relative error, percent of the energy norm (0 < PERCENT < 100).
     #[arg(long, value_name = "PERCENT", value_parser = parse_percent, allow_hyphen_values = true)]
@@ -145,7 +145,7 @@ pub struct AdaptArgs {
 
 #[derive(Debug, Args)]
 pub struct StudyArgs {
-    /// The scene (a TOML file with a geometry: shape rectangle, disc or half_disc).
+    /// The scene (a TOML file with a geometry: shape rectangle, disc, half_disc or quarter_disc).
     pub scene: PathBuf,
     /// Number of levels: cell sizes h, h/2, ..., h/2^(N-1) (h the scene's).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10))]

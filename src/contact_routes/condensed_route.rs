@@ -349,8 +349,11 @@ impl ContactSetup {
 
     /// SNESVI route: rotate the 2×2 node blocks of the contact nodes into their (n, t) frames,
     /// `K' = Rᵀ K R`, `f' = Rᵀ f`, so that the non-penetration `uN ≤ g0` becomes an upper bound
-    /// on one unknown. Nodes with a Dirichlet component are not contact nodes, so fixed rows
-    /// (a lone diagonal) are never rotated.
+    /// on one unknown. A contact point with a prescribed component ([`Self::aligned_normal`]:
+    /// a roller or pin on the contact part, the axis node of a body of revolution, u_r = 0) is
+    /// not rotated: its row `B_N` acts on its free Cartesian dof alone, so the bound goes on
+    /// that dof and its fixed row (a lone diagonal, whose pattern a rotation would need to
+    /// widen) stays as it is.
     pub fn rotate_to_frames(
         &self,
         num_nodes: usize,
@@ -360,15 +363,23 @@ impl ContactSetup {
         values: &mut [f64],
         rhs: &mut [f64],
     ) -> Result<()> {
-        if let Some(i) = self.boundary.prescribed.iter().position(|p| p.is_some()) {
+        // A point with a prescribed component has its normal row on the free dof alone
+        // (`aligned_normal`): it is bounded in Cartesian components, its Dirichlet row kept.
+        // A prescribed point without a free normal component is left out of the points by
+        // `ContactBoundary`; this guards the invariant.
+        let b = &self.boundary;
+        if let Some(i) = (0..b.points()).find(|&i| b.prescribed[i].is_some() && self.aligned_normal(i).is_none()) {
             return Err(Error::Usage(format!(
-                "solver \"snes_vi\": contact node {} has a prescribed displacement component, which its rotated \
-                 bounds cannot take; use solver = \"newton_full\" (the default)",
-                self.boundary.nodes[i]
+                "solver \"snes_vi\": contact node {} has a prescribed displacement component and no free normal \
+                 component, which its bounds cannot take; use solver = \"newton_full\" (the default)",
+                b.nodes[i]
             )));
         }
         let mut frame: Vec<Option<[[f64; 2]; 2]>> = vec![None; num_nodes];
         for (i, &node) in self.boundary.nodes.iter().enumerate() {
+            if self.aligned_normal(i).is_some() {
+                continue;
+            }
             let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);
             frame[node] = Some([[n[0], t[0]], [n[1], t[1]]]); // R = [n t]
         }
@@ -417,6 +428,36 @@ impl ContactSetup {
         Ok(())
     }
 
+    /// The SNESVI route's unrotated points: a contact point with a prescribed component `k`
+    /// has its row `B_N = (n·d) dᵀ` on the free dof `c = 1 − k` alone (module doc of
+    /// [`crate::contact::boundary`]: `n_k = 0` in [`ContactBoundary::normal`]); then `(c, n_c)`,
+    /// and its condition `B_N u = n_c u_c ≤ g0` is a bound on the Cartesian dof `c`.
+    fn aligned_normal(&self, i: usize) -> Option<(usize, f64)> {
+        let (k, _) = self.boundary.prescribed[i]?;
+        let n = self.boundary.normal[i];
+        (n[k] == 0.0 && n[1 - k] != 0.0).then_some((1 - k, n[1 - k]))
+    }
+
+    /// Of the residual `K v − f` at the node of point `i` in the SNESVI route's unknowns: the
+    /// normal contact force `rN` (`(K v − f)_N = rN` on a rotated node, `(K v − f)_c = n_c rN`
+    /// on an [`Self::aligned_normal`] one) and the residual of the row that must vanish (the
+    /// rotated tangential row; the prescribed dof's row, which is its Dirichlet row).
+    fn normal_force_and_free_residual(&self, i: usize, reaction: [f64; 2]) -> (f64, f64) {
+        match self.aligned_normal(i) {
+            None => (reaction[0], reaction[1]),
+            Some((c, nc)) => (reaction[c] / nc, reaction[1 - c]),
+        }
+    }
+
+    /// `(B_N u, B_T u)` of point `i` from its node block `v` in the SNESVI route's unknowns.
+    fn frame_components(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
+        if self.aligned_normal(i).is_none() {
+            return v;
+        }
+        let (n, t) = (self.boundary.normal[i], self.boundary.tangent[i]);
+        [n[0] * v[0] + n[1] * v[1], t[0] * v[0] + t[1] * v[1]]
+    }
+
     /// Frictionless contact on the full system with PETSc SNESVI: `v_N ≤ g0` at the contact
     /// nodes of the rotated system (see [`Self::rotate_to_frames`]).
     pub fn solve_vi<'s>(
@@ -429,13 +470,26 @@ impl ContactSetup {
         let m = b.points();
         let rows = matrix.owned_rows();
         let inf = f64::INFINITY;
-        let (lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
+        let (mut lower, mut upper) = (vec![-inf; rows.len()], vec![inf; rows.len()]);
         for (i, &node) in b.nodes.iter().enumerate() {
-            if rows.contains(&(2 * node)) {
-                upper[2 * node - rows.start] = b.gap[i];
+            match self.aligned_normal(i) {
+                None if rows.contains(&(2 * node)) => upper[2 * node - rows.start] = b.gap[i],
+                // n_c u_c <= g0 with n_c = ±1.
+                Some((c, nc)) if rows.contains(&(2 * node + c)) => {
+                    let bound = b.gap[i] / nc;
+                    if nc > 0.0 {
+                        upper[2 * node + c - rows.start] = bound;
+                    } else {
+                        lower[2 * node + c - rows.start] = bound;
+                    }
+                }
+                _ => {}
             }
         }
         let f = rhs.owned_values()?;
+        // SNESVI's absolute tolerance: VI_ROUND_OFF of the load |f| (not of the anchored load
+        // of the proximal iterations, whose spring part would loosen it).
+        let absolute = VI_ROUND_OFF * rhs.norm2()?;
         let mut v = matrix.create_vector()?;
         let mut rk_vec = matrix.create_vector()?;
         let mut anchor = vec![0.0; matrix.global_size()];
@@ -446,7 +500,15 @@ impl ContactSetup {
             // same in the rotated frames).
             let rk = self.anchored_load(&f, &anchor, rows.clone());
             rk_vec.set_owned(&rk)?;
-            let run = crate::petsc::bounded::solve_vi(session, matrix, &rk_vec, &lower, &upper, &mut v, "contact_")?;
+            let run = crate::petsc::bounded::solve_vi(
+                session,
+                matrix,
+                &rk_vec,
+                (&lower, &upper),
+                &mut v,
+                absolute,
+                "contact_",
+            )?;
             newton_steps += run.iterations;
             // Contact forces: the residual K'v − f' on the normal unknowns (tangential: 0).
             let mut residual = matrix.create_vector()?;
@@ -457,22 +519,28 @@ impl ContactSetup {
             let mut force = vec![0.0; 2 * m];
             let mut uc = vec![0.0; 2 * m];
             for (i, &node) in b.nodes.iter().enumerate() {
-                force[2 * i] = reaction[2 * node];
-                uc[2 * i] = v_all[2 * node];
-                uc[2 * i + 1] = v_all[2 * node + 1];
+                let [vn, vt] = self.frame_components(i, [v_all[2 * node], v_all[2 * node + 1]]);
+                force[2 * i] = self.normal_force_and_free_residual(i, [reaction[2 * node], reaction[2 * node + 1]]).0;
+                uc[2 * i] = vn;
+                uc[2 * i + 1] = vt;
             }
             let Some(k) = self.spring else { break (run, force, uc, v_all, reaction, [0.0; 2]) };
             let (mut spring_rotated, mut largest) = (vec![[0.0f64; 2]; m], 0.0f64);
+            let mut spring = [0.0f64; 2];
             for (i, &node) in b.nodes.iter().enumerate() {
-                for c in 0..2 {
-                    spring_rotated[i][c] = -k * (v_all[2 * node + c] - anchor[2 * node + c]);
-                    largest = largest.max(spring_rotated[i][c].abs());
+                let moved = [0, 1].map(|c| -k * (v_all[2 * node + c] - anchor[2 * node + c]));
+                largest = largest.max(moved[0].abs()).max(moved[1].abs());
+                if self.aligned_normal(i).is_some() {
+                    // Cartesian unknowns: the spring force as it is.
+                    spring[0] += moved[0];
+                    spring[1] += moved[1];
+                } else {
+                    spring_rotated[i] = moved;
                 }
             }
-            let mut spring = [0.0f64; 2];
             for (i, sr) in spring_rotated.iter().enumerate() {
-                for c in 0..2 {
-                    spring[c] += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
+                for (c, total) in spring.iter_mut().enumerate() {
+                    *total += sr[0] * b.normal[i][c] + sr[1] * b.tangent[i][c];
                 }
             }
             history.push(largest);
@@ -486,6 +554,9 @@ impl ContactSetup {
         // Back to Cartesian components: u = R v at the contact nodes.
         let mut u = v_all;
         for (i, &node) in b.nodes.iter().enumerate() {
+            if self.aligned_normal(i).is_some() {
+                continue;
+            }
             let (n, t) = (b.normal[i], b.tangent[i]);
             let (vn, vt) = (u[2 * node], u[2 * node + 1]);
             u[2 * node] = n[0] * vn + t[0] * vt;
@@ -495,7 +566,14 @@ impl ContactSetup {
         let scale = contact::ResidualScale::from_field(&force, &u, &b.gap);
         let force_scale = scale.force;
         // Residual of the reduced (tangential) rows: must vanish for a frictionless solution.
-        let tangential: f64 = b.nodes.iter().map(|&node| reaction[2 * node + 1].abs()).fold(0.0, f64::max);
+        let tangential: f64 = b
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, &node)| {
+                self.normal_force_and_free_residual(i, [reaction[2 * node], reaction[2 * node + 1]]).1.abs()
+            })
+            .fold(0.0, f64::max);
         let residuals = contact::evaluate_residuals(&force, &uc, &b.gap, &|_, _| 0.0, scale);
         let tolerance = self.spec.tolerance.unwrap_or(1e-9);
         if !residuals.is_acceptable(self.acceptance(tolerance)) || tangential > 1e-6 * force_scale {
@@ -1021,6 +1099,11 @@ pub(crate) struct InterfaceIncrement {
     /// ([`crate::interface_law::condensed::unify_friction`]).
     pub(crate) last_contact_force: Option<Vec<f64>>,
 }
+
+/// The SNESVI route's absolute residual tolerance, relative to the load `|f|`: above the
+/// round-off floor of `|K v − f|` on stiff bodies (1.8e-12 of `|f|` on the Hertz sphere at
+/// E = 210 GPa, where PETSc's relative 1e-12 was out of reach and its line search failed).
+const VI_ROUND_OFF: f64 = 1e-11;
 
 /// The free dofs of the nodes some row of `B` touches (the contact nodes, and between two
 /// bodies the coupled nodes of the other side), increasing: where the stabilisation springs act.

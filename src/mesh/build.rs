@@ -47,6 +47,19 @@ pub enum MeshSpec {
         /// Local refinement (Gmsh meshes only).
         refine: Option<RefineSpec>,
     },
+    /// Lower-right quarter disc (`x >= center.x`, `y <= center.y`): the meridian section of
+    /// the lower half of a sphere when `center[0] = 0`; boundary parts `arc`, `flat` (top) and
+    /// `axis` (left, `x = center[0]`). Always meshed by gmsh.
+    QuarterDisc {
+        /// Centre of the full disc (m): the corner between `flat` and `axis`.
+        center: [f64; 2],
+        /// Radius (m), > 0.
+        radius: f64,
+        /// Target edge length (m), > 0.
+        cell_size: f64,
+        /// Local refinement (Gmsh meshes only).
+        refine: Option<RefineSpec>,
+    },
     /// A Gmsh MSH 4.1 file; the path is already resolved against the scene's directory.
     /// `geometry`: the Gmsh `.geo` script the file was meshed from (`geometry = "part.geo"`),
     /// which `signorini adapt` remeshes with its size map.
@@ -98,6 +111,9 @@ pub fn build(spec: &MeshSpec, order: Order) -> Result<(Mesh, Option<Order>, Opti
         }
         MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
             (super::gmsh::Shape::HalfDisc { center: *center, radius: *radius }, *cell_size, refine)
+        }
+        MeshSpec::QuarterDisc { center, radius, cell_size, refine } => {
+            (super::gmsh::Shape::QuarterDisc { center: *center, radius: *radius }, *cell_size, refine)
         }
     };
     let request = super::gmsh::MeshRequest {

@@ -20,6 +20,10 @@
 //!                                                                  2 = (cx, cy - R)
 //! ```
 //!
+//! QuarterDisc (lower-right quarter, x >= cx, y <= cy; the meridian section of the lower half of
+//! a sphere when cx = 0): points 1 = (cx, cy - R), 2 = (cx + R, cy), 3 = c; groups "arc" (1 to
+//! 2), "flat" (2 to 3), "axis" (3 to 1).
+//!
 //! Circle arcs are kept below 180 degrees, as Gmsh requires. The bottom point of the half disc
 //! is a geometry point, so it is a mesh node (the initial contact point of the Hertz problem);
 //! so is the centre, which splits the flat side in two lines (the point support of the Hertz
@@ -88,6 +92,15 @@ pub enum Shape {
     /// "domain".
     HalfDisc {
         /// Centre of the full disc.
+        center: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
+    /// Lower-right quarter disc `{x >= cx, y <= cy, |x - c| <= R}`: the meridian section of
+    /// the lower half of a sphere when `cx = 0` (axisymmetric scenes). Groups "arc" (curved
+    /// side), "flat" (top, `y = cy`), "axis" (left, `x = cx`), "domain".
+    QuarterDisc {
+        /// Centre of the full disc (the corner between "flat" and "axis").
         center: [f64; 2],
         /// Radius.
         radius: f64,
@@ -240,7 +253,9 @@ fn quadratic_on_shape(linear: &Mesh, shape: &Shape) -> Result<Mesh> {
     let (arcs, center, radius) = match *shape {
         Shape::Rectangle { .. } | Shape::Geometry { .. } => (None, [0.0; 2], 0.0),
         Shape::Disc { center, radius } => (linear.group_index("circle", 1), center, radius),
-        Shape::HalfDisc { center, radius } => (linear.group_index("arc", 1), center, radius),
+        Shape::HalfDisc { center, radius } | Shape::QuarterDisc { center, radius } => {
+            (linear.group_index("arc", 1), center, radius)
+        }
     };
     let mut mesh = linear.to_quadratic_with(|group, p| {
         if Some(group) != arcs {
@@ -423,6 +438,11 @@ fn geo_script(request: &MeshRequest) -> Result<String> {
             positive(radius, "radius", &entity)?;
             (0.5 * std::f64::consts::PI * radius * radius, half_disc_geo(center, radius, request.cell_size))
         }
+        Shape::QuarterDisc { center, radius } => {
+            finite_point(center, "center", &entity)?;
+            positive(radius, "radius", &entity)?;
+            (0.25 * std::f64::consts::PI * radius * radius, quarter_disc_geo(center, radius, request.cell_size))
+        }
         Shape::Geometry { ref script, .. } => {
             // The sizes come from the background map, whose triangle count the caller checks.
             let mut geo = script.clone();
@@ -505,6 +525,20 @@ fn half_disc_geo(c: [f64; 2], r: f64, h: f64) -> String {
          Curve Loop(1) = {1, 2, 3, 4};\nPlane Surface(1) = {1};\n\
          Physical Curve(\"arc\") = {1, 2};\nPhysical Curve(\"flat\") = {3, 4};\n\
          Physical Surface(\"domain\") = {1};\n",
+    );
+    geo
+}
+
+fn quarter_disc_geo(c: [f64; 2], r: f64, h: f64) -> String {
+    let mut geo = String::from("// lower-right quarter disc, written by signorini\n");
+    point(&mut geo, 1, [c[0], c[1] - r], h);
+    point(&mut geo, 2, [c[0] + r, c[1]], h);
+    point(&mut geo, 3, c, h);
+    geo.push_str(
+        "Circle(1) = {1, 3, 2};\nLine(2) = {2, 3};\nLine(3) = {3, 1};\n\
+         Curve Loop(1) = {1, 2, 3};\nPlane Surface(1) = {1};\n\
+         Physical Curve(\"arc\") = {1};\nPhysical Curve(\"flat\") = {2};\n\
+         Physical Curve(\"axis\") = {3};\nPhysical Surface(\"domain\") = {1};\n",
     );
     geo
 }

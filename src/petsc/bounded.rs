@@ -86,15 +86,16 @@ fn bound_vector<'s>(like: &Vector<'s>, values: &[f64]) -> Result<Vector<'s>> {
 }
 
 /// Solve `lower ≤ v ≤ upper` complementarity for F(v) = A v − b with SNESVI (see module doc).
-/// `lower`, `upper` and `x` are this rank's owned entries (±infinity allowed); `x` holds the
-/// initial guess and receives the solution.
+/// `bounds = (lower, upper)` and `x` are this rank's owned entries (±infinity allowed); `x`
+/// holds the initial guess and receives the solution. Converged when `|F|` falls by 1e-12 or
+/// below `absolute` (the caller's round-off floor; 0 for none).
 pub fn solve_vi<'s>(
     session: &'s Session,
     a: &Matrix<'s>,
     b: &Vector<'s>,
-    lower: &[f64],
-    upper: &[f64],
+    (lower, upper): (&[f64], &[f64]),
     x: &mut Vector<'s>,
+    absolute: f64,
     prefix: &str,
 ) -> Result<BoundedSolve> {
     let owned = a.owned_rows().len();
@@ -122,7 +123,15 @@ pub fn solve_vi<'s>(
     petsc!(SNESSetFunction(snes, residual.raw, Some(vi_function), ctx))?;
     petsc!(SNESSetJacobian(snes, jac, jac, Some(vi_jacobian), ctx))?;
     petsc!(SNESVISetVariableBounds(snes, lo.raw, hi.raw))?;
-    petsc!(SNESSetTolerances(snes, 1e-50, 1e-12, 1e-50, 200, 100_000))?;
+    // Converged at 1e-12 of the initial residual, or at `absolute`: on a stiff body the
+    // round-off floor of |A v − b| can lie above 1e-12 of it (the Hertz sphere at E = 210 GPa:
+    // 1.8e-12 of |b|, where the line search then fails on an answer already exact to
+    // round-off). The caller's independent check judges the answer in any case.
+    petsc!(SNESSetTolerances(snes, absolute.max(1e-50), 1e-12, 1e-50, 200, 100_000))?;
+    // At least one Newton step even when the initial guess already meets `absolute`: a caller
+    // iterating on a small change of `b` (the proximal iterations of a floating body) needs its
+    // solution to move with it.
+    petsc!(SNESSetForceIteration(snes, sys::PetscBool::PETSC_TRUE))?;
     let mut ksp: sys::KSP = std::ptr::null_mut();
     petsc!(SNESGetKSP(snes, &mut ksp))?;
     if !session.has_option(&format!("-{prefix}ksp_type"))? && !session.has_option(&format!("-{prefix}pc_type"))? {
@@ -132,7 +141,23 @@ pub fn solve_vi<'s>(
         petsc!(PCSetType(pc, c"lu".as_ptr()))?;
         petsc!(PCFactorSetMatSolverType(pc, c"mumps".as_ptr()))?;
     }
-    petsc!(SNESSetFromOptions(snes))?;
+    // PETSc counts a variable within `-snes_vi_zero_tolerance` of a bound as on it, 1e-8 by
+    // default, in the units of v: with displacements of 1e-4 m (the Hertz sphere) the points
+    // within 1e-8 m of the obstacle at the edge of the contact zone were held there, and the
+    // answer was 1e-5 off the other routes'. Here: 1e-12 of the largest finite bound (the gaps'
+    // scale), unless the options set it.
+    let zero_option = format!("-{prefix}snes_vi_zero_tolerance");
+    let ours = !session.has_option(&zero_option)?;
+    if ours {
+        let largest = lower.iter().chain(upper).filter(|b| b.is_finite()).fold(0.0f64, |m, b| m.max(b.abs()));
+        let largest = session.world().max(&[largest])?[0];
+        session.set_option(&zero_option, Some(&format!("{:e}", ZERO_TOLERANCE * largest)))?;
+    }
+    let configured = petsc!(SNESSetFromOptions(snes));
+    if ours {
+        session.clear_option(&zero_option)?;
+    }
+    configured?;
     petsc!(SNESSolve(snes, std::ptr::null_mut(), x.raw))?;
     let mut reason = sys::SNESConvergedReason(0);
     petsc!(SNESGetConvergedReason(snes, &mut reason))?;
@@ -161,6 +186,10 @@ pub fn solve_vi<'s>(
     }
     Ok(result)
 }
+
+/// SNESVI's zero tolerance (a variable this close to a bound is on it), relative to the
+/// largest finite bound.
+const ZERO_TOLERANCE: f64 = 1e-12;
 
 struct SnesGuard(sys::SNES);
 impl Drop for SnesGuard {

@@ -276,8 +276,13 @@ fn write_body(t: &mut String, body: &BodySpec, prefix: &str, top: Option<(Formul
             refine_line(t, refine);
         }
         MeshSpec::Disc { center, radius, cell_size, refine }
-        | MeshSpec::HalfDisc { center, radius, cell_size, refine } => {
-            let shape = if matches!(body.mesh, MeshSpec::Disc { .. }) { "disc" } else { "half_disc" };
+        | MeshSpec::HalfDisc { center, radius, cell_size, refine }
+        | MeshSpec::QuarterDisc { center, radius, cell_size, refine } => {
+            let shape = match body.mesh {
+                MeshSpec::Disc { .. } => "disc",
+                MeshSpec::HalfDisc { .. } => "half_disc",
+                _ => "quarter_disc",
+            };
             let _ = writeln!(
                 t,
                 "shape = \"{shape}\"\ncenter = {}\nradius = {}\ncell_size = {}",
@@ -460,14 +465,14 @@ fn friction_lines(t: &mut String, friction: FrictionSpec) {
 /// in any order, and [`SceneBuilder::build`] checks the scene as a scene file is checked.
 ///
 /// Start from the shape ([`rectangle`](Self::rectangle), [`disc`](Self::disc),
-/// [`half_disc`](Self::half_disc), [`mesh_file`](Self::mesh_file)), then add what the scene
+/// [`half_disc`](Self::half_disc), [`quarter_disc`](Self::quarter_disc), [`mesh_file`](Self::mesh_file)), then add what the scene
 /// needs. [`material`](Self::material) is required; everything else has the scene format's
 /// default (docs/scene-format.md, the table beside each call). Units are SI: m, Pa (N/m²),
 /// N/m³.
 ///
 /// | Call | Scene-file key |
 /// |---|---|
-/// | [`rectangle`](Self::rectangle), [`disc`](Self::disc), [`half_disc`](Self::half_disc), [`mesh_file`](Self::mesh_file), [`mesh_file_with_geometry`](Self::mesh_file_with_geometry) | `[mesh]` `shape` and its keys |
+/// | [`rectangle`](Self::rectangle), [`disc`](Self::disc), [`half_disc`](Self::half_disc), [`quarter_disc`](Self::quarter_disc), [`mesh_file`](Self::mesh_file), [`mesh_file_with_geometry`](Self::mesh_file_with_geometry) | `[mesh]` `shape` and its keys |
 /// | [`gmsh`](Self::gmsh), [`refine`](Self::refine) | `[mesh]` `mesher = "gmsh"`, `refine` |
 /// | [`title`](Self::title) | `title` |
 /// | [`quadratic`](Self::quadratic), [`p2p0`](Self::p2p0) | `[discretization]` `order = 2`, `element = "p2p0"` |
@@ -669,6 +674,13 @@ impl SceneBuilder {
     /// `flat`.
     pub fn half_disc(center: [f64; 2], radius: f64, cell_size: f64) -> Self {
         Self::from_mesh(MeshSpec::HalfDisc { center, radius, cell_size, refine: None })
+    }
+    /// The lower-right quarter of the disc of `radius` around `center` (`x >= center[0]`,
+    /// `y <= center[1]`): with `center[0] = 0` the meridian section of the lower half of a
+    /// sphere ([`axisymmetric`](Self::axisymmetric)). Meshed by Gmsh with cells of about
+    /// `cell_size`; boundary parts `arc`, `flat` (top) and `axis` (left).
+    pub fn quarter_disc(center: [f64; 2], radius: f64, cell_size: f64) -> Self {
+        Self::from_mesh(MeshSpec::QuarterDisc { center, radius, cell_size, refine: None })
     }
     /// A mesh file (Gmsh MSH 4.1); its boundary parts are its physical curve names. A relative
     /// path is relative to the current directory.
@@ -1044,7 +1056,9 @@ impl SceneBuilder {
                 }
                 *r = refine;
             }
-            MeshSpec::Disc { refine: r, .. } | MeshSpec::HalfDisc { refine: r, .. } => *r = refine,
+            MeshSpec::Disc { refine: r, .. }
+            | MeshSpec::HalfDisc { refine: r, .. }
+            | MeshSpec::QuarterDisc { refine: r, .. } => *r = refine,
             MeshSpec::File { .. } => {
                 for (given, call) in [(gmsh, "gmsh"), (refine.is_some(), "refine")] {
                     if given {
@@ -1433,7 +1447,16 @@ fn builder_call(text: &str, line: usize) -> String {
         ("mesh", Some("refine")) => "SceneBuilder::refine".into(),
         ("mesh", _) => format!(
             "SceneBuilder::{}",
-            of_value("shape", &[("rectangle", "rectangle"), ("disc", "disc"), ("half_disc", "half_disc")], "mesh_file")
+            of_value(
+                "shape",
+                &[
+                    ("rectangle", "rectangle"),
+                    ("disc", "disc"),
+                    ("half_disc", "half_disc"),
+                    ("quarter_disc", "quarter_disc")
+                ],
+                "mesh_file"
+            )
         ),
         ("discretization", Some("element")) => "SceneBuilder::p2p0".into(),
         ("discretization", Some("formulation")) => "SceneBuilder::formulation".into(),

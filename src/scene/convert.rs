@@ -187,7 +187,7 @@ impl<'s, 'a> Table<'s, 'a> {
     }
 }
 
-const SHAPES: &[&str] = &["rectangle", "disc", "half_disc", "file"];
+const SHAPES: &[&str] = &["rectangle", "disc", "half_disc", "quarter_disc", "file"];
 const MESHERS: &[&str] = &["structured", "gmsh"];
 const RECTANGLE_KEYS: &[&str] = &["shape", "origin", "size", "cell_size", "mesher", "refine"];
 const DISC_KEYS: &[&str] = &["shape", "center", "radius", "cell_size", "refine"];
@@ -195,17 +195,23 @@ const FILE_KEYS: &[&str] = &["shape", "file", "geometry"];
 
 pub(super) fn mesh_spec(src: &Source, scope: &Scope, m: &RawMesh, scene_dir: &Path) -> Result<MeshSpec> {
     let table = scope.table(src, "mesh", false, 0, m.first_span());
-    let shape_v = table.require(&m.shape, "shape", "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"file\")")?;
+    let shape_v = table.require(
+        &m.shape,
+        "shape",
+        "shape = \"rectangle\" (or \"disc\", \"half_disc\", \"quarter_disc\", \"file\")",
+    )?;
     let shape = src.choice(shape_v, "shape", SHAPES)?;
     let allowed = match shape {
         "rectangle" => RECTANGLE_KEYS,
-        "disc" | "half_disc" => DISC_KEYS,
+        "disc" | "half_disc" | "quarter_disc" => DISC_KEYS,
         _ => FILE_KEYS,
     };
     if let Some((key, span)) = m.present_keys().into_iter().find(|(k, _)| !allowed.contains(k)) {
         let hint = match (shape, key) {
             ("file", _) => format!("a mesh file is used as it is: remove `{key}` (refine the mesh in gmsh instead)"),
-            (_, "mesher") => "disc and half_disc meshes are always made by gmsh: remove `mesher`".to_string(),
+            (_, "mesher") => {
+                "disc, half_disc and quarter_disc meshes are always made by gmsh: remove `mesher`".to_string()
+            }
             _ => format!("remove `{key}`; shape = \"{shape}\" takes {}", allowed.join(", ")),
         };
         return Err(src.error(&span, format!("`{key}` does not apply to shape = \"{shape}\""), hint));
@@ -270,6 +276,7 @@ pub(super) fn mesh_spec(src: &Source, scope: &Scope, m: &RawMesh, scene_dir: &Pa
             let radius = src.positive(radius_v, "radius", "a radius")?;
             match shape {
                 "disc" => MeshSpec::Disc { center, radius, cell_size, refine: None },
+                "quarter_disc" => MeshSpec::QuarterDisc { center, radius, cell_size, refine: None },
                 _ => MeshSpec::HalfDisc { center, radius, cell_size, refine: None },
             }
         }
@@ -278,6 +285,7 @@ pub(super) fn mesh_spec(src: &Source, scope: &Scope, m: &RawMesh, scene_dir: &Pa
         MeshSpec::Rectangle { size, .. } => size[0] * size[1],
         MeshSpec::Disc { radius, .. } => std::f64::consts::PI * radius * radius,
         MeshSpec::HalfDisc { radius, .. } => std::f64::consts::PI * radius * radius / 2.0,
+        MeshSpec::QuarterDisc { radius, .. } => std::f64::consts::PI * radius * radius / 4.0,
         MeshSpec::File { .. } => 0.0,
     };
     check_cell_count(src, cell_v, "cell_size", cell_size, area)?;
@@ -292,9 +300,10 @@ pub(super) fn mesh_spec(src: &Source, scope: &Scope, m: &RawMesh, scene_dir: &Pa
         }
         let parsed = refine_spec(src, r, rt, cell_size)?;
         match &mut spec {
-            MeshSpec::Rectangle { refine, .. } | MeshSpec::Disc { refine, .. } | MeshSpec::HalfDisc { refine, .. } => {
-                *refine = Some(parsed)
-            }
+            MeshSpec::Rectangle { refine, .. }
+            | MeshSpec::Disc { refine, .. }
+            | MeshSpec::HalfDisc { refine, .. }
+            | MeshSpec::QuarterDisc { refine, .. } => *refine = Some(parsed),
             MeshSpec::File { .. } => {}
         }
     }

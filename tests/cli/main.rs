@@ -10,6 +10,7 @@ mod dual_outputs;
 mod errors;
 mod examples;
 mod formulations;
+mod hertz_sphere;
 mod interface_laws;
 mod interface_outputs;
 mod load_paths;

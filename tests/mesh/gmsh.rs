@@ -114,6 +114,50 @@ fn gmsh_half_disc() {
 }
 
 #[test]
+fn gmsh_quarter_disc() {
+    let (c, r) = ([0.0, 1.0], 1.0);
+    for order in [Order::P1, Order::P2] {
+        let mesh = generate(&MeshRequest {
+            shape: Shape::QuarterDisc { center: c, radius: r },
+            cell_size: 0.1,
+            refinement: None,
+            order,
+        })
+        .unwrap();
+        for corner in [[c[0], c[1] - r], [c[0] + r, c[1]], c] {
+            assert!(mesh.nodes.contains(&corner), "{order:?}: the corner {corner:?} is not a node");
+        }
+        let quarter = 0.25 * std::f64::consts::PI;
+        assert!(close(total_area(&mesh), quarter, if order == Order::P1 { 1e-2 } else { 1e-5 }));
+        let arc = mesh.require_group("arc", 1).unwrap();
+        let (flat, axis) = (mesh.require_group("flat", 1).unwrap(), mesh.require_group("axis", 1).unwrap());
+        mesh.require_group("domain", 2).unwrap();
+        assert!(close(group_length(&mesh, "flat"), 1.0, 1e-13));
+        assert!(close(group_length(&mesh, "axis"), 1.0, 1e-13));
+        for e in mesh.edges_in_group(flat) {
+            assert_eq!(mesh.edge_normal(e).0, [0.0, 1.0]);
+            assert!(mesh.edge(e).iter().all(|&n| mesh.nodes[n][1] == c[1] && mesh.nodes[n][0] >= c[0]));
+        }
+        for e in mesh.edges_in_group(axis) {
+            assert_eq!(mesh.edge_normal(e).0, [-1.0, 0.0]);
+            assert!(mesh.edge(e).iter().all(|&n| mesh.nodes[n][0] == c[0]));
+        }
+        for e in mesh.edges_in_group(arc) {
+            let (n, _) = mesh.edge_normal(e);
+            let p = mesh.nodes[mesh.edge(e)[0]];
+            assert!(n[0] * (p[0] - c[0]) + n[1] * (p[1] - c[1]) > 0.0);
+            assert!(mesh.edge(e).iter().all(|&k| {
+                let q = mesh.nodes[k];
+                q[1] <= c[1] + 1e-15 && q[0] >= c[0] - 1e-15 && ((q[0] - c[0]).hypot(q[1] - c[1]) - r).abs() < 1e-12
+            }));
+        }
+        // Every node lies in the quarter.
+        assert!(mesh.nodes.iter().all(|p| p[0] >= c[0] && p[1] <= c[1]));
+        assert_outward_normals(&mesh);
+    }
+}
+
+#[test]
 fn gmsh_refinement_makes_cells_smaller_near_the_point() {
     let point = [0.0, -1.0];
     let mesh = generate(&MeshRequest {

@@ -15,6 +15,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod adapt;
+mod axisymmetric_contact;
 mod bodies_blocks;
 mod bodies_full_space;
 mod bodies_hertz;
@@ -119,6 +120,13 @@ pub const TESTS: &[(&str, Case)] = &[
     ("contact_stick_patch_sliding_has_no_static_solution", contact::contact_stick_patch_sliding_has_no_static_solution),
     ("contact_lift_off_is_an_error", contact::contact_lift_off_is_an_error),
     ("hertz_cylinder", contact::hertz_cylinder),
+    ("axisymmetric_hertz_sphere", axisymmetric_contact::axisymmetric_hertz_sphere),
+    ("axisymmetric_boussinesq_flat_punch", axisymmetric_contact::axisymmetric_boussinesq_flat_punch),
+    ("axisymmetric_contact_routes_agree", axisymmetric_contact::axisymmetric_contact_routes_agree),
+    (
+        "axisymmetric_snes_vi_on_a_cone_equals_newton_full",
+        axisymmetric_contact::axisymmetric_snes_vi_on_a_cone_equals_newton_full,
+    ),
     ("square_block_raous", contact::square_block_raous),
     ("contact_solvers_agree", contact::contact_solvers_agree),
     ("condensed_newton_iterations_under_refinement", contact::condensed_newton_iterations_under_refinement),

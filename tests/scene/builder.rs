@@ -183,6 +183,37 @@ omega = 1.3
     let s = same_scene(built, text);
     assert_eq!(s.contact.unwrap().solver, ContactSolverSpec::Relaxation { omega: 1.3 });
 
+    // A quarter disc (the meridian section of a hemisphere) on a line, axisymmetric.
+    let built = SceneBuilder::quarter_disc([0.0, 0.5], 0.5, 0.1)
+        .refine([0.0, 0.0], 0.02, 0.1)
+        .material(210e9, 0.3)
+        .axisymmetric()
+        .pressure("flat", 1e6)
+        .contact_line("arc", [0.0, 0.0], [0.0, 1.0])
+        .build();
+    let text = r#"
+[mesh]
+shape = "quarter_disc"
+center = [0.0, 0.5]
+radius = 0.5
+cell_size = 0.1
+refine = { point = [0.0, 0.0], cell_size = 0.02, radius = 0.1 }
+[material]
+young = 210e9
+poisson = 0.3
+plane = "axisymmetric"
+[[traction]]
+part = "flat"
+pressure = 1e6
+[contact]
+part = "arc"
+obstacle = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+"#;
+    let s = same_scene(built, text);
+    assert!(matches!(s.mesh, MeshSpec::QuarterDisc { radius: 0.5, refine: Some(_), .. }), "{:?}", s.mesh);
+
     // A rectangle on a polyline valley, frictionless (Coulomb with μ = 0 too, as in a file).
     let valley = [[-1.0, 0.0], [0.5, -0.1], [2.0, 0.0]];
     let text = r#"
@@ -351,6 +382,10 @@ fn a_mistake_names_the_builder_call_and_key() {
             SceneBuilder::rectangle([0.0, 0.0], [1.0, 1.0], -0.1).material(1e9, 0.3),
         ),
         ("SceneBuilder::disc (`radius = 0.0`)", SceneBuilder::disc([0.0, 0.0], 0.0, 0.1).material(1e9, 0.3)),
+        (
+            "SceneBuilder::quarter_disc (`radius = 0.0`)",
+            SceneBuilder::quarter_disc([0.0, 0.0], 0.0, 0.1).material(1e9, 0.3),
+        ),
         ("SceneBuilder::refine (`refine = ", block().refine([0.0, 0.0], 0.01, 0.1)),
         ("SceneBuilder::p2p0 (`element = \"p2p0\"`)", block().p2p0()),
         ("SceneBuilder::pressure(\"top\", ..) (`pressure = nan`)", block().pressure("top", f64::NAN)),

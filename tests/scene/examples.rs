@@ -206,6 +206,7 @@ fn every_example_parses_and_names_only_parts_of_its_shape() {
             MeshSpec::Rectangle { .. } => &["bottom", "right", "top", "left"],
             MeshSpec::Disc { .. } => &["circle"],
             MeshSpec::HalfDisc { .. } => &["arc", "flat"],
+            MeshSpec::QuarterDisc { .. } => &["arc", "flat", "axis"],
             MeshSpec::File { .. } => &[],
         }
     };

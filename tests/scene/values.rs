@@ -97,7 +97,7 @@ fn unknown_shape() {
     let e = scene_error(&text);
     assert_eq!((e.line, e.column), (line_of(&text, "shape"), "shape = ".len() + 1));
     assert!(e.message.contains("shape") && e.message.contains("\"rect\""), "{}", e.message);
-    assert!(e.hint.contains("\"rectangle\", \"disc\", \"half_disc\", \"file\""), "{}", e.hint);
+    assert!(e.hint.contains("\"rectangle\", \"disc\", \"half_disc\", \"quarter_disc\", \"file\""), "{}", e.hint);
 
     let e = scene_error(&base_with("shape = \"rectangle\"", "shape = \"dsic\""));
     assert!(e.hint.contains("did you mean \"disc\"?"), "{}", e.hint);
@@ -271,4 +271,33 @@ fn disc_and_half_disc() {
     let text = base_with("shape = \"rectangle\"\nsize = [1.0, 0.2]", "shape = \"disc\"\nradius = 2");
     let s = parse(&text).unwrap();
     assert_eq!(s.mesh, MeshSpec::Disc { center: [0.0, 0.0], radius: 2.0, cell_size: 0.1, refine: None });
+}
+
+#[test]
+fn quarter_disc_and_its_errors_at_their_line() {
+    let text = base_with(
+        "shape = \"rectangle\"\nsize = [1.0, 0.2]",
+        "shape = \"quarter_disc\"\ncenter = [0.0, 1.0]\nradius = 1.0",
+    );
+    let s = parse(&text).unwrap();
+    assert_eq!(s.mesh, MeshSpec::QuarterDisc { center: [0.0, 1.0], radius: 1.0, cell_size: 0.1, refine: None });
+    // With a refinement, as half_disc takes one.
+    let refined = format!("{text}\n[mesh.refine]\npoint = [0.0, 0.0]\ncell_size = 0.01\nradius = 0.1\n");
+    let MeshSpec::QuarterDisc { refine: Some(r), .. } = parse(&refined).unwrap().mesh else { panic!() };
+    assert_eq!((r.point, r.cell_size, r.radius), ([0.0, 0.0], 0.01, 0.1));
+    // A key of another shape, a missing or negative radius: errors at their line.
+    let text = base_with("shape = \"rectangle\"\nsize = [1.0, 0.2]", "shape = \"quarter_disc\"\nsize = [1.0, 1.0]");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "size = [1.0, 1.0]"));
+    assert!(e.message.contains("`size` does not apply to shape = \"quarter_disc\""), "{}", e.message);
+    let text = base_with("shape = \"rectangle\"\nsize = [1.0, 0.2]", "shape = \"quarter_disc\"\nradius = -1.0");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "radius = -1.0"));
+    let text = base_with("shape = \"rectangle\"\nsize = [1.0, 0.2]", "shape = \"quarter_disc\"\nmesher = \"gmsh\"");
+    let e = scene_error(&text);
+    assert_eq!(e.line, line_of(&text, "mesher ="));
+    assert!(e.hint.contains("quarter_disc meshes are always made by gmsh"), "{}", e.hint);
+    let text = base_with("shape = \"rectangle\"\nsize = [1.0, 0.2]", "shape = \"quarter_disk\"\nradius = 1.0");
+    let e = scene_error(&text);
+    assert!(e.hint.contains("quarter_disc"), "{}", e.hint);
 }

@@ -68,14 +68,27 @@ impl Pieces {
 
 /// The augmentation `ρ_i` of every point: `2 E' w_i / L`, with two bodies those of the point's
 /// two sides in series, `2 w_i / (L_s/E'_s + L_m/E'_m)` (every rank knows every weight).
+///
+/// In axisymmetry a P2 vertex on the axis has `w_i = ∫ φ_i 2π r ds = 0` exactly on a straight
+/// edge ([`crate::contact::boundary::AxisPressure`]), which would make `ρ_i = 0` and the point's
+/// complementarity function degenerate; it takes the weight of the nearer node its pressure is
+/// extrapolated from (any `ρ_i > 0` has the same solution; this one has the scale of its
+/// neighbours').
 pub(crate) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMaterials, pieces: &Pieces) -> Vec<f64> {
     let (modulus, diameter) =
         piece_moduli_and_diameters(mesh, materials, &pieces.piece_of, pieces.count, pieces.extent);
     let compliance = |node: usize| diameter[pieces.piece_of[node]] / modulus[pieces.piece_of[node]];
+    let point = |node: usize| b.nodes.iter().position(|&k| k == node);
+    let mut weight = b.weight.clone();
+    for axis in &b.axis_pressure {
+        if let (Some(i), Some(j)) = (point(axis.node), point(axis.from[0].0)) {
+            weight[i] = weight[i].max(b.weight[j]);
+        }
+    }
     (0..b.points())
         .map(|i| {
             let other = b.coupled_to(i).first().map_or(0.0, |c| compliance(c.node));
-            AUGMENTATION * b.weight[i] / (compliance(b.nodes[i]) + other)
+            AUGMENTATION * weight[i] / (compliance(b.nodes[i]) + other)
         })
         .collect()
 }
