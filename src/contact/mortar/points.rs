@@ -42,7 +42,7 @@ impl ContactBoundary {
             left_out: Vec::new(),
             coupled: Vec::with_capacity(m),
             frame: Vec::with_capacity(m),
-            axis_pressure: Vec::new(),
+            axis_pressure: coupling.axis_pressure.clone(),
         };
         for i in 0..m {
             let k = coupling.nodes[i];
