@@ -72,10 +72,25 @@ pub(crate) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMat
     let (modulus, diameter) =
         piece_moduli_and_diameters(mesh, materials, &pieces.piece_of, pieces.count, pieces.extent);
     let compliance = |node: usize| diameter[pieces.piece_of[node]] / modulus[pieces.piece_of[node]];
+    // A point of weight 0 (a P2 vertex on the axis in axisymmetry) takes the weight of the
+    // nearer node its pressure is extrapolated from (the module documentation of `full_space`).
+    let smallest = b.weight.iter().copied().filter(|&w| w > 0.0).fold(f64::INFINITY, f64::min);
+    let weight = |i: usize| {
+        if b.weight[i] > 0.0 {
+            return b.weight[i];
+        }
+        b.axis_pressure
+            .iter()
+            .find(|a| a.node == b.nodes[i])
+            .and_then(|a| b.nodes.iter().position(|&k| k == a.from[0].0))
+            .map(|j| b.weight[j])
+            .filter(|&w| w > 0.0)
+            .unwrap_or(if smallest.is_finite() { smallest } else { 0.0 })
+    };
     (0..b.points())
         .map(|i| {
             let other = b.coupled_to(i).first().map_or(0.0, |c| compliance(c.node));
-            AUGMENTATION * b.weight[i] / (compliance(b.nodes[i]) + other)
+            AUGMENTATION * weight(i) / (compliance(b.nodes[i]) + other)
         })
         .collect()
 }
