@@ -149,6 +149,9 @@ pub fn pellet_cladding_example_is_a_shrink_fit(s: &Session) -> Result<(), String
         if (x[0] - b).abs() < 1e-9 && p.bodies.as_ref().unwrap().layout.bodies[1].nodes.contains(&k) {
             bore = bore.max((hoop / hoop_bore - 1.0).abs());
         }
+        if !(sigma.iter().all(|v| v.is_finite()) && hoop.is_finite()) {
+            return Err(format!("stress at node {k} ({x:?}): {sigma:?}, hoop {hoop}"));
+        }
         if p.bodies.as_ref().unwrap().layout.bodies[0].nodes.contains(&k) {
             let uniform = -exact * b / bp;
             pellet = pellet.max(((sigma[0] - uniform).abs()).max((hoop - uniform).abs()) / exact);
