@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 use signorini::petsc::Session;
 use signorini::problem::ElasticityProblem;
+use signorini::scene::{ContactSolverSpec, Scene};
 
 use super::contact::{example, fit_half_width_and_peak, solve_text};
 use super::ensure;
@@ -272,6 +273,19 @@ pub fn hertz_two_spheres(s: &Session) -> Result<(), String> {
         };
         (find(&bodies[0].nodes)?, find(&bodies[1].nodes)?)
     };
+    // The condensed routes (no augmentation; the axis point's weight 0 only reports its
+    // pressure) give the full-space answer, whose augmentation at the axis point borrows its
+    // neighbour's weight.
+    for solver in [ContactSolverSpec::Newton, ContactSolverSpec::DPana] {
+        let mut scene = Scene::from_str(&text, &dir.join("spheres.toml")).map_err(|e| e.to_string())?;
+        scene.contact_solver = Some(solver);
+        let mut q = ElasticityProblem::setup_system(s, scene).map_err(|e| format!("{solver:?}: {e}"))?;
+        q.assemble().and_then(|_| q.solve()).and_then(|_| q.postprocess()).map_err(|e| format!("{solver:?}: {e}"))?;
+        let other = points(&q, 0);
+        let apart = pts.iter().zip(&other).map(|(a, b)| (a.1 - b.1).abs() / p0).fold(0.0, f64::max);
+        eprintln!("    two spheres: {solver:?} pressures {apart:.1e} of p0 from the full-space route's");
+        ensure(other.len() == pts.len() && apart < 1e-6, || format!("{solver:?}: pressures {apart:e} of p0 apart"))?;
+    }
     // Touching at the start, the upper pole must stay above the lower one: `u_z,s − u_z,m ≥ 0`.
     let approach = a * a / radius;
     let gap = u[2 * slave_pole + 1] - u[2 * master_pole + 1];
