@@ -220,6 +220,10 @@ pub(super) fn master_normal_at(
     best.map(|b| b.1)
 }
 
+/// A node-to-segment row: `(master node j, φ_j^m(η))` by increasing node, the gap
+/// `(x_m − p)·n` and the master's unit normal at the paired point.
+pub(super) type NodeToSegment = (Vec<(usize, f64)>, f64, [f64; 2]);
+
 /// The node-to-segment row of a slave node at `p` with unit normal `n`: on the nearest master
 /// edge that the line `p + τ n` meets within `max_distance` and that faces the slave, the master
 /// shape function values `(node j, φ_j^m(η))` by increasing node, the gap `(x_m − p)·n` and the
@@ -230,7 +234,7 @@ pub(super) fn node_to_segment(
     masters: &[Edge],
     normals: &[[[f64; 2]; 3]],
     max_distance: f64,
-) -> Option<(Vec<(usize, f64)>, f64, [f64; 2])> {
+) -> Option<NodeToSegment> {
     let mut best: Option<(usize, EdgePoint, f64)> = None;
     for (f, master) in masters.iter().enumerate() {
         let Some((q, gap)) = meet(p, n, master, max_distance, true) else { continue };
@@ -244,9 +248,9 @@ pub(super) fn node_to_segment(
     let mut row: Vec<(usize, f64)> = (0..master.len).map(|a| (master.nodes[a], q.values[a])).collect();
     row.sort_by_key(|&(j, _)| j);
     let mut m = [0.0; 2];
-    for a in 0..master.len {
-        m[0] += q.values[a] * normals[f][a][0];
-        m[1] += q.values[a] * normals[f][a][1];
+    for (v, nm) in q.values.iter().zip(&normals[f]).take(master.len) {
+        m[0] += v * nm[0];
+        m[1] += v * nm[1];
     }
     let l = norm(m);
     let m = if l > 0.0 { [m[0] / l, m[1] / l] } else { q.normal };
@@ -356,7 +360,7 @@ pub(super) fn integrate(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) 
             weight[a] = 0.0;
         }
     }
-    if let Some(a) = (0..n).find(|&a| !axis[a] && !(weight[a] > 0.0 && weight[a].is_finite())) {
+    if let Some(a) = (0..n).find(|&a| !(axis[a] || weight[a] > 0.0 && weight[a].is_finite())) {
         return Err(format!(
             "the consistent weight ∫φ ds of its local node {a} is {:e}, not positive: its P2 mid node is too far \
              from the middle of the edge; remesh the side",
