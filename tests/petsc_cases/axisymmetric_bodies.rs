@@ -275,17 +275,38 @@ pub fn hertz_two_spheres(s: &Session) -> Result<(), String> {
     };
     // The condensed routes (no augmentation; the axis point's weight 0 only reports its
     // pressure) give the full-space answer, whose augmentation at the axis point borrows its
-    // neighbour's weight.
-    for solver in [ContactSolverSpec::Newton, ContactSolverSpec::DPana] {
-        let mut scene = Scene::from_str(&text, &dir.join("spheres.toml")).map_err(|e| e.to_string())?;
-        scene.contact_solver = Some(solver);
+    // neighbour's weight; frictionless and with Coulomb friction μ = 0.3 (the axis point has
+    // no friction, u_r being prescribed on both poles: its tangential row keeps the slave's
+    // unit tangent, mortar/points.rs, or the condensed flexibility would be singular).
+    let solve = |text: &str, solver: Option<ContactSolverSpec>| -> Result<Vec<(f64, f64, f64)>, String> {
+        let mut scene = Scene::from_str(text, &dir.join("spheres.toml")).map_err(|e| e.to_string())?;
+        scene.contact_solver = solver;
         let mut q = ElasticityProblem::setup_system(s, scene).map_err(|e| format!("{solver:?}: {e}"))?;
         q.assemble().and_then(|_| q.solve()).and_then(|_| q.postprocess()).map_err(|e| format!("{solver:?}: {e}"))?;
-        let other = points(&q, 0);
-        let apart = pts.iter().zip(&other).map(|(a, b)| (a.1 - b.1).abs() / p0).fold(0.0, f64::max);
-        eprintln!("    two spheres: {solver:?} pressures {apart:.1e} of p0 from the full-space route's");
-        ensure(other.len() == pts.len() && apart < 1e-6, || format!("{solver:?}: pressures {apart:e} of p0 apart"))?;
+        Ok(points(&q, 0))
+    };
+    let coulomb_text = text.replace("friction = \"none\"", "friction = \"coulomb\"\nmu = 0.3");
+    let coulomb = solve(&coulomb_text, None)?;
+    for solver in [ContactSolverSpec::Newton, ContactSolverSpec::DPana] {
+        for (what, text, reference) in [("frictionless", &text, &pts), ("Coulomb", &coulomb_text, &coulomb)] {
+            let other = solve(text, Some(solver))?;
+            let apart = reference
+                .iter()
+                .zip(&other)
+                .map(|(a, b)| (a.1 - b.1).abs().max((a.2 - b.2).abs()) / p0)
+                .fold(0.0, f64::max);
+            eprintln!("    two spheres, {what}: {solver:?} tractions {apart:.1e} of p0 from the full-space route's");
+            ensure(other.len() == reference.len() && apart < 1e-6, || {
+                format!("{what}, {solver:?}: tractions {apart:e} of p0 apart")
+            })?;
+        }
     }
+    let (_, p0_coulomb) =
+        fit_half_width_and_peak(&coulomb.iter().filter(|q| q.1 > 1e-6 * peak).map(|q| (q.0, q.1)).collect::<Vec<_>>());
+    eprintln!(
+        "    two spheres, Coulomb μ = 0.3: p0 {p0_coulomb:.5e} ({:+.2} % from Hertz)",
+        100.0 * (p0_coulomb / p0 - 1.0)
+    );
     // Touching at the start, the upper pole must stay above the lower one: `u_z,s − u_z,m ≥ 0`.
     let approach = a * a / radius;
     let gap = u[2 * slave_pole + 1] - u[2 * master_pole + 1];

@@ -183,6 +183,9 @@
 //! of constants and of linear fields hold as in the plane (the proofs only use `Σ_a ψ_a = 1`
 //! and biorthogonality, which the weighted `M_e`, `D_e` keep).
 //!
+//! At a node on the axis the nodal normal is the axis direction (`(0, ±1)`, by symmetry; the
+//! normal of a curved P2 edge at its vertex is off by `O(θ³)`), for both sides.
+//!
 //! **A P2 vertex on the axis.** Its weight vanishes: on a straight edge from the axis
 //! `r = r_1 s` and `∫₀¹ (1 − s)(1 − 2s) s ds = 0` (on an arc of angle `θ` it is `O(θ²)` of the
 //! others, of either sign). Then `A = D_e M_e⁻¹` has a zero row, `ψ_i ≡ 0`, and the node has no
@@ -397,7 +400,8 @@ impl MortarSide {
     }
 
     /// Unit outward normals at the nodes (aligned with [`MortarSide::nodes`]): the normalized sum
-    /// of the outward normals, at the node, of the edges through it.
+    /// of the outward normals, at the node, of the edges through it; in axisymmetry, at a node
+    /// on the axis (`r = 0`), the unit vector along the axis on the same side (symmetry).
     ///
     /// Errors: [`Error::Mesh`] at a node where the edges' normals cancel (edges of opposite
     /// orientations, or a cusp).
@@ -416,6 +420,11 @@ impl MortarSide {
             .zip(&self.nodes)
             .map(|(v, &k)| {
                 let l = v[0].hypot(v[1]);
+                // In axisymmetry the normal at a node on the axis is along the axis (by
+                // symmetry); a curved P2 edge's own normal there is off by O(θ³).
+                if self.measure.is_axisymmetric() && self.position(k).is_some_and(|x| x[0] == 0.0) && v[1] != 0.0 {
+                    return Ok([0.0, v[1].signum()]);
+                }
                 if l < 1e-6 {
                     Err(Error::mesh(
                         format!("node {k} of mortar side '{}'", self.name),

@@ -13,7 +13,11 @@
 //! master side still moves. A prescribed component of a master node leaves the rows likewise
 //! (its entries `−c n_c`, `−c t_c` dropped, `−c n_c u0` moved into the gap): `B` acts on free
 //! dofs only, and the support carries that share of the force. A point whose rows are then
-//! empty is left out. The unreduced frame
+//! empty is left out; a point whose tangential row alone is empty (in axisymmetry, a slave
+//! node on the axis paired node to segment with the master's node on the axis, both with
+//! `u_r = 0`) keeps the unit tangent on its slave node, as against a rigid obstacle
+//! ([`crate::contact::boundary`], "Contact nodes with prescribed displacement components"):
+//! it has no friction, so `rT = 0`, and the condensed flexibility stays positive definite. The unreduced frame
 //! and each master node's share `c = M_ij/D_i` are kept ([`ContactBoundary::frame`],
 //! [`CoupledNode::transfer`]) for the action–reaction check.
 use crate::contact::boundary::{ContactBoundary, CoupledNode};
@@ -65,6 +69,15 @@ impl ContactBoundary {
                 .collect();
             let fixed = prescribed(k);
             take_out_prescribed(fixed, &mut n, &mut t, &mut gap);
+            // A tangential row left empty (a slave node on the axis, `u_r` prescribed, paired
+            // node to segment with the master's axis node, `u_r` prescribed too) keeps the unit
+            // tangent on the slave node, as against a rigid obstacle: the point has no friction
+            // (a prescribed component), `rT = 0`, and every solver sees a regular problem.
+            // (Round-off: the bisector of two axial normals can be 1e-17 off the axis.)
+            let tiny = |v: [f64; 2]| v[0].abs() <= 1e-12 && v[1].abs() <= 1e-12;
+            if tiny(t) && coupled.iter().all(|c| tiny(c.tangent)) {
+                t = coupling.tangent[i];
+            }
             let first_fixed = (0..2).find_map(|comp| fixed[comp].map(|u0| (comp, u0)));
             let no_master_entry = coupled.iter().all(|c| c.normal == [0.0; 2] && c.tangent == [0.0; 2]);
             if fixed.iter().all(Option::is_some) && no_master_entry {
