@@ -4,7 +4,9 @@
 //!
 //! Point `i` of a coupling is slave node `k`; its rows of `B` are `n_iᵀ` (`t_iᵀ`) on `k` and
 //! `−(M_ij/D_i) n_iᵀ` (`t_iᵀ`) on every master node `j` ([`super`]): the [`CoupledNode`]s. Its
-//! weight is `D_i = ∫ φ_i ds`, so that `−rN_i / D_i` is the pressure, as against an obstacle.
+//! weight is `D_i = ∫ φ_i ds` (`∫ φ_i 2π r ds` in axisymmetry, 0 at a P2 vertex on the axis,
+//! whose pressure is extrapolated: [`MortarCoupling::axis_pressure`]), so that `−rN_i / D_i` is
+//! the pressure, as against an obstacle.
 //!
 //! Slave nodes with prescribed displacement components are treated as in
 //! [`crate::contact::boundary`]: a prescribed component `u_c = u0` leaves the slave entries of
