@@ -590,3 +590,127 @@ fn kinked_interfaces_transfer_exactly_through_their_corners() {
     }
     println!("kinked interface: worst of |Σ M/D − 1|, |Σ (M/D) x_m − x_s|, |g0| = {worst:.2e}");
 }
+
+// ---- axisymmetry (issue 27) -------------------------------------------------------------------
+
+/// A side on the line `z = offset` through the radii `rs`, measured in axisymmetry: slave edges
+/// run towards the axis (body below, outward normal +z), master edges away from it (body above).
+fn axisymmetric_side(positions: &mut Vec<[f64; 2]>, rs: &[f64], order: Order, slave: bool, offset: f64) -> MortarSide {
+    let first = positions.len();
+    positions.extend(rs.iter().map(|&r| [r, offset]));
+    let mut edges = Vec::new();
+    for k in 0..rs.len() - 1 {
+        let (a, b) = (first + k, first + k + 1);
+        let mut edge = if slave { vec![b, a] } else { vec![a, b] };
+        if order == Order::P2 {
+            edge.push(positions.len());
+            positions.push([0.5 * (rs[k] + rs[k + 1]), offset]);
+        }
+        edges.push(edge);
+    }
+    MortarSide::new(if slave { "slave" } else { "master" }, order, edges, positions)
+        .unwrap()
+        .with_measure(signorini::mesh::Measure::Axisymmetric)
+}
+
+/// `∫ φ_k 2π r ds` of every node of a straight side on `z = const`, in closed form: on an edge
+/// `r(s) = r0 + (r1 − r0) s`, `∫ φ_a r ds = r0 ∫ φ_a + (r1 − r0) ∫ φ_a s`, with
+/// `(∫ φ, ∫ φ s)` = (1/2, 1/6), (1/2, 1/3) for P1 and (1/6, 0), (1/6, 1/6), (2/3, 1/3) for P2.
+fn axisymmetric_weights(side: &MortarSide, positions: &[[f64; 2]]) -> Vec<(usize, f64)> {
+    let mut w: Vec<(usize, f64)> = side.nodes().iter().map(|&k| (k, 0.0)).collect();
+    for edge in side.edges() {
+        let (r0, r1) = (positions[edge[0]][0], positions[edge[1]][0]);
+        let l = (r1 - r0).abs();
+        let moments: &[(f64, f64)] = if edge.len() == 2 {
+            &[(0.5, 1.0 / 6.0), (0.5, 1.0 / 3.0)]
+        } else {
+            &[(1.0 / 6.0, 0.0), (1.0 / 6.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0)]
+        };
+        for (&k, &(m0, m1)) in edge.iter().zip(moments) {
+            w.iter_mut().find(|e| e.0 == k).unwrap().1 += 2.0 * std::f64::consts::PI * l * (r0 * m0 + (r1 - r0) * m1);
+        }
+    }
+    w
+}
+
+/// On a straight interface `z = 0` of a body of revolution, from the axis (r = 0) or from
+/// r = 0.4, out to r = 1.7, irregular non-matching sides of every pair of orders:
+/// `D_i = ∫ φ_i 2π r ds` in closed form (0 exactly at a P2 slave vertex on the axis), constants
+/// and linear fields transfer exactly (the node on the axis by its node-to-segment row), a
+/// parallel offset `d` is the gap of every point, and a uniform pressure `p` (`rN_i = −p D_i`)
+/// gives both sides their consistent ring loads `p ∫ φ_k 2π r ds`: the patch test.
+#[test]
+fn axisymmetric_weights_transfer_and_patch_test_are_exact() {
+    let p = 3.7;
+    let mut worst = 0.0f64;
+    for r0 in [0.0, 0.4] {
+        for (so, mo) in ORDERS {
+            for (ns, nm) in [(7, 11), (13, 5), (9, 8)] {
+                let mut x = Vec::new();
+                let rs =
+                    |n: usize, seed: u64| irregular(n, 1.7 - r0, seed).iter().map(|t| r0 + t).collect::<Vec<f64>>();
+                let slave = axisymmetric_side(&mut x, &rs(ns, 17 + ns as u64), so, true, 0.0);
+                let master = axisymmetric_side(&mut x, &rs(nm, 91 + nm as u64), mo, false, 0.0);
+                let what = format!("r0 = {r0}, {so:?}-{mo:?} {ns}/{nm}");
+                let c = couple(&slave, &master);
+                let scale = 2.0 * std::f64::consts::PI * 1.7 * 1.7;
+                let axis_vertex = r0 == 0.0 && so == Order::P2;
+                for (k, w) in axisymmetric_weights(&slave, &x) {
+                    let i = c.nodes.binary_search(&k).unwrap();
+                    let expected = if axis_vertex && x[k][0] == 0.0 { 0.0 } else { w };
+                    assert!((c.weight[i] - expected).abs() <= 1e-13 * scale, "{what}: D_{k} = {} != {w}", c.weight[i]);
+                }
+                assert_eq!(c.axis_pressure.len(), usize::from(axis_vertex), "{what}: {:?}", c.axis_pressure);
+                if let Some(axis) = c.axis_pressure.first() {
+                    // The even extrapolation from the mid node (r = L/2) and the far vertex (L).
+                    assert!((axis.from[0].1 - 4.0 / 3.0).abs() < 1e-12 && (axis.from[1].1 + 1.0 / 3.0).abs() < 1e-12);
+                }
+                for i in 0..c.points() {
+                    let mut image = [0.0; 2];
+                    for (j, m) in c.transfer(i) {
+                        image[0] += m * x[j][0];
+                        image[1] += m * x[j][1];
+                    }
+                    let xi = x[c.nodes[i]];
+                    let error = (c.coverage(i) - 1.0).abs().max((image[0] - xi[0]).hypot(image[1] - xi[1]));
+                    assert!(error <= 1e-12, "{what}: point {i} at {xi:?}: transfer error {error:e}");
+                    assert_eq!(c.normal[i], [0.0, 1.0], "{what}");
+                }
+                let r: Vec<f64> = c.weight.iter().flat_map(|d| [-p * d, 0.0]).collect();
+                let mut f = vec![0.0; 2 * x.len()];
+                c.scatter_add(&r, &mut f);
+                for (side, sign) in [(&slave, -1.0), (&master, 1.0)] {
+                    for (k, w) in axisymmetric_weights(side, &x) {
+                        let err = (f[2 * k] - 0.0).abs().max((f[2 * k + 1] - sign * p * w).abs()) / (p * scale);
+                        assert!(err <= 1e-12, "{what}: node {k} of {}: nodal force error {err:e}", side.name());
+                        worst = worst.max(err);
+                    }
+                }
+                // Parallel sides at distance d: every point's gap is d.
+                let mut y = Vec::new();
+                let d = 0.03;
+                let slave = axisymmetric_side(&mut y, &rs(ns, 17 + ns as u64), so, true, 0.0);
+                let master = axisymmetric_side(&mut y, &rs(nm, 91 + nm as u64), mo, false, d);
+                let c = couple(&slave, &master);
+                for (i, g) in c.gap.iter().enumerate() {
+                    assert!((g - d).abs() <= 1e-13, "{what}: gap of point {i}: {g} != {d}");
+                }
+            }
+        }
+    }
+    println!("axisymmetric patch test: max nodal force error / (p 2π R²) = {worst:.2e}");
+}
+
+/// A plane side against an axisymmetric one is refused by name.
+#[test]
+fn axisymmetric_and_plane_sides_do_not_mix() {
+    let mut x = Vec::new();
+    let slave = axisymmetric_side(&mut x, &[0.0, 0.5, 1.0], Order::P1, true, 0.0);
+    let master = axisymmetric_side(&mut x, &[0.0, 1.0], Order::P1, false, 0.0).with_measure(Default::default());
+    match MortarCoupling::new(&slave, &master, &MortarOptions::default()) {
+        Err(Error::Usage(m)) => {
+            assert!(m.contains("'slave'") && m.contains("'master'") && m.contains("same measure"), "{m}")
+        }
+        other => panic!("expected a usage error, got {other:?}"),
+    }
+}

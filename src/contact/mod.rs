@@ -28,8 +28,10 @@
 //!   `|rT_i| = s_i ⇒ uT_i = −λ rT_i, λ ≥ 0` (slip, the friction force opposes the slip).
 //!   Tresca: `s_i` given. Coulomb: `s_i = −μ_i rN_i`. No friction: `rT_i = 0`, and the
 //!   tangential unknowns are never touched (they stay exactly `0.0`).
-//! - Optional weights `w_i > 0` (quadrature or tributary areas): only used to report pressures
-//!   `r / w` ([`CondensedProblem::pressure`]).
+//! - Optional weights `w_i ≥ 0` (quadrature or tributary areas): only used to report pressures
+//!   `r / w` ([`CondensedProblem::pressure`]). A weight is 0 at a P2 vertex on the axis of a
+//!   body of revolution (its force is a concentrated one; `ContactBoundary::tractions`
+//!   extrapolates its pressure instead, see `boundary::AxisPressure`).
 //!
 //! ## Variational form (why the solvers work)
 //!
@@ -385,7 +387,8 @@ impl<'a> CondensedProblem<'a> {
     /// - `free_displacement`: `2m` finite values; `gap`: `m` finite values;
     /// - friction data: one value `≥ 0` per point. A friction law whose thresholds or
     ///   coefficients are all zero is stored as [`FrictionLaw::None`];
-    /// - `weights`: one value `> 0` per point, or `None` for unit weights.
+    /// - `weights`: one value `≥ 0` per point (0: a P2 vertex on the axis in axisymmetry,
+    ///   whose [`CondensedProblem::pressure`] is then not finite), or `None` for unit weights.
     pub fn new(
         delassus: Delassus<'a>,
         free_displacement: Vec<f64>,
@@ -413,7 +416,7 @@ impl<'a> CondensedProblem<'a> {
         let friction = checked_friction(friction, m)?;
         let weights = match weights {
             Some(w) => {
-                check_per_point(&w, m, "weight", true)?;
+                check_per_point(&w, m, "weight", false)?;
                 w
             }
             None => vec![1.0; m],

@@ -4,6 +4,7 @@
 #[path = "../common/edit.rs"]
 mod edit;
 
+mod axisymmetric_bodies;
 mod axisymmetry;
 mod bench;
 mod dual_outputs;

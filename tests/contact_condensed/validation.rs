@@ -102,9 +102,14 @@ fn invalid_problems_are_rejected_naming_the_entity() {
         free.clone(),
         gap.clone(),
         FrictionLaw::None,
-        Some(vec![1.0, 0.0]),
+        Some(vec![1.0, -1.0]),
     ));
-    assert!(m.contains("contact point 1") && m.contains("weight"), "{m}");
+    assert!(m.contains("contact point 1") && m.contains("weight") && m.contains(">= 0"), "{m}");
+    // A zero weight (a P2 vertex on the axis in axisymmetry) is accepted; its pressure is not finite.
+    let zero =
+        CondensedProblem::new(Delassus::Dense(w()), free.clone(), gap.clone(), FrictionLaw::None, Some(vec![1.0, 0.0]))
+            .unwrap();
+    assert!(!zero.pressure(&[-1.0, 0.0, -1.0, 0.0]).unwrap()[2].is_finite());
     let m = usage_message(CondensedProblem::new(Delassus::Dense(w()), free.clone(), vec![], FrictionLaw::None, None));
     assert!(m.contains("no contact point"), "{m}");
     let asymmetric_operator = Delassus::Operator {

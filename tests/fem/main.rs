@@ -2,6 +2,7 @@
 //! nalgebra).
 #![allow(clippy::needless_range_loop)]
 
+mod axisymmetric;
 mod constraints_and_assembly;
 mod convergence;
 mod material_and_stiffness;

@@ -15,6 +15,7 @@ use signorini::scene::Scene;
 use signorini::Error;
 
 mod adapt;
+mod axisymmetric_bodies;
 mod axisymmetric_contact;
 mod bodies_blocks;
 mod bodies_full_space;
@@ -164,6 +165,12 @@ pub const TESTS: &[(&str, Case)] = &[
     ("pc_ict_tiny_tolerance_is_a_direct_solve", ict::ict_tiny_tolerance_is_a_direct_solve),
     ("pc_ict_needs_fewer_iterations_than_icc0", ict::ict_needs_fewer_iterations_than_icc0),
     ("pc_ict_bad_options_and_matrices_are_typed_errors", ict::ict_bad_options_and_matrices_are_typed_errors),
+    ("axisymmetric_shrink_fit_hollow_cylinders", axisymmetric_bodies::shrink_fit_hollow_cylinders),
+    (
+        "axisymmetric_pellet_cladding_example_is_a_shrink_fit",
+        axisymmetric_bodies::pellet_cladding_example_is_a_shrink_fit,
+    ),
+    ("axisymmetric_hertz_two_spheres", axisymmetric_bodies::hertz_two_spheres),
     ("hertz_two_cylinders", bodies_hertz::hertz_two_cylinders),
     ("hertz_two_cylinders_steel_on_aluminium", bodies_hertz::hertz_two_cylinders_steel_on_aluminium),
     ("cattaneo_mindlin_two_cylinders", bodies_hertz::cattaneo_mindlin_two_cylinders),

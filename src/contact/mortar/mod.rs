@@ -171,6 +171,43 @@
 //! of `∫ φ_i ds` (faced only at the node itself) is left out as uncovered. Partly covered
 //! nodes are listed in [`MortarCoupling::partly_covered`] with their covered fraction.
 //!
+//! ## Axisymmetry
+//!
+//! On the meridian half-plane of bodies of revolution ([`crate::mesh::Measure::Axisymmetric`],
+//! both sides; [`MortarSide::from_mesh`] takes the mesh's measure) every integral above is over
+//! the revolved surface: `ds` stands for `2π r ds`, `r` the radius of the SLAVE point
+//! (`D_i = ∫ φ_i 2π r ds`, `M_ij = ∫ ψ_i φ_j^m 2π r ds`, `g0_i`, and the edge matrices `M_e`,
+//! `D_e` of the dual basis, with the same composite rule), so that `rN_i = −p D_i` is the force
+//! of the full ring (N) and `−rN_i / D_i` a pressure (Pa). On a straight edge the products carry
+//! one more degree (at most 5: the 8-point rule is still exact); the patch test and the transfer
+//! of constants and of linear fields hold as in the plane (the proofs only use `Σ_a ψ_a = 1`
+//! and biorthogonality, which the weighted `M_e`, `D_e` keep).
+//!
+//! At a node on the axis the nodal normal is the axis direction (`(0, ±1)`, by symmetry; the
+//! normal of a curved P2 edge at its vertex is off by `O(θ³)`), for both sides.
+//!
+//! **A P2 vertex on the axis.** Its weight vanishes: on a straight edge from the axis
+//! `r = r_1 s` and `∫₀¹ (1 − s)(1 − 2s) s ds = 0` (on an arc of angle `θ` it is `O(θ²)` of the
+//! others, of either sign). Then `A = D_e M_e⁻¹` has a zero row, `ψ_i ≡ 0`, and the node has no
+//! weighted constraint at all: by biorthogonality `∫ ψ_a φ_i 2π r ds = D_i δ_ai = 0`, its
+//! displacement enters no other row either, so it could sink into the master side freely. Such a
+//! node (P2, a vertex of the slave side with `r = 0` exactly, as the setup snaps it; whatever its
+//! computed weight) gets `D_i = 0` and a **node-to-segment row**: `uN_i = n_i·(u_i − Σ_j
+//! φ_j^m(η_i) u_j) ≤ g_i`, `η_i` where its normal line meets the nearest facing master edge,
+//! `g_i = (x_m(η_i) − x_i)·n_i` (in [`MortarCoupling::mortar`] the coefficients `φ_j^m(η_i)`
+//! themselves, which [`MortarCoupling::transfer`] returns). This is the nodal constraint the node
+//! has against a rigid obstacle ([`super::boundary`]);
+//! `B` keeps full row rank (no other row holds `u_i`), and the weighted constraints of the
+//! other nodes are untouched (`∫ ψ_a 2π r ds = D_a` still, so constants transfer exactly). Its
+//! force `rN_i` is a concentrated force on the axis, the consistent share of a smooth pressure
+//! being `∫ φ_i p 2π r ds = O(h⁴)`; its pressure is not `−rN_i / D_i` but the even
+//! extrapolation `p = A + B r²` from the two other nodes of its edge, its friction traction 0
+//! ([`MortarCoupling::axis_pressure`], [`AxisPressure`]). (Alternatives: leaving the node out
+//! lets it penetrate; a modified quadratic basis with positive vertex weights (Popp, Wohlmuth,
+//! Gee, Wall, SIAM J. Sci. Comput. 34 (2012) B421) changes the slave displacement basis, hence
+//! every row and the recovery.) A P1 vertex on the axis keeps a positive weight
+//! (`∫ (1 − s) s ds = 1/6`) and needs nothing special.
+//!
 //! ## Accuracy and cost
 //!
 //! Measured in `tests/mortar.rs` on irregular non-matching meshes: constants and linear fields
@@ -197,8 +234,9 @@ mod segments;
 
 pub use interpenetration::{Interpenetration, NodePenetration};
 
+use crate::contact::boundary::AxisPressure;
 use crate::error::{Error, Result};
-use crate::mesh::{Mesh, Order};
+use crate::mesh::{Measure, Mesh, Order};
 use segments::{Edge, SlaveEdge, NODE_PARAMETER};
 
 /// One side of the interface: boundary edges (global node ids) and the positions of their nodes.
@@ -211,6 +249,8 @@ pub struct MortarSide {
     /// The nodes of the edges, sorted increasingly, and their positions.
     nodes: Vec<usize>,
     positions: Vec<[f64; 2]>,
+    /// Plane, or axisymmetric (every mortar integral then carries `2π r`).
+    measure: Measure,
 }
 
 impl MortarSide {
@@ -245,7 +285,7 @@ impl MortarSide {
         nodes.sort_unstable();
         nodes.dedup();
         let positions = nodes.iter().map(|&k| positions[k]).collect();
-        let side = MortarSide { name, order, edges, nodes, positions };
+        let side = MortarSide { name, order, edges, nodes, positions, measure: Measure::Plane };
         for e in 0..side.edges.len() {
             let edge = side.edge(e);
             let chord = (edge.x[1][0] - edge.x[0][0]).hypot(edge.x[1][1] - edge.x[0][1]);
@@ -284,7 +324,20 @@ impl MortarSide {
         if edges.is_empty() {
             return Err(Error::mesh(format!("physical group '{}'", part.name), "has no boundary edges"));
         }
-        Self::new(part.name.clone(), mesh.order, edges, &mesh.nodes)
+        Ok(Self::new(part.name.clone(), mesh.order, edges, &mesh.nodes)?.with_measure(mesh.measure))
+    }
+
+    /// The same side with the measure `measure` ([`MortarSide::new`] makes a plane side;
+    /// [`MortarSide::from_mesh`] takes the mesh's): in axisymmetry every mortar integral carries
+    /// `2π r` (module documentation, "Axisymmetry").
+    pub fn with_measure(mut self, measure: Measure) -> Self {
+        self.measure = measure;
+        self
+    }
+
+    /// Its measure: plane or axisymmetric.
+    pub fn measure(&self) -> Measure {
+        self.measure
     }
 
     /// The same side with every node id increased by `offset` (the numbering of a second body
@@ -326,8 +379,29 @@ impl MortarSide {
         edge
     }
 
+    /// The even extrapolation `p_k = c_1 p_1 + c_2 p_2` of the pressure at node `k` on the axis
+    /// from the two other nodes of its edge ([`AxisPressure`]): `c_1 = r_2² / (r_2² − r_1²)`,
+    /// `c_2 = −r_1² / (r_2² − r_1²)`, node 1 the nearer to the axis.
+    fn axis_extrapolation(&self, k: usize) -> Option<[(usize, f64); 2]> {
+        let ids = self.edges.iter().find(|edge| edge.contains(&k))?;
+        let mut others: Vec<(usize, f64)> = ids
+            .iter()
+            .filter(|&&j| j != k)
+            .map(|&j| (j, self.position(j).expect("edge node of the side")[0]))
+            .collect();
+        others.sort_by(|a, b| a.1.total_cmp(&b.1));
+        match others[..] {
+            [(near, r1), (far, r2)] => {
+                let (r1, r2) = (r1 * r1, r2 * r2);
+                Some([(near, r2 / (r2 - r1)), (far, -r1 / (r2 - r1))])
+            }
+            _ => None,
+        }
+    }
+
     /// Unit outward normals at the nodes (aligned with [`MortarSide::nodes`]): the normalized sum
-    /// of the outward normals, at the node, of the edges through it.
+    /// of the outward normals, at the node, of the edges through it; in axisymmetry, at a node
+    /// on the axis (`r = 0`), the unit vector along the axis on the same side (symmetry).
     ///
     /// Errors: [`Error::Mesh`] at a node where the edges' normals cancel (edges of opposite
     /// orientations, or a cusp).
@@ -346,6 +420,11 @@ impl MortarSide {
             .zip(&self.nodes)
             .map(|(v, &k)| {
                 let l = v[0].hypot(v[1]);
+                // In axisymmetry the normal at a node on the axis is along the axis (by
+                // symmetry); a curved P2 edge's own normal there is off by O(θ³).
+                if self.measure.is_axisymmetric() && self.position(k).is_some_and(|x| x[0] == 0.0) && v[1] != 0.0 {
+                    return Ok([0.0, v[1].signum()]);
+                }
                 if l < 1e-6 {
                     Err(Error::mesh(
                         format!("node {k} of mortar side '{}'", self.name),
@@ -417,8 +496,9 @@ pub struct MortarCoupling {
     /// Slave nodes that are contact points (covered), sorted increasingly. Point `i` is node
     /// `nodes[i]`.
     pub nodes: Vec<usize>,
-    /// `D_i = ∫ φ_i ds` over the slave side (`> 0`); for a partly covered node, over the part
-    /// the master side faces, `∫_covered ψ_i ds = Σ_j M_ij` (module documentation, "Coverage").
+    /// `D_i = ∫ φ_i ds` over the slave side (`> 0`; `∫ φ_i 2π r ds` in axisymmetry, `0` exactly
+    /// for a P2 vertex on the axis); for a partly covered node, over the part the master side
+    /// faces, `∫_covered ψ_i ds = Σ_j M_ij` (module documentation, "Coverage").
     pub weight: Vec<f64>,
     /// `n_i`: the contact direction, the bisector of the slave body's outward normal at the
     /// node (towards the master) and the master side's inward one (module documentation).
@@ -427,13 +507,18 @@ pub struct MortarCoupling {
     pub tangent: Vec<[f64; 2]>,
     /// `g0_i = (1/D_i) ∫ ψ_i (x_m − x_s)·n ds` (`> 0` apart, `0` touching, `< 0` overlapping).
     pub gap: Vec<f64>,
-    /// `(master node j, M_ij = ∫ ψ_i φ_j^m ds)`, by increasing master node.
+    /// `(master node j, M_ij = ∫ ψ_i φ_j^m ds)`, by increasing master node; for a point of
+    /// weight `D_i = 0` (a P2 vertex on the axis in axisymmetry) the node-to-segment
+    /// coefficients `φ_j^m(η_i)` themselves (module documentation, "Axisymmetry").
     pub mortar: Vec<Vec<(usize, f64)>>,
     /// Slave nodes left out because their normal line misses the master side
     /// ([`UncoveredNodes::LeaveOut`]).
     pub uncovered: Vec<UncoveredNode>,
     /// Contact nodes whose support is only partly covered (`Σ_j M_ij / D_i ≠ 1`).
     pub partly_covered: Vec<PartlyCovered>,
+    /// In axisymmetry: the contact nodes of weight 0 (P2 vertices on the axis), with the even
+    /// extrapolation of their pressure from the two other nodes of their slave edge.
+    pub axis_pressure: Vec<AxisPressure>,
 }
 
 impl MortarCoupling {
@@ -451,6 +536,13 @@ impl MortarCoupling {
             return Err(Error::Usage(format!(
                 "mortar coupling: max_distance is {}, it must be positive (or infinite)",
                 options.max_distance
+            )));
+        }
+        if slave.measure != master.measure {
+            return Err(Error::Usage(format!(
+                "mortar coupling of slave side '{}' ({:?}) with master side '{}' ({:?}): the two sides must have the \
+                 same measure (both plane or both axisymmetric)",
+                slave.name, slave.measure, master.name, master.measure
             )));
         }
         let normals = slave.nodal_normals()?;
@@ -472,6 +564,7 @@ impl MortarCoupling {
         let mut rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); m];
         let mut covered = vec![false; m];
         let mut partly = vec![false; m];
+        let mut axis = vec![false; m];
         for e in 0..slave.edges.len() {
             let edge = slave.edge(e);
             let mut local = [0; 3];
@@ -480,14 +573,14 @@ impl MortarCoupling {
                 local[a] = slave.nodes.binary_search(&edge.nodes[a]).expect("edge node of the side");
                 edge_normals[a] = normals[local[a]];
             }
-            let integrals =
-                segments::integrate(&SlaveEdge { edge, normals: edge_normals }, &masters, options.max_distance)
-                    .map_err(|message| {
-                        Error::mesh(
-                            format!("edge {e} (nodes {:?}) of slave side '{}'", slave.edges[e], slave.name),
-                            message,
-                        )
-                    })?;
+            let integrals = segments::integrate(
+                &SlaveEdge { edge, normals: edge_normals, measure: slave.measure },
+                &masters,
+                options.max_distance,
+            )
+            .map_err(|message| {
+                Error::mesh(format!("edge {e} (nodes {:?}) of slave side '{}'", slave.edges[e], slave.name), message)
+            })?;
             for (a, &i) in local.iter().enumerate().take(edge.len) {
                 weight[i] += integrals.weight[a];
                 gap[i] += integrals.gap[a];
@@ -495,6 +588,7 @@ impl MortarCoupling {
                     segments::add(&mut rows[i], j, v);
                 }
                 covered[i] |= integrals.covered[a];
+                axis[i] |= integrals.axis[a];
                 partly[i] |= integrals.uncovered_length > 0.0;
             }
         }
@@ -508,11 +602,40 @@ impl MortarCoupling {
             mortar: Vec::new(),
             uncovered: Vec::new(),
             partly_covered: Vec::new(),
+            axis_pressure: Vec::new(),
         };
         for (i, &k) in slave.nodes.iter().enumerate() {
             let n = normals[i];
             if !covered[i] {
                 coupling.uncovered.push(UncoveredNode { node: k, position: slave.positions[i], normal: n });
+                continue;
+            }
+            if axis[i] {
+                // A P2 vertex on the axis (`D_i = 0`, `ψ_i ≡ 0`): a node-to-segment row, the
+                // master shape functions where the node's normal line meets the master side
+                // (module documentation, "Axisymmetry").
+                let Some((row, g, nm)) = segments::node_to_segment(
+                    slave.positions[i],
+                    n,
+                    &masters,
+                    &master_edge_normals,
+                    options.max_distance,
+                ) else {
+                    coupling.uncovered.push(UncoveredNode { node: k, position: slave.positions[i], normal: n });
+                    continue;
+                };
+                let (bx, by) = (n[0] - nm[0], n[1] - nm[1]);
+                let length = bx.hypot(by);
+                let b = if length > 0.5 { [bx / length, by / length] } else { n };
+                coupling.nodes.push(k);
+                coupling.weight.push(0.0);
+                coupling.normal.push(b);
+                coupling.tangent.push([-b[1], b[0]]);
+                coupling.gap.push(g * (n[0] * b[0] + n[1] * b[1]));
+                coupling.mortar.push(row);
+                if let Some(from) = slave.axis_extrapolation(k) {
+                    coupling.axis_pressure.push(AxisPressure { node: k, from });
+                }
                 continue;
             }
             let full = weight[i];
@@ -592,9 +715,10 @@ impl MortarCoupling {
         self.nodes.len()
     }
 
-    /// `(master node j, M_ij / D_i)` of contact point `i`: the transfer coefficients.
+    /// `(master node j, M_ij / D_i)` of contact point `i`: the transfer coefficients (for a
+    /// point of weight 0, a P2 vertex on the axis, its node-to-segment coefficients `φ_j^m(η_i)`).
     pub fn transfer(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
-        let d = self.weight[i];
+        let d = if self.weight[i] == 0.0 { 1.0 } else { self.weight[i] };
         self.mortar[i].iter().map(move |&(j, v)| (j, v / d))
     }
 

@@ -4,7 +4,9 @@
 //!
 //! Point `i` of a coupling is slave node `k`; its rows of `B` are `n_iᵀ` (`t_iᵀ`) on `k` and
 //! `−(M_ij/D_i) n_iᵀ` (`t_iᵀ`) on every master node `j` ([`super`]): the [`CoupledNode`]s. Its
-//! weight is `D_i = ∫ φ_i ds`, so that `−rN_i / D_i` is the pressure, as against an obstacle.
+//! weight is `D_i = ∫ φ_i ds` (`∫ φ_i 2π r ds` in axisymmetry, 0 at a P2 vertex on the axis,
+//! whose pressure is extrapolated: [`MortarCoupling::axis_pressure`]), so that `−rN_i / D_i` is
+//! the pressure, as against an obstacle.
 //!
 //! Slave nodes with prescribed displacement components are treated as in
 //! [`crate::contact::boundary`]: a prescribed component `u_c = u0` leaves the slave entries of
@@ -13,7 +15,11 @@
 //! master side still moves. A prescribed component of a master node leaves the rows likewise
 //! (its entries `−c n_c`, `−c t_c` dropped, `−c n_c u0` moved into the gap): `B` acts on free
 //! dofs only, and the support carries that share of the force. A point whose rows are then
-//! empty is left out. The unreduced frame
+//! empty is left out; a point whose tangential row alone is empty (in axisymmetry, a slave
+//! node on the axis paired node to segment with the master's node on the axis, both with
+//! `u_r = 0`) keeps the unit tangent on its slave node, as against a rigid obstacle
+//! ([`crate::contact::boundary`], "Contact nodes with prescribed displacement components"):
+//! it has no friction, so `rT = 0`, and the condensed flexibility stays positive definite. The unreduced frame
 //! and each master node's share `c = M_ij/D_i` are kept ([`ContactBoundary::frame`],
 //! [`CoupledNode::transfer`]) for the action–reaction check.
 use crate::contact::boundary::{ContactBoundary, CoupledNode};
@@ -42,7 +48,7 @@ impl ContactBoundary {
             left_out: Vec::new(),
             coupled: Vec::with_capacity(m),
             frame: Vec::with_capacity(m),
-            axis_pressure: Vec::new(),
+            axis_pressure: coupling.axis_pressure.clone(),
         };
         for i in 0..m {
             let k = coupling.nodes[i];
@@ -65,6 +71,15 @@ impl ContactBoundary {
                 .collect();
             let fixed = prescribed(k);
             take_out_prescribed(fixed, &mut n, &mut t, &mut gap);
+            // A tangential row left empty (a slave node on the axis, `u_r` prescribed, paired
+            // node to segment with the master's axis node, `u_r` prescribed too) keeps the unit
+            // tangent on the slave node, as against a rigid obstacle: the point has no friction
+            // (a prescribed component), `rT = 0`, and every solver sees a regular problem.
+            // (Round-off: the bisector of two axial normals can be 1e-17 off the axis.)
+            let tiny = |v: [f64; 2]| v[0].abs() <= 1e-12 && v[1].abs() <= 1e-12;
+            if tiny(t) && coupled.iter().all(|c| tiny(c.tangent)) {
+                t = coupling.tangent[i];
+            }
             let first_fixed = (0..2).find_map(|comp| fixed[comp].map(|u0| (comp, u0)));
             let no_master_entry = coupled.iter().all(|c| c.normal == [0.0; 2] && c.tangent == [0.0; 2]);
             if fixed.iter().all(Option::is_some) && no_master_entry {

@@ -3,6 +3,7 @@
 //! basis of the edge and the mortar integrals (see the parent module's documentation).
 use crate::fem::lagrange::{edge_shape_derivatives, edge_shape_values, map_edge_point, EdgePoint};
 use crate::fem::quadrature::gauss_legendre;
+use crate::mesh::Measure;
 use nalgebra::DMatrix;
 
 /// Gauss–Legendre points per segment (exact to degree 15; P2 × P2 on straight edges is degree 4).
@@ -68,6 +69,8 @@ impl Edge {
 pub(super) struct SlaveEdge {
     pub edge: Edge,
     pub normals: [[f64; 2]; 3],
+    /// Plane (`ds`) or axisymmetric (`2π r ds`): the measure of every integral over the edge.
+    pub measure: Measure,
 }
 
 impl SlaveEdge {
@@ -217,6 +220,43 @@ pub(super) fn master_normal_at(
     best.map(|b| b.1)
 }
 
+/// A node-to-segment row: `(master node j, φ_j^m(η))` by increasing node, the gap
+/// `(x_m − p)·n` and the master's unit normal at the paired point.
+pub(super) type NodeToSegment = (Vec<(usize, f64)>, f64, [f64; 2]);
+
+/// The node-to-segment row of a slave node at `p` with unit normal `n`: on the nearest master
+/// edge that the line `p + τ n` meets within `max_distance` and that faces the slave, the master
+/// shape function values `(node j, φ_j^m(η))` by increasing node, the gap `(x_m − p)·n` and the
+/// master normal there (its nodal normals `normals[f]` interpolated). `None` when no edge is met.
+pub(super) fn node_to_segment(
+    p: [f64; 2],
+    n: [f64; 2],
+    masters: &[Edge],
+    normals: &[[[f64; 2]; 3]],
+    max_distance: f64,
+) -> Option<NodeToSegment> {
+    let mut best: Option<(usize, EdgePoint, f64)> = None;
+    for (f, master) in masters.iter().enumerate() {
+        let Some((q, gap)) = meet(p, n, master, max_distance, true) else { continue };
+        if best.as_ref().is_some_and(|b| b.2.abs() <= gap.abs()) {
+            continue;
+        }
+        best = Some((f, q, gap));
+    }
+    let (f, q, gap) = best?;
+    let master = &masters[f];
+    let mut row: Vec<(usize, f64)> = (0..master.len).map(|a| (master.nodes[a], q.values[a])).collect();
+    row.sort_by_key(|&(j, _)| j);
+    let mut m = [0.0; 2];
+    for (v, nm) in q.values.iter().zip(&normals[f]).take(master.len) {
+        m[0] += v * nm[0];
+        m[1] += v * nm[1];
+    }
+    let l = norm(m);
+    let m = if l > 0.0 { [m[0] / l, m[1] / l] } else { q.normal };
+    Some((row, gap, m))
+}
+
 /// The part `[lo, hi]` of the slave parameter interval `[0, 1]` that master edge `master` faces.
 struct Candidate {
     master: usize,
@@ -227,7 +267,8 @@ struct Candidate {
 /// The integrals of one slave edge (local nodes `a` of the edge).
 #[derive(Debug, Clone)]
 pub(super) struct EdgeIntegrals {
-    /// `∫_e φ_a ds` (the edge's part of `D_i`).
+    /// `∫_e φ_a ds` (the edge's part of `D_i`; `ds` stands for `2π r ds` in axisymmetry, here
+    /// and below). It is 0 exactly for a P2 vertex on the axis (see [`EdgeIntegrals::axis`]).
     pub weight: [f64; 3],
     /// `∫_e ψ_a g ds`, `g = (x_master − x_slave)·n(s)` on the covered segments.
     pub gap: [f64; 3],
@@ -238,6 +279,10 @@ pub(super) struct EdgeIntegrals {
     /// Parameter length of the segments of the edge that no master edge faces (beyond the
     /// tolerance).
     pub uncovered_length: f64,
+    /// In axisymmetry: whether local node `a` is a P2 vertex on the axis, whose weight
+    /// `∫ φ_a 2π r ds` vanishes (`∫₀¹ (1 − s)(1 − 2s) s ds = 0`) and whose dual function is then
+    /// `ψ_a ≡ 0` (row `a` of `A = D_e M_e⁻¹` is zero).
+    pub axis: [bool; 3],
 }
 
 /// Segment the slave edge against `masters` and integrate (parent module documentation).
@@ -289,7 +334,8 @@ pub(super) fn integrate(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) 
     for &(l, r, master) in &segments {
         for (t, w) in rule.points.iter().zip(&rule.weights) {
             let s = l + (r - l) * t;
-            points.push((s, (r - l) * w * slave.edge.at(s).length_element, master));
+            let p = slave.edge.at(s);
+            points.push((s, (r - l) * w * p.length_element * slave.measure.factor(p.x), master));
         }
     }
     let mut mass = DMatrix::<f64>::zeros(n, n);
@@ -303,7 +349,18 @@ pub(super) fn integrate(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) 
             }
         }
     }
-    if let Some(a) = (0..n).find(|&a| !(weight[a] > 0.0 && weight[a].is_finite())) {
+    // A P2 vertex on the axis (r snapped to 0 exactly by the setup) has weight 0 on a straight
+    // edge (`∫ (1 − s)(1 − 2s) s ds = 0`) and a weight of relative size `θ²` on an arc of angle
+    // `θ`: either way it is set to 0 exactly, so that its dual function vanishes and the node
+    // gets a node-to-segment row instead (parent module, "Axisymmetry").
+    let mut axis = [false; 3];
+    for a in 0..n {
+        if slave.measure.is_axisymmetric() && n == 3 && a < 2 && slave.edge.x[a][0] == 0.0 {
+            axis[a] = true;
+            weight[a] = 0.0;
+        }
+    }
+    if let Some(a) = (0..n).find(|&a| !(axis[a] || weight[a] > 0.0 && weight[a].is_finite())) {
         return Err(format!(
             "the consistent weight ∫φ ds of its local node {a} is {:e}, not positive: its P2 mid node is too far \
              from the middle of the edge; remesh the side",
@@ -340,7 +397,7 @@ pub(super) fn integrate(slave: &SlaveEdge, masters: &[Edge], max_distance: f64) 
             }
         }
     }
-    Ok(EdgeIntegrals { weight, gap, mortar, covered, uncovered_length })
+    Ok(EdgeIntegrals { weight, gap, mortar, covered, uncovered_length, axis })
 }
 
 /// `row[j] += v`, for a short sparse row.

@@ -63,6 +63,11 @@
 //! `ρ_i = 2 w_i / (L_s/E'_s + L_m/E'_m)`, each body's own plane modulus and diameter (one body
 //! against a rigid obstacle: the formula above). A stiff foundation under a soft block gets the
 //! block's scale, whichever body comes first in the scene.
+//!
+//! In axisymmetry a P2 vertex on the axis has weight 0 ([`crate::contact::boundary::AxisPressure`];
+//! its force is a concentrated one): it takes the weight of the node its pressure is
+//! extrapolated from (the nearer one, on its own edge), which gives its augmentation the scale
+//! of that edge's (`ρ = 0` would leave the point's rows without their displacement term).
 //! `ρN` and `ρT` are kept equal: with `ρT ≪ ρN` a point coming back from open was taken as
 //! sticking, and single points then flipped open/stick for dozens of steps.
 //!

@@ -78,17 +78,35 @@ pub(crate) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMat
     let (modulus, diameter) =
         piece_moduli_and_diameters(mesh, materials, &pieces.piece_of, pieces.count, pieces.extent);
     let compliance = |node: usize| diameter[pieces.piece_of[node]] / modulus[pieces.piece_of[node]];
-    let point = |node: usize| b.nodes.iter().position(|&k| k == node);
-    let mut weight = b.weight.clone();
-    for axis in &b.axis_pressure {
-        if let (Some(i), Some(j)) = (point(axis.node), point(axis.from[0].0)) {
-            weight[i] = weight[i].max(b.weight[j]);
+    // A P2 vertex on the axis in axisymmetry (weight 0 on a straight edge, a small number of
+    // either sign on a curved one) takes the weight of the nearer node its pressure is
+    // extrapolated from (the module documentation of `full_space`); any other point of weight 0,
+    // the smallest positive weight.
+    let smallest = b.weight.iter().copied().filter(|&w| w > 0.0).fold(f64::INFINITY, f64::min);
+    let weight = |i: usize| {
+        let neighbour = b
+            .axis_pressure
+            .iter()
+            .find(|a| a.node == b.nodes[i])
+            .and_then(|a| b.nodes.iter().position(|&k| k == a.from[0].0))
+            .map(|j| b.weight[j].max(b.weight[i]))
+            .filter(|&w| w > 0.0);
+        match neighbour {
+            Some(w) => w,
+            None if b.weight[i] > 0.0 => b.weight[i],
+            None => {
+                if smallest.is_finite() {
+                    smallest
+                } else {
+                    0.0
+                }
+            }
         }
-    }
+    };
     (0..b.points())
         .map(|i| {
             let other = b.coupled_to(i).first().map_or(0.0, |c| compliance(c.node));
-            AUGMENTATION * weight[i] / (compliance(b.nodes[i]) + other)
+            AUGMENTATION * weight(i) / (compliance(b.nodes[i]) + other)
         })
         .collect()
 }
