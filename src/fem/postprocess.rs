@@ -22,9 +22,15 @@
 //! evaluated at that node (no area weighting): simple, exact for a uniform stress, and what
 //! VTK point data expects.
 //!
+//! In axisymmetry (a material of [`PlaneModel::Axisymmetric`] on a mesh of
+//! [`crate::mesh::Measure::Axisymmetric`]) the stresses include the hoop strain `εθθ = u_r / r` (its
+//! limit `∂u_r/∂r` on the axis) and the integrals carry `2π r`: the energy is
+//! `∫ (σ : ε + σθθ εθθ) 2π r dA`, the energy of the body of revolution. The error in energy needs
+//! the exact `u_r` for the hoop term: [`energy_error_with_displacement`].
+//!
 //! Every function expects `u.len() == 2 * mesh.num_nodes()`.
 use super::lagrange::{self, MAX_CELL_NODES};
-use super::material::Material;
+use super::material::{Material, PlaneModel};
 use super::quadrature;
 use crate::mesh::Mesh;
 
@@ -51,13 +57,40 @@ fn strain(gradients: &[[f64; 2]], nodes: &[usize], u: &[f64]) -> [f64; 3] {
     e
 }
 
-/// Stress of `u` at reference point `xi` of cell `c`.
+/// The hoop strain `u_r / r` of `u` at a point `x` with shape values `values` and gradients
+/// `gradients` (its limit `∂u_r/∂r` on the axis); 0 unless `material` is axisymmetric.
+fn hoop_strain(
+    material: &Material,
+    x: [f64; 2],
+    values: &[f64],
+    gradients: &[[f64; 2]],
+    nodes: &[usize],
+    u: &[f64],
+) -> f64 {
+    if material.plane != PlaneModel::Axisymmetric {
+        return 0.0;
+    }
+    if x[0] <= 0.0 {
+        nodes.iter().zip(gradients).map(|(&n, g)| g[0] * u[2 * n]).sum()
+    } else {
+        nodes.iter().zip(values).map(|(&n, v)| v * u[2 * n]).sum::<f64>() / x[0]
+    }
+}
+
+/// Stress of `u` at reference point `xi` of cell `c` (in axisymmetry with the hoop strain's share
+/// in σrr and σzz).
 fn stress_at(mesh: &Mesh, material: &Material, u: &[f64], c: usize, xi: [f64; 2]) -> [f64; 3] {
     let nodes = mesh.cell(c);
     let npc = nodes.len();
     let x = cell_coords(mesh, nodes);
     let p = lagrange::map_cell_point(mesh.order, &x[..npc], xi);
-    material.stress(strain(&p.gradients[..npc], nodes, u))
+    let e = strain(&p.gradients[..npc], nodes, u);
+    if material.plane == PlaneModel::Axisymmetric {
+        let hoop = hoop_strain(material, p.x, &p.values[..npc], &p.gradients[..npc], nodes, u);
+        material.axisymmetric_stress(e, hoop).0
+    } else {
+        material.stress(e)
+    }
 }
 
 /// Stress `(σxx, σyy, σxy)` of each cell at its centroid (reference point (1/3, 1/3)).
@@ -106,42 +139,71 @@ fn for_each_point(mesh: &Mesh, mut visit: impl FnMut([f64; 2], f64, &[f64], &[[f
             let det = lagrange::determinant(&j);
             let g = lagrange::physical_gradients(&j, det, &grads[q][..npc]);
             let xq = lagrange::map_point(&x[..npc], &values[q][..npc]);
-            visit(xq, rule.weights[q] * det, &values[q][..npc], &g[..npc], nodes);
+            visit(xq, rule.weights[q] * det * mesh.measure.factor(xq), &values[q][..npc], &g[..npc], nodes);
         }
     }
 }
 
-fn energy(material: &Material, e: [f64; 3]) -> f64 {
+/// `ε : C ε` of the strain `e` and the hoop strain `hoop` (0 in the plane).
+fn energy(material: &Material, e: [f64; 3], hoop: f64) -> f64 {
+    if material.plane == PlaneModel::Axisymmetric {
+        let (s, s_hoop) = material.axisymmetric_stress(e, hoop);
+        return s[0] * e[0] + s[1] * e[1] + s[2] * e[2] + s_hoop * hoop;
+    }
     let s = material.stress(e);
     s[0] * e[0] + s[1] * e[1] + s[2] * e[2]
 }
 
-/// Energy norm `(∫ ε(u) : C ε(u))^½`.
+/// Energy norm `(∫ ε(u) : C ε(u))^½` (`2π r dA` and the hoop strain in axisymmetry).
 pub fn energy_norm(mesh: &Mesh, material: &Material, u: &[f64]) -> f64 {
     let mut total = 0.0;
-    for_each_point(mesh, |_, w, _, g, nodes| total += w * energy(material, strain(g, nodes, u)));
+    for_each_point(mesh, |x, w, n, g, nodes| {
+        let hoop = hoop_strain(material, x, n, g, nodes, u);
+        total += w * energy(material, strain(g, nodes, u), hoop)
+    });
     total.max(0.0).sqrt()
 }
 
 /// Energy norm of the error `(∫ (ε_h − ε) : C (ε_h − ε))^½` against the exact displacement
-/// gradient `G[i][j] = ∂u_i/∂x_j`.
+/// gradient `G[i][j] = ∂u_i/∂x_j`. Plane models only: the hoop strain of axisymmetry needs the
+/// exact displacement too ([`energy_error_with_displacement`]); on an axisymmetric material this
+/// returns NaN rather than a norm without its hoop term.
 pub fn energy_error(
     mesh: &Mesh,
     material: &Material,
     u: &[f64],
     exact_displacement_gradient: impl Fn([f64; 2]) -> [[f64; 2]; 2],
 ) -> f64 {
+    if material.plane == PlaneModel::Axisymmetric {
+        return f64::NAN;
+    }
+    energy_error_with_displacement(mesh, material, u, |x| ([0.0; 2], exact_displacement_gradient(x)))
+}
+
+/// [`energy_error`] against `exact(x) = (u(x), G(x))`, the exact displacement and its gradient:
+/// any plane model, and axisymmetry (hoop strain `u_r / r`, `2π r dA`).
+pub fn energy_error_with_displacement(
+    mesh: &Mesh,
+    material: &Material,
+    u: &[f64],
+    exact: impl Fn([f64; 2]) -> ([f64; 2], [[f64; 2]; 2]),
+) -> f64 {
     let mut total = 0.0;
-    for_each_point(mesh, |x, w, _, g, nodes| {
+    for_each_point(mesh, |x, w, n, g, nodes| {
         let eh = strain(g, nodes, u);
-        let grad = exact_displacement_gradient(x);
+        let (displacement, grad) = exact(x);
         let d = [eh[0] - grad[0][0], eh[1] - grad[1][1], eh[2] - grad[0][1] - grad[1][0]];
-        total += w * energy(material, d);
+        let hoop = if material.plane == PlaneModel::Axisymmetric && x[0] > 0.0 {
+            hoop_strain(material, x, n, g, nodes, u) - displacement[0] / x[0]
+        } else {
+            0.0
+        };
+        total += w * energy(material, d, hoop);
     });
     total.max(0.0).sqrt()
 }
 
-/// `‖u_h − u‖_L2` against the exact displacement.
+/// `‖u_h − u‖_L2` against the exact displacement (over the body of revolution in axisymmetry).
 pub fn l2_error(mesh: &Mesh, u: &[f64], exact: impl Fn([f64; 2]) -> [f64; 2]) -> f64 {
     let mut total = 0.0;
     for_each_point(mesh, |x, w, n, _, nodes| {

@@ -12,8 +12,9 @@
 //!   exactly (`C = −q (1 + ν)(1 − 2ν)/E`), with `u_r = 0` on the axis: exact to round-off, no
 //!   NaN in the stresses at `r = 0` (the hoop strain's limit there is `∂u_r/∂r`).
 //!
-//! The energy norm is computed here, independently of the library's (plane) norms:
-//! `‖u_h − u‖_E² = ∫ (ε_h − ε) : C (ε_h − ε) 2π r dA` with the hoop strain `u_r / r`.
+//! The energy norm is computed here, independently of the library's norms:
+//! `‖u_h − u‖_E² = ∫ (ε_h − ε) : C (ε_h − ε) 2π r dA` with the hoop strain `u_r / r`; the
+//! library's `fem::postprocess::energy_error_with_displacement` is checked against it.
 use crate::{solve_banded, Distortion, Grid, BOTTOM, LEFT, RIGHT, TOP};
 use signorini::fem::assembly::assemble_with;
 use signorini::fem::mixed_pressure::{nodal_stress, stress_l2_error};
@@ -325,6 +326,42 @@ fn axisymmetric_solid_cylinder_is_exact_on_the_axis() {
                 );
             }
             assert!((h + q).abs() < 1e-9 * q, "{what}: hoop stress at {x:?}: {h}");
+        }
+    }
+}
+
+/// The library's axisymmetric energy norms (`fem::postprocess`) equal this file's independent
+/// one on Lamé's cylinder; the plane-only `energy_error` refuses (NaN) rather than drop the hoop
+/// term; the nodal stresses of `fem::postprocess` match those of `mixed_pressure` (hoop strain in
+/// σrr and σzz).
+#[test]
+fn axisymmetric_library_norms_match_the_independent_ones() {
+    use signorini::fem::postprocess;
+    let mesh = meridian(Grid::new(6, Order::P2).distorted(Distortion::Smooth(0.03)), INNER, OUTER - INNER, 0.5);
+    let m = material(0.3);
+    let mut c = Constraints::new(2 * mesh.num_nodes());
+    c.fix_group(&mesh, BOTTOM, 1, |_| 0.0);
+    c.fix_group(&mesh, TOP, 1, |_| 0.0);
+    let loads =
+        Loads { body_force: None, edge_loads: vec![EdgeLoad { group: LEFT, traction: Traction::Pressure(PRESSURE) }] };
+    let u = solve_banded(&mesh, &assemble_with(&mesh, &m, Element::Lagrange, &c, &loads, 0..2 * mesh.num_nodes()));
+    let exact = lame(&m);
+    let ours = energy_error(&mesh, &m, &u, &exact);
+    let library = postprocess::energy_error_with_displacement(&mesh, &m, &u, |x| {
+        let t = exact(x);
+        ([t[0], 0.0], [[t[1], 0.0], [0.0, t[2]]])
+    });
+    assert!((library - ours).abs() <= 1e-10 * ours, "library {library:e}, independent {ours:e}");
+    let zero = vec![0.0; u.len()];
+    let norm = energy_error(&mesh, &m, &u, |_| [0.0; 3]);
+    let library_norm = postprocess::energy_norm(&mesh, &m, &u);
+    assert!((library_norm - norm).abs() <= 1e-10 * norm, "library {library_norm:e}, independent {norm:e}");
+    assert!(postprocess::energy_error(&mesh, &m, &zero, |_| [[0.0; 2]; 2]).is_nan());
+    let (mixed, _) = nodal_stress(&mesh, &m, Element::Lagrange, &u);
+    let plain = postprocess::nodal_stress(&mesh, &m, &u);
+    for (a, b) in mixed.iter().zip(&plain) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() <= 1e-9 * PRESSURE, "{a:?} against {b:?}");
         }
     }
 }
