@@ -233,14 +233,18 @@ pub fn summary_lines(r: &Report, written: &[PathBuf]) -> Vec<String> {
         // Forces below round-off of the largest force of the balance are 0.
         let norm = |p: &[f64; 2]| p[0].hypot(p[1]);
         let scale = res.reactions.values().map(norm).fold(norm(&res.applied_force), f64::max);
-        let reactions: Vec<String> =
-            res.reactions.iter().map(|(k, v)| format!("{k} {}", point_in(*v, scale))).collect();
+        // A body of revolution: ring forces balance along the axis only (their radial sums are
+        // not resultants), so the line gives the axial components.
+        let revolution = r.forces == "full revolution";
+        let shown = |v: &[f64; 2]| if revolution { number(v[1], scale, 4) } else { point_in(*v, scale) };
+        let reactions: Vec<String> = res.reactions.iter().map(|(k, v)| format!("{k} {}", shown(v))).collect();
         out.add(
             "balance",
             &format!(
-                "forces ({}): applied {}, reactions {}; equilibrium residual {}",
+                "{}forces ({}): applied {}, reactions {}; equilibrium residual {}",
+                if revolution { "axial " } else { "" },
                 force_unit(r),
-                point_in(res.applied_force, scale),
+                shown(&res.applied_force),
                 if reactions.is_empty() { "none".into() } else { reactions.join(", ") },
                 relative(res.equilibrium_residual)
             ),

@@ -29,7 +29,7 @@ fn axisymmetric_forces_are_for_the_full_revolution() {
     let out = run_ok(bin().arg("run").arg(&file).arg("--out").arg(dir.join("out")));
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("plane axisymmetric"), "{stdout}");
-    assert!(stdout.contains("forces (N, full revolution)"), "{stdout}");
+    assert!(stdout.contains("axial forces (N, full revolution): applied 0, reactions bottom"), "{stdout}");
     let r = report(&dir.join("out"));
     assert_eq!(r["plane"], "axisymmetric");
     assert_eq!(r["forces"], "full revolution");
