@@ -155,3 +155,30 @@ fn axisymmetric_load_path_on_a_body_held_by_the_contact() {
         assert!((fy - expected).abs() < 1e-9 * press, "increment {}: {fy:e} against {expected:e}", k + 1);
     }
 }
+
+/// A tube (no node on the axis) pressed on a frictionless rigid plane, held along z by the
+/// contact alone: the floating-body handling of every route that has one gives the exact
+/// uniaxial state, `σzz = −q` everywhere (von Mises `q`), the contact resultant `q π (r1² − r0²)`.
+#[test]
+fn axisymmetric_floating_tube_is_uniaxial_on_every_route() {
+    let dir = scratch("axi-floating-tube");
+    let file = dir.join("tube.toml");
+    std::fs::write(
+        &file,
+        "[mesh]\nshape = \"rectangle\"\norigin = [0.01, 0.0]\nsize = [0.01, 0.04]\ncell_size = 2.5e-3\nmesher = \"structured\"\n\
+         [material]\nyoung = 1.3e11\npoisson = 0.2\nplane = \"axisymmetric\"\n\
+         [[traction]]\npart = \"top\"\npressure = 5e7\n\
+         [contact]\npart = \"bottom\"\nobstacle = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\nfriction = \"none\"\n",
+    )
+    .unwrap();
+    let load = 5e7 * std::f64::consts::PI * (0.02 * 0.02 - 0.01 * 0.01);
+    for solver in ["newton_full", "newton", "snes_vi"] {
+        let out = dir.join(solver);
+        run_ok(bin().arg("run").arg(&file).args(["--quiet", "--contact-solver", solver, "--out"]).arg(&out));
+        let r = report(&out);
+        let von_mises = r["results"]["max_von_mises"].as_f64().unwrap();
+        assert!((von_mises - 5e7).abs() < 1e-6 * 5e7, "{solver}: max von Mises {von_mises:e}");
+        let axial = r["contact"]["resultant"][1].as_f64().unwrap();
+        assert!((axial - load).abs() < 1e-9 * load, "{solver}: axial resultant {axial:e} against {load:e}");
+    }
+}
