@@ -349,7 +349,7 @@ impl ContactSetup {
 
     /// SNESVI route: rotate the 2×2 node blocks of the contact nodes into their (n, t) frames,
     /// `K' = Rᵀ K R`, `f' = Rᵀ f`, so that the non-penetration `uN ≤ g0` becomes an upper bound
-    /// on one unknown. A contact point with a prescribed component ([`Self::aligned_normal`]:
+    /// on one unknown. A contact point with a prescribed component (`aligned_normal`:
     /// a roller or pin on the contact part, the axis node of a body of revolution, u_r = 0) is
     /// not rotated: its row `B_N` acts on its free Cartesian dof alone, so the bound goes on
     /// that dof and its fixed row (a lone diagonal, whose pattern a rotation would need to
