@@ -35,7 +35,7 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::interface_law::{InterfacePointState, InterfaceSnapshot};
 use crate::output::plot::{write_linear_panels_svg, Panel, Series, Style};
-use crate::output::vtu::{write_array, write_f64_array};
+use crate::output::vtu::{begin_piece, end_piece, write_array, write_f64_array};
 use crate::output::write_atomically;
 
 /// The interface's state at the end of a static run (or of a load path), in the output
@@ -113,13 +113,7 @@ pub fn write_interface_vtu(path: &Path, snapshot: &InterfaceSnapshot) -> Result<
     }
     arrays.push(("law_residual", points.iter().map(|p| p.law_residual).collect()));
     write_atomically(path, |w| {
-        writeln!(w, "<?xml version=\"1.0\"?>")?;
-        writeln!(
-            w,
-            "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
-        )?;
-        writeln!(w, "  <UnstructuredGrid>")?;
-        writeln!(w, "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{n}\">")?;
+        begin_piece(w, n, n)?;
         writeln!(w, "      <PointData>")?;
         for (name, values) in &arrays {
             write_f64_array(w, Some(name), 1, n, values.iter().copied())?;
@@ -133,9 +127,7 @@ pub fn write_interface_vtu(path: &Path, snapshot: &InterfaceSnapshot) -> Result<
         write_array(w, "Int64", Some("offsets"), 1, n, (1..=n).map(|i| (i as i64).to_le_bytes()))?;
         write_array(w, "UInt8", Some("types"), 1, n, std::iter::repeat_n([VTK_VERTEX], n))?;
         writeln!(w, "      </Cells>")?;
-        writeln!(w, "    </Piece>")?;
-        writeln!(w, "  </UnstructuredGrid>")?;
-        writeln!(w, "</VTKFile>")
+        end_piece(w)
     })
 }
 

@@ -100,13 +100,7 @@ pub fn write_vtu(
         .collect();
 
     write_atomically(path, |w| {
-        writeln!(w, "<?xml version=\"1.0\"?>")?;
-        writeln!(
-            w,
-            "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
-        )?;
-        writeln!(w, "  <UnstructuredGrid>")?;
-        writeln!(w, "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">", num_points, num_cells + num_edges)?;
+        begin_piece(w, num_points, num_cells + num_edges)?;
 
         writeln!(w, "      <PointData>")?;
         for f in point_data {
@@ -148,11 +142,27 @@ pub fn write_vtu(
         write_array(w, "Int64", Some("offsets"), 1, num_cells + num_edges, offsets.map(|o| (o as i64).to_le_bytes()))?;
         write_array(w, "UInt8", Some("types"), 1, num_cells + num_edges, types.map(|t| [t]))?;
         writeln!(w, "      </Cells>")?;
-
-        writeln!(w, "    </Piece>")?;
-        writeln!(w, "  </UnstructuredGrid>")?;
-        writeln!(w, "</VTKFile>")
+        end_piece(w)
     })
+}
+
+/// The opening lines of an unstructured-grid file of one piece (binary base64 arrays with
+/// 64-bit headers), up to `<Piece>`.
+pub(crate) fn begin_piece(w: &mut dyn Write, points: usize, cells: usize) -> io::Result<()> {
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    )?;
+    writeln!(w, "  <UnstructuredGrid>")?;
+    writeln!(w, "    <Piece NumberOfPoints=\"{points}\" NumberOfCells=\"{cells}\">")
+}
+
+/// The closing lines matching [`begin_piece`].
+pub(crate) fn end_piece(w: &mut dyn Write) -> io::Result<()> {
+    writeln!(w, "    </Piece>")?;
+    writeln!(w, "  </UnstructuredGrid>")?;
+    writeln!(w, "</VTKFile>")
 }
 
 /// Checks that the writer cannot index out of bounds or write a file with dangling nodes.
