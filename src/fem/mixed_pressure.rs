@@ -351,18 +351,10 @@ fn stress_at(
     }
 }
 
-/// The hoop strain `εθθ = u_r / r` at the mapped point `p` in axisymmetry (0 in the plane). On
-/// the axis (`r` below `1e-12` times the cell's size) it is the limit `∂u_r/∂r`.
+/// The hoop strain `εθθ = u_r / r` at the mapped point `p` in axisymmetry (0 in the plane); on
+/// the axis (`r` below `1e-12` times the cell's size) its limit `∂u_r/∂r`.
 fn hoop_strain(material: &Material, p: &lagrange::MappedPoint, nodes: &[usize], u: &[f64]) -> f64 {
-    if material.plane != PlaneModel::Axisymmetric {
-        return 0.0;
-    }
-    let size = p.det.abs().sqrt();
-    if p.x[0] <= 1e-12 * size {
-        nodes.iter().zip(&p.gradients).map(|(&n, g)| g[0] * u[2 * n]).sum()
-    } else {
-        nodes.iter().zip(&p.values).map(|(&n, v)| v * u[2 * n]).sum::<f64>() / p.x[0]
-    }
+    super::postprocess::hoop_strain(material, (p.x, &p.values, &p.gradients), nodes, u, 1e-12 * p.det.abs().sqrt())
 }
 
 /// Stresses at the nodes, `(σxx, σyy, σxy)` and `σzz`: the plain average over the cells sharing

@@ -57,20 +57,20 @@ fn strain(gradients: &[[f64; 2]], nodes: &[usize], u: &[f64]) -> [f64; 3] {
     e
 }
 
-/// The hoop strain `u_r / r` of `u` at a point `x` with shape values `values` and gradients
-/// `gradients` (its limit `∂u_r/∂r` on the axis); 0 unless `material` is axisymmetric.
-fn hoop_strain(
+/// The hoop strain `εθθ = u_r / r` of `u` at a point `x` of a cell with nodes `nodes`, shape
+/// values `values` and gradients `gradients`; on the axis (`r ≤ axis_tolerance`, e.g. `1e-12`
+/// times the cell's size) its limit `∂u_r/∂r`. 0 unless `material` is axisymmetric.
+pub(super) fn hoop_strain(
     material: &Material,
-    x: [f64; 2],
-    values: &[f64],
-    gradients: &[[f64; 2]],
+    (x, values, gradients): ([f64; 2], &[f64], &[[f64; 2]]),
     nodes: &[usize],
     u: &[f64],
+    axis_tolerance: f64,
 ) -> f64 {
     if material.plane != PlaneModel::Axisymmetric {
         return 0.0;
     }
-    if x[0] <= 0.0 {
+    if x[0] <= axis_tolerance {
         nodes.iter().zip(gradients).map(|(&n, g)| g[0] * u[2 * n]).sum()
     } else {
         nodes.iter().zip(values).map(|(&n, v)| v * u[2 * n]).sum::<f64>() / x[0]
@@ -86,7 +86,8 @@ fn stress_at(mesh: &Mesh, material: &Material, u: &[f64], c: usize, xi: [f64; 2]
     let p = lagrange::map_cell_point(mesh.order, &x[..npc], xi);
     let e = strain(&p.gradients[..npc], nodes, u);
     if material.plane == PlaneModel::Axisymmetric {
-        let hoop = hoop_strain(material, p.x, &p.values[..npc], &p.gradients[..npc], nodes, u);
+        let point = (p.x, &p.values[..npc], &p.gradients[..npc]);
+        let hoop = hoop_strain(material, point, nodes, u, 1e-12 * p.det.abs().sqrt());
         material.axisymmetric_stress(e, hoop).0
     } else {
         material.stress(e)
@@ -158,7 +159,7 @@ fn energy(material: &Material, e: [f64; 3], hoop: f64) -> f64 {
 pub fn energy_norm(mesh: &Mesh, material: &Material, u: &[f64]) -> f64 {
     let mut total = 0.0;
     for_each_point(mesh, |x, w, n, g, nodes| {
-        let hoop = hoop_strain(material, x, n, g, nodes, u);
+        let hoop = hoop_strain(material, (x, n, g), nodes, u, 0.0);
         total += w * energy(material, strain(g, nodes, u), hoop)
     });
     total.max(0.0).sqrt()
@@ -194,7 +195,7 @@ pub fn energy_error_with_displacement(
         let (displacement, grad) = exact(x);
         let d = [eh[0] - grad[0][0], eh[1] - grad[1][1], eh[2] - grad[0][1] - grad[1][0]];
         let hoop = if material.plane == PlaneModel::Axisymmetric && x[0] > 0.0 {
-            hoop_strain(material, x, n, g, nodes, u) - displacement[0] / x[0]
+            hoop_strain(material, (x, n, g), nodes, u, 0.0) - displacement[0] / x[0]
         } else {
             0.0
         };
