@@ -170,6 +170,21 @@ pub struct AxisPressure {
     pub from: [(usize, f64); 2],
 }
 
+impl AxisPressure {
+    /// The extrapolation to `node` (on the axis) from the two other nodes of its edge, given as
+    /// `(node, r)`; `None` unless there are two.
+    pub(crate) fn even(node: usize, mut others: Vec<(usize, f64)>) -> Option<Self> {
+        others.sort_by(|a, b| a.1.total_cmp(&b.1));
+        match others[..] {
+            [(near, r1), (far, r2)] => {
+                let (r1, r2) = (r1 * r1, r2 * r2);
+                Some(AxisPressure { node, from: [(near, r2 / (r2 - r1)), (far, -r1 / (r2 - r1))] })
+            }
+            _ => None,
+        }
+    }
+}
+
 /// A node of the other body in the rows of a contact point between two bodies: `B_N` has
 /// `normal` and `B_T` has `tangent` on its two dofs (`−(M_ij/D_i) n_i` and `−(M_ij/D_i) t_i`
 /// for the mortar coupling, without the node's prescribed components), and it receives the
@@ -206,35 +221,18 @@ fn edge_quadrature(coords: &[[f64; 2]], measure: Measure) -> impl Iterator<Item 
     })
 }
 
-/// The contact nodes `nodes` (with weights `weight`) for which `on_axis(i, w_i)` holds, with the
+/// The contact points `i` (nodes `nodes[i]`) for which `on_axis(i)` holds, with the
 /// extrapolation of their pressure from the other nodes of their edge ([`AxisPressure`]).
-fn axis_pressures(
-    mesh: &Mesh,
-    edges: &[usize],
-    nodes: &[usize],
-    weight: &[f64],
-    on_axis: &dyn Fn(usize, f64) -> bool,
-) -> Vec<AxisPressure> {
-    let mut out = Vec::new();
-    for (i, (&node, &w)) in nodes.iter().zip(weight).enumerate() {
-        if !on_axis(i, w) {
-            continue;
-        }
-        // The edge of the part through the node (one, since the part meets the axis there).
-        let Some(edge) = edges.iter().map(|&e| mesh.edge(e)).find(|edge| edge.contains(&node)) else { continue };
-        let mut others: Vec<usize> = edge.iter().copied().filter(|&k| k != node).collect();
-        others.sort_by(|&a, &b| mesh.nodes[a][0].total_cmp(&mesh.nodes[b][0]));
-        let from = match others[..] {
-            [near, far] => {
-                let (r1, r2) = (mesh.nodes[near][0].powi(2), mesh.nodes[far][0].powi(2));
-                [(near, r2 / (r2 - r1)), (far, -r1 / (r2 - r1))]
-            }
-            [near] => [(near, 1.0), (near, 0.0)],
-            _ => continue,
-        };
-        out.push(AxisPressure { node, from });
-    }
-    out
+fn axis_pressures(mesh: &Mesh, edges: &[usize], nodes: &[usize], on_axis: &dyn Fn(usize) -> bool) -> Vec<AxisPressure> {
+    (0..nodes.len())
+        .filter(|&i| on_axis(i))
+        .filter_map(|i| {
+            // The edge of the part through the node (one, since the part meets the axis there).
+            let node = nodes[i];
+            let edge = edges.iter().map(|&e| mesh.edge(e)).find(|edge| edge.contains(&node))?;
+            AxisPressure::even(node, edge.iter().filter(|&&k| k != node).map(|&k| (k, mesh.nodes[k][0])).collect())
+        })
+        .collect()
 }
 
 /// The consistent weights `w_k = ∫ φ_k ds` of the nodes of boundary edges `edges` (module
@@ -408,11 +406,11 @@ impl ContactBoundary {
         } else {
             Default::default()
         };
-        let on_axis = |i: usize, _w: f64| {
+        let on_axis = |i: usize| {
             mesh.measure.is_axisymmetric() && mesh.nodes[nodes[i]][0] == 0.0 && p2_vertices.contains(&nodes[i])
         };
-        let axis_pressure = axis_pressures(mesh, &edges, &nodes, &weight, &on_axis);
-        if let Some(i) = weight.iter().enumerate().position(|(i, &w)| !(on_axis(i, w) || w > 0.0 && w.is_finite())) {
+        let axis_pressure = axis_pressures(mesh, &edges, &nodes, &on_axis);
+        if let Some(i) = weight.iter().enumerate().position(|(i, &w)| !(on_axis(i) || w > 0.0 && w.is_finite())) {
             return Err(Error::mesh(
                 format!("node {} of contact part '{name}'", nodes[i]),
                 format!(

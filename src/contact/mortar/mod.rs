@@ -379,24 +379,12 @@ impl MortarSide {
         edge
     }
 
-    /// The even extrapolation `p_k = c_1 p_1 + c_2 p_2` of the pressure at node `k` on the axis
-    /// from the two other nodes of its edge ([`AxisPressure`]): `c_1 = r_2² / (r_2² − r_1²)`,
-    /// `c_2 = −r_1² / (r_2² − r_1²)`, node 1 the nearer to the axis.
-    fn axis_extrapolation(&self, k: usize) -> Option<[(usize, f64); 2]> {
+    /// The even extrapolation of the pressure at node `k` on the axis from the two other nodes
+    /// of its edge ([`AxisPressure::even`]).
+    fn axis_extrapolation(&self, k: usize) -> Option<AxisPressure> {
         let ids = self.edges.iter().find(|edge| edge.contains(&k))?;
-        let mut others: Vec<(usize, f64)> = ids
-            .iter()
-            .filter(|&&j| j != k)
-            .map(|&j| (j, self.position(j).expect("edge node of the side")[0]))
-            .collect();
-        others.sort_by(|a, b| a.1.total_cmp(&b.1));
-        match others[..] {
-            [(near, r1), (far, r2)] => {
-                let (r1, r2) = (r1 * r1, r2 * r2);
-                Some([(near, r2 / (r2 - r1)), (far, -r1 / (r2 - r1))])
-            }
-            _ => None,
-        }
+        let others = ids.iter().filter(|&&j| j != k).map(|&j| (j, self.position(j).expect("edge node of the side")[0]));
+        AxisPressure::even(k, others.collect())
     }
 
     /// Unit outward normals at the nodes (aligned with [`MortarSide::nodes`]): the normalized sum
@@ -633,9 +621,7 @@ impl MortarCoupling {
                 coupling.tangent.push([-b[1], b[0]]);
                 coupling.gap.push(g * (n[0] * b[0] + n[1] * b[1]));
                 coupling.mortar.push(row);
-                if let Some(from) = slave.axis_extrapolation(k) {
-                    coupling.axis_pressure.push(AxisPressure { node: k, from });
-                }
+                coupling.axis_pressure.extend(slave.axis_extrapolation(k));
                 continue;
             }
             let full = weight[i];

@@ -94,13 +94,8 @@ pub(crate) fn augmentation(b: &ContactBoundary, mesh: &Mesh, materials: &CellMat
         match neighbour {
             Some(w) => w,
             None if b.weight[i] > 0.0 => b.weight[i],
-            None => {
-                if smallest.is_finite() {
-                    smallest
-                } else {
-                    0.0
-                }
-            }
+            None if smallest.is_finite() => smallest,
+            None => 0.0,
         }
     };
     (0..b.points())
