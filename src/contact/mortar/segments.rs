@@ -207,17 +207,23 @@ pub(super) fn master_normal_at(
         if best.is_some_and(|b| b.0 <= gap.abs()) {
             continue;
         }
-        let mut m = [0.0; 2];
-        for a in 0..master.len {
-            m[0] += q.values[a] * normals[f][a][0];
-            m[1] += q.values[a] * normals[f][a][1];
-        }
-        let l = norm(m);
-        if l > 0.0 {
-            best = Some((gap.abs(), [m[0] / l, m[1] / l]));
+        if let Some(m) = interpolated_normal(&q, &normals[f], master.len) {
+            best = Some((gap.abs(), m));
         }
     }
     best.map(|b| b.1)
+}
+
+/// The master's nodal normals `normals` (of an edge of `len` nodes) interpolated at the edge
+/// point `q` and normalised; `None` where they cancel.
+fn interpolated_normal(q: &EdgePoint, normals: &[[f64; 2]; 3], len: usize) -> Option<[f64; 2]> {
+    let mut m = [0.0; 2];
+    for (v, nm) in q.values.iter().zip(normals).take(len) {
+        m[0] += v * nm[0];
+        m[1] += v * nm[1];
+    }
+    let l = norm(m);
+    (l > 0.0).then(|| [m[0] / l, m[1] / l])
 }
 
 /// A node-to-segment row: `(master node j, φ_j^m(η))` by increasing node, the gap
@@ -247,13 +253,7 @@ pub(super) fn node_to_segment(
     let master = &masters[f];
     let mut row: Vec<(usize, f64)> = (0..master.len).map(|a| (master.nodes[a], q.values[a])).collect();
     row.sort_by_key(|&(j, _)| j);
-    let mut m = [0.0; 2];
-    for (v, nm) in q.values.iter().zip(&normals[f]).take(master.len) {
-        m[0] += v * nm[0];
-        m[1] += v * nm[1];
-    }
-    let l = norm(m);
-    let m = if l > 0.0 { [m[0] / l, m[1] / l] } else { q.normal };
+    let m = interpolated_normal(&q, &normals[f], master.len).unwrap_or(q.normal);
     Some((row, gap, m))
 }
 
