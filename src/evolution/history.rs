@@ -3,7 +3,7 @@
 //! - `history.csv` ([`HISTORY_CSV`]): one row per increment, the columns of
 //!   [`HISTORY_CSV_HEADER`] (units in the names: `_N_per_m` force per metre of thickness,
 //!   `_J_per_m` energy per metre of thickness — `_N` and `_J` for the full revolution of a body
-//!   of revolution, [`ForceBasis`] — `_m` metres, `seconds` wall clock; `time` is the
+//!   of revolution, [`Measure`] — `_m` metres, `seconds` wall clock; `time` is the
 //!   load path's pseudo-time), numbers with `{:e}` (the shortest decimal that reads back to the
 //!   same `f64`); with an interface law the columns of [`HISTORY_CSV_INTERFACE_COLUMNS`] follow
 //!   (the interface's summary at each increment, `crate::output::interface::InterfaceSummary`;
@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 
 use super::{ContactProfile, StepRecord};
 use crate::error::{Error, Result};
+use crate::mesh::Measure;
 use crate::output::interface::{write_tau_delta_svg, InterfaceHistory, TAU_DELTA_SVG};
 use crate::output::plot::{write_linear_panels_svg, write_linear_styled_svg, Panel, Series, Style};
 use crate::output::{all_or_nothing, write_atomically};
@@ -116,63 +117,35 @@ pub fn write_history_csv_with_interface(
     steps: &[StepRecord],
     interface: Option<&InterfaceHistory>,
 ) -> Result<()> {
-    write_history_csv_in(path, steps, interface, ForceBasis::UnitThickness)
+    write_history_csv_in(path, steps, interface, Measure::Plane)
 }
 
-/// What the forces and energies of a history are per, which the column names and axis labels
-/// say: per metre of thickness (`_N_per_m`, `_J_per_m`, plane models) or for the full revolution
-/// of a body of revolution (`_N`, `_J`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ForceBasis {
-    /// Plane strain and plane stress: N/m and J/m.
-    UnitThickness,
-    /// Axisymmetric: N and J for the whole circumference.
-    FullRevolution,
-}
-
-impl ForceBasis {
-    /// The basis of a mesh's measure.
-    pub fn of(measure: crate::mesh::Measure) -> Self {
-        if measure.is_axisymmetric() {
-            ForceBasis::FullRevolution
-        } else {
-            ForceBasis::UnitThickness
-        }
-    }
-
-    /// `header` with its unit suffixes for this basis.
-    pub fn header(self, header: &str) -> String {
-        match self {
-            ForceBasis::UnitThickness => header.to_string(),
-            ForceBasis::FullRevolution => header.replace("_N_per_m", "_N").replace("_J_per_m", "_J"),
-        }
-    }
-
-    /// The unit of a force: "N/m" or "N".
-    pub fn force_unit(self) -> &'static str {
-        match self {
-            ForceBasis::UnitThickness => "N/m",
-            ForceBasis::FullRevolution => "N",
-        }
+/// `header` with the unit suffixes of `measure`: `_N_per_m`, `_J_per_m` per metre of thickness
+/// (plane), `_N`, `_J` for the full revolution of a body of revolution.
+fn units_of(measure: Measure, header: &str) -> String {
+    match measure {
+        Measure::Plane => header.to_string(),
+        Measure::Axisymmetric => header.replace("_N_per_m", "_N").replace("_J_per_m", "_J"),
     }
 }
 
-/// [`write_history_csv_with_interface`] with the column names of `basis`.
+/// [`write_history_csv_with_interface`] with the column names of `measure` (plane: per metre of
+/// thickness; axisymmetric: the full revolution).
 pub fn write_history_csv_in(
     path: &Path,
     steps: &[StepRecord],
     interface: Option<&InterfaceHistory>,
-    basis: ForceBasis,
+    measure: Measure,
 ) -> Result<()> {
     check_finite(path, steps)?;
     if let Some(history) = interface {
         check_interface_finite(path, history)?;
     }
     let mut text = String::with_capacity(200 * (steps.len() + 1));
-    let header = basis.header(HISTORY_CSV_HEADER);
+    let header = units_of(measure, HISTORY_CSV_HEADER);
     match interface {
         Some(_) => {
-            let _ = writeln!(text, "{header},{}", basis.header(HISTORY_CSV_INTERFACE_COLUMNS));
+            let _ = writeln!(text, "{header},{}", units_of(measure, HISTORY_CSV_INTERFACE_COLUMNS));
         }
         None => {
             let _ = writeln!(text, "{header}");
@@ -250,11 +223,11 @@ fn check_interface_finite(path: &Path, history: &InterfaceHistory) -> Result<()>
 /// linear axes, one line through the steps in the order given (not sorted) with a marker at
 /// each, atomically. Errors as [`write_history_csv`].
 pub fn write_hysteresis_svg(path: &Path, title: &str, steps: &[StepRecord]) -> Result<()> {
-    write_hysteresis_svg_in(path, title, steps, ForceBasis::UnitThickness)
+    write_hysteresis_svg_in(path, title, steps, Measure::Plane)
 }
 
-/// [`write_hysteresis_svg`] with the force unit of `basis` on its axis.
-pub fn write_hysteresis_svg_in(path: &Path, title: &str, steps: &[StepRecord], basis: ForceBasis) -> Result<()> {
+/// [`write_hysteresis_svg`] with the force unit of `measure` on its axis.
+pub fn write_hysteresis_svg_in(path: &Path, title: &str, steps: &[StepRecord], measure: Measure) -> Result<()> {
     check_finite(path, steps)?;
     let (first, last) = (steps[0].step, steps[steps.len() - 1].step);
     let series = Series {
@@ -265,7 +238,7 @@ pub fn write_hysteresis_svg_in(path: &Path, title: &str, steps: &[StepRecord], b
         path,
         title,
         "tangential displacement of the monitored part (m)",
-        &format!("tangential contact force ({})", basis.force_unit()),
+        &format!("tangential contact force ({})", measure.force_unit()),
         &[series],
         &[Style::LineAndMarkers],
     )
@@ -371,10 +344,10 @@ pub fn write_load_path_outputs_with_interface(
     title: &str,
     interface: Option<&InterfaceHistory>,
 ) -> Result<Vec<PathBuf>> {
-    write_load_path_outputs_in(dir, steps, profiles, title, interface, ForceBasis::UnitThickness)
+    write_load_path_outputs_in(dir, steps, profiles, title, interface, Measure::Plane)
 }
 
-/// [`write_load_path_outputs_with_interface`] with the units of `basis` in the column names
+/// [`write_load_path_outputs_with_interface`] with the units of `measure` in the column names
 /// and axis labels.
 pub fn write_load_path_outputs_in(
     dir: &Path,
@@ -382,7 +355,7 @@ pub fn write_load_path_outputs_in(
     profiles: &[ContactProfile],
     title: &str,
     interface: Option<&InterfaceHistory>,
-    basis: ForceBasis,
+    measure: Measure,
 ) -> Result<Vec<PathBuf>> {
     let csv = dir.join(HISTORY_CSV);
     check_finite(&csv, steps)?;
@@ -394,10 +367,15 @@ pub fn write_load_path_outputs_in(
     }
     all_or_nothing(|| {
         let mut written = Vec::with_capacity(4);
-        write_history_csv_in(&csv, steps, interface, basis)?;
+        write_history_csv_in(&csv, steps, interface, measure)?;
         written.push(csv.clone());
         let hysteresis = dir.join(HYSTERESIS_SVG);
-        write_hysteresis_svg_in(&hysteresis, &format!("{title}: tangential load against displacement"), steps, basis)?;
+        write_hysteresis_svg_in(
+            &hysteresis,
+            &format!("{title}: tangential load against displacement"),
+            steps,
+            measure,
+        )?;
         written.push(hysteresis);
         if !profiles.is_empty() {
             let path = dir.join(CONTACT_PROFILES_SVG);

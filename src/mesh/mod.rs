@@ -129,6 +129,32 @@ impl Measure {
     pub fn is_axisymmetric(self) -> bool {
         self == Measure::Axisymmetric
     }
+
+    /// What forces are per, as `report.json` says it: "unit thickness" or "full revolution".
+    pub fn forces_per(self) -> &'static str {
+        match self {
+            Measure::Plane => "unit thickness",
+            Measure::Axisymmetric => "full revolution",
+        }
+    }
+
+    /// The unit of a force: "N/m" (per unit thickness) or "N" (the full revolution).
+    pub fn force_unit(self) -> &'static str {
+        match self {
+            Measure::Plane => "N/m",
+            Measure::Axisymmetric => "N",
+        }
+    }
+
+    /// The part of a sum of forces that equilibrium makes vanish: both components in the plane;
+    /// for a body of revolution the axial one only (the radial components of ring forces do not
+    /// add up to a resultant: a ring pulled outwards all round is in equilibrium).
+    pub fn imbalance(self, sum: [f64; 2]) -> f64 {
+        match self {
+            Measure::Plane => sum[0].hypot(sum[1]),
+            Measure::Axisymmetric => sum[1].abs(),
+        }
+    }
 }
 
 impl Mesh {

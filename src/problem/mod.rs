@@ -719,7 +719,7 @@ impl<'s> ElasticityProblem<'s> {
             formulation: if dual_only { "dual" } else { "primal" },
             element: if dual_only { "HCT" } else { self.scene.element.report_name(self.mesh.order) },
             plane: self.material.plane.name(),
-            forces: if self.mesh.measure.is_axisymmetric() { "full revolution" } else { "unit thickness" },
+            forces: self.mesh.measure.forces_per(),
             nodes: self.mesh.num_nodes(),
             elements: self.mesh.num_cells(),
             boundary_edges: self.mesh.num_edges(),

@@ -86,13 +86,9 @@ impl ElasticityProblem<'_> {
         // E u 2π r_max, and the radial components of ring forces do not add up to a balance (a
         // ring pulled outwards all round is in equilibrium): only the axial resultant is checked,
         // the radial equilibrium being node by node in the solver's residual.
-        let axisymmetric = self.mesh.measure.is_axisymmetric();
         let magnitude = magnitude.max(self.material.plane_modulus() * max_displacement * self.mesh.force_length());
-        let imbalance = if axisymmetric {
-            (applied_force[1] + total_reaction[1]).abs()
-        } else {
-            (applied_force[0] + total_reaction[0]).hypot(applied_force[1] + total_reaction[1])
-        };
+        let imbalance =
+            self.mesh.measure.imbalance([applied_force[0] + total_reaction[0], applied_force[1] + total_reaction[1]]);
         let equilibrium_residual = if magnitude > 0.0 { imbalance / magnitude } else { 0.0 };
         if equilibrium_residual > EQUILIBRIUM_CHECK {
             return Err(Error::SolverDiverged {

@@ -179,12 +179,7 @@ impl ElasticityProblem<'_> {
             let max_displacement = u[dofs.clone()].chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
             let magnitude = (applied[0].hypot(applied[1]) + reaction[0].hypot(reaction[1]) + contact_magnitude)
                 .max(plane_modulus * max_displacement * self.mesh.force_length());
-            // Axisymmetry: ring forces balance along the axis only (see `postprocess`).
-            let imbalance = if self.mesh.measure.is_axisymmetric() {
-                (applied[1] + reaction[1] + contact_force[1]).abs()
-            } else {
-                (applied[0] + reaction[0] + contact_force[0]).hypot(applied[1] + reaction[1] + contact_force[1])
-            };
+            let imbalance = self.mesh.measure.imbalance([0, 1].map(|c| applied[c] + reaction[c] + contact_force[c]));
             let residual = if magnitude > 0.0 { imbalance / magnitude } else { 0.0 };
             if !(residual <= EQUILIBRIUM_CHECK) {
                 return Err(Error::SolverDiverged {

@@ -243,7 +243,7 @@ impl ElasticityProblem<'_> {
                             &path.profiles,
                             &title,
                             interface.as_ref(),
-                            crate::evolution::history::ForceBasis::of(self.mesh.measure),
+                            self.mesh.measure,
                         )?);
                         if let Some(history) = interface.as_ref() {
                             // The interface's increments, as written by write_step_output.
