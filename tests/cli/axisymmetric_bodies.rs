@@ -2,7 +2,8 @@
 //! shrink fit against Lamé's closed form, the cladding's hoop stress (tensile) and the pellet's
 //! (compressive) read back from the VTK files, and `mpirun -n 2` equal to the serial run.
 
-use crate::{bin, mpirun_two, python, relative_difference, report, run_ok, scene, scratch};
+use crate::mpi::serial_and_two_ranks;
+use crate::{bin, python, relative_difference, report, run_ok, scene, scratch};
 
 /// The shrink-fit pressure on the tube's bore (b = 4.18 mm, c = 4.75 mm, Zircaloy) pressed by
 /// the pellet (b' = 4.19 mm, UO2, solid), `ε_z = 0`, each cylinder in its own geometry, equal
@@ -56,13 +57,8 @@ fn example_pellet_cladding_is_a_shrink_fit() {
 /// `mpirun -n 2` on the example: the same displacement field and contact pressures as serial.
 #[test]
 fn mpirun_two_ranks_pellet_cladding_equals_serial() {
-    let dir = scratch("mpi-pellet-cladding");
     let file = scene("examples/scenes/pellet_cladding.toml");
-    let serial = dir.join("serial");
-    run_ok(bin().arg("run").arg(&file).args(["--quiet", "--out"]).arg(&serial));
-    let parallel = dir.join("parallel");
-    let out = mpirun_two().arg("run").arg(&file).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (serial, parallel) = serial_and_two_ranks("pellet-cladding", "run", &file, &[]);
     assert_eq!(report(&parallel)["mpi_ranks"], 2);
     let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
     assert!(d < 1e-10, "displacements differ by {d:e}");

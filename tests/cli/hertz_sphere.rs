@@ -1,7 +1,8 @@
 //! `signorini run` on the axisymmetric Hertz sphere (`examples/scenes/hertz_sphere.toml`): the
 //! example as shipped meets Hertz's closed form, and `mpirun -n 2` gives the serial answer.
 
-use crate::{bin, mpirun_two, relative_difference, report, run_ok, scene, scratch};
+use crate::mpi::serial_and_two_ranks;
+use crate::{bin, relative_difference, report, run_ok, scene, scratch};
 
 /// Hertz's sphere on a rigid plane (K. L. Johnson, Contact Mechanics, 1985, §4.2.1) for the
 /// example's numbers: `(a, p0)` with `a = (3PR/4E*)^(1/3)`, `p0 = 3P/(2πa²)`, `P = q π R²`.
@@ -53,13 +54,8 @@ fn example_hertz_sphere_meets_hertz() {
 /// stabilisation are handled the same way on every rank).
 #[test]
 fn mpirun_two_ranks_hertz_sphere_equals_serial() {
-    let dir = scratch("mpi-hertz-sphere");
     let file = scene("examples/scenes/hertz_sphere.toml");
-    let serial = dir.join("serial");
-    run_ok(bin().arg("run").arg(&file).args(["--quiet", "--out"]).arg(&serial));
-    let parallel = dir.join("parallel");
-    let out = mpirun_two().arg("run").arg(&file).args(["--quiet", "--out"]).arg(&parallel).output().expect("mpirun");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (serial, parallel) = serial_and_two_ranks("hertz-sphere", "run", &file, &[]);
     assert_eq!(report(&parallel)["mpi_ranks"], 2);
     let d = relative_difference(&serial.join("solution.vtu"), &parallel.join("solution.vtu"));
     assert!(d < 1e-9, "MPI displacement differs from serial by {d:e}");

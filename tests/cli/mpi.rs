@@ -275,7 +275,7 @@ fn concurrent_runs_do_not_share_the_mpi_session_directory() {
 
 /// `signorini SUBCOMMAND SCENE ARGS --quiet --out DIR` once on one process and once under
 /// `mpirun -n 2`: the two output directories (serial, two ranks), both runs successful.
-fn serial_and_two_ranks(
+pub(crate) fn serial_and_two_ranks(
     name: &str,
     subcommand: &str,
     scene: &Path,
