@@ -121,26 +121,29 @@ fn with_session(program: &str, petsc: &[String], job: &dyn Fn(&Session) -> Resul
     // steps whose failure can differ between ranks are agreed (Session::agree).
     let own_failure = matches!(&result, Err(f) if !matches!(f.error(), Error::OtherRank { .. }));
     let reporter = session.world().first_failure(own_failure).ok().flatten();
-    drop(session); // PetscFinalize before exit
-    let Err(failure) = result else {
-        return ExitCode::SUCCESS;
-    };
-    let code = match failure {
-        Failure::CommandLine(_) => ExitCode::from(USAGE_EXIT),
-        Failure::Run(_) => ExitCode::FAILURE,
-    };
-    let e = failure.error();
-    if rank != 0 {
-        if reporter == Some(rank) {
-            eprintln!("error (MPI rank {rank}): {e}");
+    if let Err(failure) = &result {
+        let e = failure.error();
+        if rank != 0 {
+            if reporter == Some(rank) {
+                eprintln!("error (MPI rank {rank}): {e}");
+            }
+        } else {
+            eprintln!("error: {e}");
+            if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
+            }
         }
-        return code;
     }
-    eprintln!("error: {e}");
-    if let Some(dir) = REMOVED_BEFORE_RUN.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-        eprintln!("note: the previous results in {} were removed; no result was written", dir.display());
+    // No rank leaves before the messages above are written: mpirun aborts the job at the first
+    // non-zero exit status, which cut rank 0 off before its message when another rank exited
+    // first (one more reduction, reached by every rank like the one above).
+    let _ = session.world().min(&[0.0]);
+    drop(session); // PetscFinalize before exit
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::CommandLine(_)) => ExitCode::from(USAGE_EXIT),
+        Err(Failure::Run(_)) => ExitCode::FAILURE,
     }
-    code
 }
 
 fn run(session: &Session, args: &RunArgs) -> Result<(), Failure> {
